@@ -1,0 +1,1 @@
+"""Numba kernel: predicates, flat-array CDT, lazy heap, Algorithm INSERT."""

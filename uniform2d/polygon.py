@@ -1,0 +1,270 @@
+"""The polygon model: one outer ring and zero or more holes, validated.
+
+A :class:`Polygon` is immutable.  Its rings are normalised on construction: the
+outer ring counter-clockwise, holes clockwise, so the interior of the polygon is
+always on the left of every ring edge.  Consecutive collinear vertices are legal:
+they are sites of the construction like any other vertex.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from .errors import InvalidPolygonError
+
+__all__ = ["Polygon"]
+
+
+def _fmt(p) -> str:
+    return f"({p[0]:.17g}, {p[1]:.17g})"
+
+
+def _signed_area(ring: np.ndarray) -> float:
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def _as_ring(coords, name: str) -> np.ndarray:
+    """Convert one ring to a float64 (k, 2) array, checking everything local to it."""
+    try:
+        ring = np.array(coords, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidPolygonError(
+            f"{name}: coordinates must be numbers in a (k, 2) array-like ({exc})"
+        ) from None
+    if ring.ndim != 2 or ring.shape[1] != 2:
+        raise InvalidPolygonError(
+            f"{name}: expected a (k, 2) array of (x, y) coordinates, got shape {ring.shape}"
+        )
+    bad = ~np.isfinite(ring).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InvalidPolygonError(
+            f"{name}: vertex {i} has a non-finite coordinate {tuple(ring[i])}; "
+            "remove NaN/inf values"
+        )
+    # An explicitly closed ring (first vertex repeated at the end) is accepted.
+    if len(ring) > 1 and np.array_equal(ring[0], ring[-1]):
+        ring = ring[:-1]
+    if len(np.unique(ring, axis=0)) < 3:
+        raise InvalidPolygonError(
+            f"{name}: needs at least 3 distinct vertices, got {len(np.unique(ring, axis=0))}"
+        )
+    same = np.all(ring == np.roll(ring, -1, axis=0), axis=1)
+    if same.any():
+        i = int(np.flatnonzero(same)[0])
+        j = (i + 1) % len(ring)
+        raise InvalidPolygonError(
+            f"{name}: vertices {i} and {j} are the same point {_fmt(ring[i])}; "
+            "remove the repeated vertex"
+        )
+    if _signed_area(ring) == 0.0:
+        raise InvalidPolygonError(f"{name}: the ring has zero area (all vertices collinear?)")
+    lr = shapely.LinearRing(ring)
+    if not lr.is_simple:
+        reason = shapely.is_valid_reason(shapely.Polygon(ring))
+        where = reason[reason.find("[") :] if "[" in reason else ""
+        # A vertex repeated non-consecutively (a "pinch") is also non-simple.
+        _, first, counts = np.unique(ring, axis=0, return_index=True, return_counts=True)
+        if (counts > 1).any():
+            k = int(first[np.flatnonzero(counts > 1)[0]])
+            raise InvalidPolygonError(
+                f"{name}: vertex {k} {_fmt(ring[k])} appears more than once; "
+                "a ring must not touch itself"
+            )
+        raise InvalidPolygonError(
+            f"{name}: the ring intersects itself {where.strip()}; "
+            "reorder the vertices so edges only meet at their shared endpoints"
+        )
+    return ring
+
+
+class Polygon:
+    """A validated polygon with holes.
+
+    Parameters
+    ----------
+    outer : array_like, shape (k, 2)
+        Vertices of the outer ring, in either orientation.  A closing vertex equal
+        to the first one is dropped.
+    holes : sequence of array_like, each shape (k_i, 2)
+        Vertices of each hole ring, in either orientation.
+
+    Raises
+    ------
+    InvalidPolygonError
+        If a ring has fewer than 3 distinct vertices, a non-finite coordinate, a
+        repeated consecutive vertex, zero area or a self-intersection; if a hole is
+        not strictly inside the outer ring; or if two holes overlap or touch.
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> sq = Polygon([(0, 0), (0, 1), (1, 1), (1, 0)])      # clockwise on input
+    >>> sq.area, sq.perimeter, sq.n_holes
+    (1.0, 4.0, 0)
+    >>> sq.outer[:2].tolist()                                 # stored counter-clockwise
+    [[0.0, 0.0], [1.0, 0.0]]
+    """
+
+    __slots__ = ("_rings", "_vertices", "_offsets", "_area", "_perimeter")
+
+    def __init__(self, outer, holes=()):
+        outer_ring = _as_ring(outer, "outer ring")
+        if isinstance(holes, np.ndarray) and holes.ndim == 2:
+            raise InvalidPolygonError(
+                "holes must be a sequence of rings; wrap a single hole as [hole]"
+            )
+        hole_rings = [_as_ring(h, f"hole {i}") for i, h in enumerate(holes)]
+
+        # Reverse where needed, keeping each ring's first vertex first.
+        if _signed_area(outer_ring) < 0:
+            outer_ring = np.roll(outer_ring[::-1], 1, axis=0)
+        hole_rings = [np.roll(h[::-1], 1, axis=0) if _signed_area(h) > 0 else h for h in hole_rings]
+
+        shell = shapely.Polygon(outer_ring)
+        hole_polys = [shapely.Polygon(h) for h in hole_rings]
+        for i, hp in enumerate(hole_polys):
+            if not shapely.contains_properly(shell, hp):
+                if shapely.intersects(shell, hp) and not shapely.within(hp, shell):
+                    what = "crosses the outer ring or lies outside it"
+                elif shapely.within(hp, shell):
+                    what = "touches the outer ring"
+                else:
+                    what = "lies outside the outer ring"
+                raise InvalidPolygonError(
+                    f"hole {i} {what}; every hole must lie strictly inside the outer ring"
+                )
+        for i in range(len(hole_polys)):
+            for j in range(i + 1, len(hole_polys)):
+                if shapely.intersects(hole_polys[i], hole_polys[j]):
+                    raise InvalidPolygonError(
+                        f"holes {i} and {j} overlap or touch; merge them into one hole "
+                        "or move them apart"
+                    )
+
+        rings = [outer_ring, *hole_rings]
+        for r in rings:
+            r.setflags(write=False)
+        self._rings = tuple(rings)
+        self._vertices = np.concatenate(rings, axis=0)
+        self._vertices.setflags(write=False)
+        self._offsets = np.cumsum([0] + [len(r) for r in rings])
+        self._offsets.setflags(write=False)
+        self._area = _signed_area(outer_ring) + sum(_signed_area(h) for h in hole_rings)
+        self._perimeter = float(
+            sum(np.linalg.norm(np.roll(r, -1, axis=0) - r, axis=1).sum() for r in rings)
+        )
+
+    # -- basic views -------------------------------------------------------------
+    @property
+    def outer(self) -> np.ndarray:
+        """Outer ring, (k, 2) float64, counter-clockwise, not closed."""
+        return self._rings[0]
+
+    @property
+    def holes(self) -> tuple[np.ndarray, ...]:
+        """Hole rings, each (k_i, 2) float64, clockwise, not closed."""
+        return self._rings[1:]
+
+    @property
+    def rings(self) -> tuple[np.ndarray, ...]:
+        """All rings, outer first; the interior is on the left of every edge."""
+        return self._rings
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """All ring vertices V, (N, 2) float64: the outer ring, then each hole."""
+        return self._vertices
+
+    V = vertices
+
+    @property
+    def ring_offsets(self) -> np.ndarray:
+        """Ring ``r`` is ``vertices[ring_offsets[r]:ring_offsets[r + 1]]``."""
+        return self._offsets
+
+    @property
+    def n_holes(self) -> int:
+        return len(self._rings) - 1
+
+    @property
+    def area(self) -> float:
+        """Area A(P): outer area minus hole areas."""
+        return self._area
+
+    @property
+    def perimeter(self) -> float:
+        """Total boundary length B(P), holes included."""
+        return self._perimeter
+
+    @property
+    def edges(self) -> np.ndarray:
+        """Boundary edges as (E, 2) int64 indices into :attr:`vertices`, interior on the left."""
+        out = []
+        for r in range(len(self._rings)):
+            a, b = self._offsets[r], self._offsets[r + 1]
+            idx = np.arange(a, b)
+            out.append(np.stack([idx, np.roll(idx, -1)], axis=1))
+        return np.concatenate(out, axis=0)
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax)."""
+        lo = self._vertices.min(axis=0)
+        hi = self._vertices.max(axis=0)
+        return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+    def interior_angles(self) -> np.ndarray:
+        """Interior angle at every vertex, (N,) radians in (0, 2*pi), ordered like V."""
+        out = []
+        for r in self._rings:
+            prev = np.roll(r, 1, axis=0) - r
+            nxt = np.roll(r, -1, axis=0) - r
+            cross = nxt[:, 0] * prev[:, 1] - nxt[:, 1] * prev[:, 0]
+            dot = (nxt * prev).sum(axis=1)
+            ang = np.arctan2(cross, dot)
+            out.append(np.where(ang <= 0, ang + 2 * np.pi, ang))
+        return np.concatenate(out)
+
+    def min_vertex_distance(self) -> float:
+        """l(V, V): the smallest distance between two distinct polygon vertices."""
+        d, _ = cKDTree(self._vertices).query(self._vertices, k=2)
+        return float(d[:, 1].min())
+
+    # -- conversions -------------------------------------------------------------
+    def to_shapely(self) -> shapely.Polygon:
+        """The polygon as a :class:`shapely.Polygon`."""
+        return shapely.Polygon(self._rings[0], list(self._rings[1:]))
+
+    @classmethod
+    def from_shapely(cls, geom) -> "Polygon":
+        """Build from a :class:`shapely.Polygon` (a MultiPolygon is refused)."""
+        if geom.geom_type != "Polygon":
+            raise InvalidPolygonError(
+                f"expected a single Polygon, got a {geom.geom_type}; "
+                "mesh each part separately"
+            )
+        return cls(
+            np.asarray(geom.exterior.coords), [np.asarray(h.coords) for h in geom.interiors]
+        )
+
+    def transformed(self, scale: float = 1.0, offset=(0.0, 0.0)) -> "Polygon":
+        """A copy with every vertex mapped to ``scale * v + offset``."""
+        off = np.asarray(offset, dtype=np.float64)
+        return Polygon(self._rings[0] * scale + off, [h * scale + off for h in self._rings[1:]])
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, Polygon) or len(self._rings) != len(other._rings):
+            return NotImplemented if not isinstance(other, Polygon) else False
+        return all(np.array_equal(a, b) for a, b in zip(self._rings, other._rings))
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        return (
+            f"Polygon({len(self._vertices)} vertices, {self.n_holes} holes, "
+            f"area={self._area:.6g})"
+        )
