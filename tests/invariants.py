@@ -1,0 +1,164 @@
+"""Independent checks of a triangulation of a polygon (used by every mesh test).
+
+Nothing here uses uniform2d's kernel: adjacency is rebuilt with numpy, and the
+geometric signs are decided in floating point with a conservative error bound,
+falling back to exact rational arithmetic (``fractions.Fraction``) near zero.
+
+``check_mesh(points, triangles, polygon)`` asserts:
+
+* every triangle is strictly counter-clockwise;
+* every interior edge is shared by exactly two triangles with opposite
+  directions (neighbour symmetry), every other edge lies on the boundary;
+* the boundary edges, chained, are exactly the polygon's edges split at the mesh
+  vertices lying on them (every polygon edge present, nothing else on the boundary);
+* the triangle areas add up to the polygon's area;
+* every interior edge is locally Delaunay (the opposite vertex is not strictly
+  inside the circumcircle) -- for a constrained triangulation of P whose only
+  constraints are the boundary, this is the constrained Delaunay property.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+
+
+def _orient_exact(a, b, c) -> int:
+    ax, ay, bx, by, cx, cy = (Fraction(float(v)) for v in (*a, *b, *c))
+    d = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    return (d > 0) - (d < 0)
+
+
+def _incircle_exact(a, b, c, d) -> int:
+    rows = []
+    for p in (a, b, c):
+        x = Fraction(float(p[0])) - Fraction(float(d[0]))
+        y = Fraction(float(p[1])) - Fraction(float(d[1]))
+        rows.append((x, y, x * x + y * y))
+    (a1, a2, a3), (b1, b2, b3), (c1, c2, c3) = rows
+    det = a1 * (b2 * c3 - b3 * c2) - a2 * (b1 * c3 - b3 * c1) + a3 * (b1 * c2 - b2 * c1)
+    return (det > 0) - (det < 0)
+
+
+def orientations(points, triangles) -> np.ndarray:
+    """Exact sign of every triangle's orientation, (M,) int."""
+    p = points[triangles]
+    bx, by = p[:, 1, 0] - p[:, 0, 0], p[:, 1, 1] - p[:, 0, 1]
+    cx, cy = p[:, 2, 0] - p[:, 0, 0], p[:, 2, 1] - p[:, 0, 1]
+    det = bx * cy - by * cx
+    bound = 1e-14 * (np.abs(bx * cy) + np.abs(by * cx))
+    sign = np.sign(det).astype(int)
+    for i in np.flatnonzero(np.abs(det) <= bound):
+        sign[i] = _orient_exact(*p[i])
+    return sign
+
+
+def edge_table(triangles):
+    """Directed half-edges (3M, 2) and, for each, the index of its twin or -1."""
+    t = np.asarray(triangles, dtype=np.int64)
+    he = np.stack([t, np.roll(t, -1, axis=1)], axis=2).reshape(-1, 2)
+    n = int(he.max()) + 1
+    key = he[:, 0] * n + he[:, 1]
+    rkey = he[:, 1] * n + he[:, 0]
+    order = np.argsort(key)
+    pos = np.searchsorted(key[order], rkey)
+    pos = np.clip(pos, 0, len(key) - 1)
+    twin = np.where(key[order][pos] == rkey, order[pos], -1)
+    return he, twin, key
+
+
+def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9):
+    points = np.asarray(points, dtype=np.float64)
+    triangles = np.asarray(triangles, dtype=np.int64)
+    assert points.ndim == 2 and points.shape[1] == 2
+    assert triangles.ndim == 2 and triangles.shape[1] == 3
+    assert triangles.min() >= 0 and triangles.max() < len(points)
+    assert np.isfinite(points).all()
+
+    # orientation
+    o = orientations(points, triangles)
+    assert (o > 0).all(), f"{int((o <= 0).sum())} triangles are not strictly counter-clockwise"
+
+    # neighbour symmetry: no directed edge twice; each undirected edge at most twice
+    he, twin, key = edge_table(triangles)
+    assert len(np.unique(key)) == len(key), "a directed edge appears in two triangles"
+
+    # boundary = polygon edges split at mesh vertices on them
+    bnd = he[twin < 0]
+    succ = {}
+    for u, v in bnd:
+        assert int(u) not in succ, f"boundary vertex {int(u)} has two outgoing boundary edges"
+        succ[int(u)] = int(v)
+    V = polygon.vertices
+    nV = len(V)
+    assert np.array_equal(points[:nV], V), "mesh must start with the polygon vertices"
+    # walk each polygon edge from its start vertex; every hop must stay on the edge
+    covered = 0
+    for a, b in polygon.edges:
+        cur = int(a)
+        pa, pb = V[a], V[b]
+        d = pb - pa
+        L = float(np.hypot(*d))
+        last_t = 0.0
+        for _ in range(len(points) + 1):
+            assert cur in succ, f"polygon edge {int(a)}->{int(b)} is not on the mesh boundary"
+            nxt_v = succ[cur]
+            covered += 1
+            if nxt_v == b:
+                break
+            q = points[nxt_v]
+            t = float(np.dot(q - pa, d)) / (L * L)
+            off = abs(float(np.cross(d, q - pa))) / L
+            assert off <= 1e-9 * L + 1e-12 * max(1.0, float(np.abs(V).max())), (
+                f"boundary vertex {nxt_v} is off polygon edge {int(a)}->{int(b)} by {off:g}"
+            )
+            assert last_t < t < 1.0, f"boundary vertex {nxt_v} out of order on edge {int(a)}->{int(b)}"
+            last_t = t
+            cur = nxt_v
+        else:
+            raise AssertionError("boundary walk did not terminate")
+    assert covered == len(bnd), "the mesh boundary has edges that are not on the polygon"
+
+    # area
+    p = points[triangles]
+    area = 0.5 * (
+        (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+        - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
+    ).sum()
+    assert abs(area - polygon.area) <= area_rtol * polygon.area, (area, polygon.area)
+
+    if delaunay:
+        bad = non_delaunay_edges(points, triangles, he, twin)
+        assert not bad, f"{len(bad)} interior edges are not locally Delaunay, e.g. {bad[:3]}"
+
+
+def non_delaunay_edges(points, triangles, he=None, twin=None):
+    """Interior half-edges (h < twin) whose opposite vertex is strictly inside the
+    circumcircle of the triangle on the other side."""
+    if he is None:
+        he, twin, _ = edge_table(triangles)
+    t = np.asarray(triangles, dtype=np.int64)
+    h = np.flatnonzero((twin >= 0) & (np.arange(len(twin)) < twin))
+    g = twin[h]
+    apex_h = t.reshape(-1)[3 * (h // 3) + (h % 3 + 2) % 3]
+    apex_g = t.reshape(-1)[3 * (g // 3) + (g % 3 + 2) % 3]
+    a = points[he[h, 0]]
+    b = points[he[h, 1]]
+    c = points[apex_h]
+    d = points[apex_g]
+    rows = [q - d for q in (a, b, c)]
+    lift = [(r * r).sum(axis=1) for r in rows]
+    (a1, a2), (b1, b2), (c1, c2) = [(r[:, 0], r[:, 1]) for r in rows]
+    a3, b3, c3 = lift
+    det = a1 * (b2 * c3 - b3 * c2) - a2 * (b1 * c3 - b3 * c1) + a3 * (b1 * c2 - b2 * c1)
+    perm = (
+        np.abs(a1 * b2 * c3) + np.abs(a1 * b3 * c2) + np.abs(a2 * b1 * c3)
+        + np.abs(a2 * b3 * c1) + np.abs(a3 * b1 * c2) + np.abs(a3 * b2 * c1)
+    )  # fmt: skip
+    suspicious = np.flatnonzero(det > -1e-12 * perm)
+    bad = []
+    for i in suspicious:
+        if det[i] > 1e-12 * perm[i] or _incircle_exact(a[i], b[i], c[i], d[i]) > 0:
+            bad.append(int(h[i]))
+    return bad

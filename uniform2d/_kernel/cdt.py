@@ -1,0 +1,440 @@
+"""Constrained Delaunay triangulation of a polygon with holes, in flat arrays.
+
+Layout (as in delaunator and Triangle)
+--------------------------------------
+Triangle ``t`` owns the three half-edges ``h = 3*t + i`` (i = 0, 1, 2)::
+
+                 tv[3t+2]
+                   /\\
+        h = 3t+2  /  \\  h = 3t+1         half-edge h runs from tv[h] to tv[nxt(h)],
+                 /    \\                   the triangle is on its left (CCW order);
+        tv[3t] ------- tv[3t+1]           nxt(h) = 3t + (i+1) % 3, prv(h) = 3t + (i+2) % 3;
+                 h = 3t                   tw[h] = the opposite half-edge, or -1.
+
+Only the inside of P is triangulated, and the only constraints of a polygon with
+holes are its boundary edges, so **a half-edge is constrained exactly when it has
+no twin** (``tw[h] == -1``): that is the constrained flag, and every boundary
+subsegment.  ``vseg[v]`` is the boundary half-edge leaving boundary vertex ``v``
+(each boundary vertex has exactly one: rings are disjoint and simple), -1 inside.
+``tstamp[t]`` counts rewrites of slot ``t``, so a stored ``(t, stamp)`` pair tells
+whether a triangle still exists.  Everything is preallocated to its final size.
+
+Insertion (Bowyer-Watson, cavity stopped at constraints)
+--------------------------------------------------------
+To insert ``p`` lying in triangle ``t0`` (or on its boundary subsegment ``hs``)::
+
+        before: the cavity C              after: a fan around p
+         c ________ d                     c ________ d
+          |\\      /|                       |\\      /|
+          | \\ t1 / |     every t with p     | \\    / |    each edge u->v of the
+          |  \\  /  |     inside its         |  \\  /  |    cavity boundary gets
+          | p.\\/   |     circumcircle,      |---p----|    the new triangle
+          |   /\\   |     reachable from t0  |  /  \\  |    (u, v, p), re-using
+          | t0 \\   |     without crossing   | /    \\ |    the cavity's slots
+          |/    \\ t2|     a constraint      |/      \\|
+         a -------- b                     a -------- b
+
+The cavity grows from ``t0`` across an unconstrained edge ``u->v`` only when
+``p`` sees that edge from inside (``orient2d(u, v, p) >= 0``) and lies strictly
+inside the neighbour's circumcircle.  The visibility condition keeps the
+cavity star-shaped from ``p`` even when a hole sits inside some circumcircle,
+where plain Bowyer-Watson would capture triangles hidden behind the hole.  For a
+boundary point the subsegment ``hs`` is left out of the fan and becomes the two
+boundary half-edges ``a->p`` and ``p->b``.  Every new triangle is checked to be
+strictly counter-clockwise with the exact predicate before anything is written.
+
+The initial triangulation comes from ``shapely.constrained_delaunay_triangles``
+and is then made exactly (constrained) Delaunay by Lawson flips decided with
+our own exact ``incircle``: a flip replaces the diagonal of the quadrilateral
+(a, d, b, c)::
+
+           c                 c
+          /|\\              /   \\
+         / | \\    flip     /  t  \\
+        a t|t' b   --->   a-------b      t = (c, a, d), t' = (d, b, c)
+         \\ | /             \\  t' /
+          \\|/               \\   /
+           d                 d
+"""
+
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from .predicates import dot2d, incircle, orient2d
+
+__all__ = ["Tri", "allocate", "legalize_all", "insert_point", "locate", "circumcircle"]
+
+# Status codes returned by insert_point (>= 0 means success: number of new triangles).
+ERR_ORIENT = -1  # a new triangle would not be strictly counter-clockwise
+
+Tri = namedtuple(
+    "Tri",
+    [
+        "xy",  # (nmax, 2) float64 vertex coordinates (normalised)
+        "tv",  # (3*tmax,) int32 origin vertex of each half-edge
+        "tw",  # (3*tmax,) int32 twin half-edge or -1 (constrained)
+        "tstamp",  # (tmax,) int32 rewrite counter of each triangle slot
+        "vseg",  # (nmax,) int32 boundary half-edge leaving each vertex, or -1
+        "tmark",  # (tmax,) int32 scratch tags (cavity / search membership)
+        "vmark",  # (nmax,) int32 scratch tags on vertices
+        "vmap",  # (nmax,) int32 scratch map vertex -> local index
+        "stack",  # (tmax + 8,) int32 scratch stack of triangles
+        "cav",  # (tmax + 8,) int32 cavity triangles / new triangle slots
+        "bh",  # (tmax + 8,) int32 cavity boundary half-edges
+        "vbuf",  # (nmax + 8,) int32 collected vertices (subsegment search)
+        "ebuf",  # (nmax + 8,) int32 collected constrained half-edges
+        "st",  # (4,) int64: [number of vertices, number of triangles, tag, unused]
+    ],
+)
+
+
+def allocate(nmax, tmax):
+    """Preallocate a triangulation for at most ``nmax`` vertices and ``tmax`` triangles."""
+    return Tri(
+        xy=np.zeros((nmax, 2), np.float64),
+        tv=np.full(3 * tmax, -1, np.int32),
+        tw=np.full(3 * tmax, -1, np.int32),
+        tstamp=np.zeros(tmax, np.int32),
+        vseg=np.full(nmax, -1, np.int32),
+        tmark=np.zeros(tmax, np.int32),
+        vmark=np.zeros(nmax, np.int32),
+        vmap=np.zeros(nmax, np.int32),
+        stack=np.zeros(tmax + 8, np.int32),
+        cav=np.zeros(tmax + 8, np.int32),
+        bh=np.zeros(tmax + 8, np.int32),
+        vbuf=np.zeros(nmax + 8, np.int32),
+        ebuf=np.zeros(nmax + 8, np.int32),
+        st=np.zeros(4, np.int64),
+    )
+
+
+@njit(cache=True, inline="always")
+def nxt(h):
+    return h - 2 if h % 3 == 2 else h + 1
+
+
+@njit(cache=True, inline="always")
+def prv(h):
+    return h + 2 if h % 3 == 0 else h - 1
+
+
+@njit(cache=True)
+def _orient_v(xy, u, v, x, y):
+    return orient2d(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y)
+
+
+@njit(cache=True)
+def new_tag(m):
+    m.st[2] += 1
+    return np.int32(m.st[2])
+
+
+@njit(cache=True)
+def circumcircle(xy, a, b, c):
+    """Circumcentre (x, y) and radius of triangle (a, b, c), computed relative to a."""
+    ax, ay = xy[a, 0], xy[a, 1]
+    bx, by = xy[b, 0] - ax, xy[b, 1] - ay
+    cx, cy = xy[c, 0] - ax, xy[c, 1] - ay
+    d = 2.0 * (bx * cy - by * cx)
+    b2 = bx * bx + by * by
+    c2 = cx * cx + cy * cy
+    ux = (cy * b2 - by * c2) / d
+    uy = (bx * c2 - cx * b2) / d
+    return ax + ux, ay + uy, np.sqrt(ux * ux + uy * uy)
+
+
+# --------------------------------------------------------------------------------------
+# Building: adjacency from a triangle list, then Lawson flips to exact CDT.
+# --------------------------------------------------------------------------------------
+@njit(cache=True)
+def _set_triangle(m, t, a, b, c):
+    m.tv[3 * t] = a
+    m.tv[3 * t + 1] = b
+    m.tv[3 * t + 2] = c
+    m.tstamp[t] += 1
+
+
+@njit(cache=True)
+def _link(m, h, g):
+    """Make h and g twins (g may be -1: then h is a boundary half-edge)."""
+    m.tw[h] = g
+    if g >= 0:
+        m.tw[g] = h
+    else:
+        m.vseg[m.tv[h]] = h
+
+
+@njit(cache=True)
+def flip(m, h):
+    """Flip the unconstrained edge h (see the module diagram)."""
+    g = m.tw[h]
+    t = h // 3
+    u = g // 3
+    a = m.tv[h]
+    b = m.tv[nxt(h)]
+    c = m.tv[prv(h)]
+    d = m.tv[prv(g)]
+    n_bc = m.tw[nxt(h)]
+    n_ca = m.tw[prv(h)]
+    n_ad = m.tw[nxt(g)]
+    n_db = m.tw[prv(g)]
+    _set_triangle(m, t, c, a, d)
+    _set_triangle(m, u, d, b, c)
+    _link(m, 3 * t, n_ca)
+    _link(m, 3 * t + 1, n_ad)
+    _link(m, 3 * u, n_db)
+    _link(m, 3 * u + 1, n_bc)
+    m.tw[3 * t + 2] = 3 * u + 2
+    m.tw[3 * u + 2] = 3 * t + 2
+
+
+@njit(cache=True)
+def _not_delaunay(m, h):
+    g = m.tw[h]
+    if g < 0:
+        return False
+    xy = m.xy
+    a = m.tv[h]
+    b = m.tv[nxt(h)]
+    c = m.tv[prv(h)]
+    d = m.tv[prv(g)]
+    return (
+        incircle(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], xy[d, 0], xy[d, 1])
+        > 0.0
+    )
+
+
+@njit(cache=True)
+def legalize_all(m):
+    """Flip until every unconstrained edge is locally Delaunay; returns the flip count."""
+    nt = m.st[1]
+    todo = np.empty(6 * nt + 16, np.int32)
+    sp = 0
+    for h in range(3 * nt):
+        if m.tw[h] > h:
+            todo[sp] = h
+            sp += 1
+    flips = 0
+    while sp > 0:
+        sp -= 1
+        h = todo[sp]
+        if not _not_delaunay(m, h):
+            continue
+        t = h // 3
+        u = m.tw[h] // 3
+        flip(m, h)
+        flips += 1
+        if sp + 4 > todo.shape[0]:
+            grown = np.empty(2 * todo.shape[0], np.int32)
+            grown[:sp] = todo[:sp]
+            todo = grown
+        # the four outer edges of the new pair
+        todo[sp] = 3 * t
+        todo[sp + 1] = 3 * t + 1
+        todo[sp + 2] = 3 * u
+        todo[sp + 3] = 3 * u + 1
+        sp += 4
+    return flips
+
+
+@njit(cache=True)
+def build_adjacency(m, tris):
+    """Load (T, 3) CCW triangles; pair half-edges by sorting directed-edge keys.
+
+    Returns the number of boundary half-edges.
+    """
+    nt = tris.shape[0]
+    nv = m.st[0]
+    for t in range(nt):
+        _set_triangle(m, t, tris[t, 0], tris[t, 1], tris[t, 2])
+    m.st[1] = nt
+    keys = np.empty(3 * nt, np.int64)
+    for h in range(3 * nt):
+        u = np.int64(m.tv[h])
+        v = np.int64(m.tv[nxt(h)])
+        lo = min(u, v)
+        hi = max(u, v)
+        keys[h] = lo * nv + hi
+    order = np.argsort(keys, kind="mergesort")
+    nb = 0
+    i = 0
+    while i < 3 * nt:
+        h = order[i]
+        if i + 1 < 3 * nt and keys[order[i + 1]] == keys[h]:
+            g = order[i + 1]
+            m.tw[h] = g
+            m.tw[g] = h
+            i += 2
+        else:
+            m.tw[h] = -1
+            m.vseg[m.tv[h]] = h
+            nb += 1
+            i += 1
+    return nb
+
+
+# --------------------------------------------------------------------------------------
+# Point location
+# --------------------------------------------------------------------------------------
+@njit(cache=True)
+def locate(m, t, x, y, max_steps):
+    """Walk from triangle t towards (x, y).
+
+    Returns the triangle containing the point (closed), or ``-(h + 1)`` when the
+    walk must cross the boundary half-edge h, or ``-(3*tmax + 2)`` when it gives up.
+    """
+    xy = m.xy
+    for _ in range(max_steps):
+        moved = False
+        for i in range(3):
+            h = 3 * t + i
+            if _orient_v(xy, m.tv[h], m.tv[nxt(h)], x, y) < 0.0:
+                g = m.tw[h]
+                if g < 0:
+                    return -(h + 1)
+                t = g // 3
+                moved = True
+                break
+        if not moved:
+            return t
+    return -(m.tv.shape[0] + 2)
+
+
+@njit(cache=True)
+def locate_scan(m, x, y):
+    """Brute-force location: the first triangle containing (x, y) (closed), or -1."""
+    xy = m.xy
+    for t in range(m.st[1]):
+        inside = True
+        for i in range(3):
+            h = 3 * t + i
+            if _orient_v(xy, m.tv[h], m.tv[nxt(h)], x, y) < 0.0:
+                inside = False
+                break
+        if inside:
+            return t
+    return -1
+
+
+# --------------------------------------------------------------------------------------
+# Insertion
+# --------------------------------------------------------------------------------------
+@njit(cache=True)
+def insert_point(m, x, y, t0, hs):
+    """Insert (x, y) lying in triangle t0, or on its boundary half-edge hs (else hs = -1).
+
+    The new vertex gets index ``st[0]``.  On success returns the number k of new
+    triangles, whose slots are ``cav[:k]``; on failure a negative status and the
+    triangulation is unchanged.
+    """
+    xy = m.xy
+    tv = m.tv
+    tw = m.tw
+    tag = new_tag(m)
+    # 1. grow the cavity
+    ncav = 0
+    m.cav[ncav] = t0
+    ncav += 1
+    m.tmark[t0] = tag
+    sp = 0
+    m.stack[sp] = t0
+    sp += 1
+    while sp > 0:
+        sp -= 1
+        t = m.stack[sp]
+        for i in range(3):
+            h = 3 * t + i
+            if h == hs:
+                continue
+            g = tw[h]
+            if g < 0:
+                continue
+            n = g // 3
+            if m.tmark[n] == tag:
+                continue
+            u = tv[h]
+            v = tv[nxt(h)]
+            if _orient_v(xy, u, v, x, y) < 0.0:
+                continue
+            w = tv[prv(g)]
+            if incircle(xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1], xy[w, 0], xy[w, 1], x, y) > 0.0:
+                m.tmark[n] = tag
+                m.cav[ncav] = n
+                ncav += 1
+                m.stack[sp] = n
+                sp += 1
+    # 2. its boundary, checked before anything is written
+    nb = 0
+    for k in range(ncav):
+        t = m.cav[k]
+        for i in range(3):
+            h = 3 * t + i
+            if h == hs:
+                continue
+            g = tw[h]
+            if g >= 0 and m.tmark[g // 3] == tag:
+                continue
+            if _orient_v(xy, tv[h], tv[nxt(h)], x, y) <= 0.0:
+                return ERR_ORIENT
+            m.bh[nb] = h
+            nb += 1
+    # 3. the fan: read every boundary edge before slots are overwritten
+    p = m.st[0]
+    xy[p, 0] = x
+    xy[p, 1] = y
+    m.vseg[p] = -1
+    m.st[0] = p + 1
+    nt = m.st[1]
+    bu = m.vbuf  # reused as scratch: u, v, outer twin of each boundary edge
+    for k in range(nb):
+        h = m.bh[k]
+        m.stack[k] = tw[h]
+        bu[k] = tv[h]
+        m.ebuf[k] = tv[nxt(h)]
+    for k in range(ncav, nb):
+        m.cav[k] = nt + (k - ncav)
+    if nb > ncav:
+        m.st[1] = nt + (nb - ncav)
+    for k in range(nb):
+        s = m.cav[k]
+        u = bu[k]
+        _set_triangle(m, s, u, m.ebuf[k], p)
+        _link(m, 3 * s, m.stack[k])
+        tw[3 * s + 1] = -1
+        tw[3 * s + 2] = -1
+        m.vmark[u] = tag
+        m.vmap[u] = k
+    for k in range(nb):
+        s = m.cav[k]
+        v = m.ebuf[k]
+        if m.vmark[v] == tag:
+            j = m.cav[m.vmap[v]]
+            tw[3 * s + 1] = 3 * j + 2
+            tw[3 * j + 2] = 3 * s + 1
+    for k in range(nb):
+        s = m.cav[k]
+        if tw[3 * s + 1] < 0:
+            m.vseg[tv[3 * s + 1]] = 3 * s + 1  # v -> p is a new boundary half-edge
+        if tw[3 * s + 2] < 0:
+            m.vseg[p] = 3 * s + 2  # p -> u
+    return nb
+
+
+@njit(cache=True)
+def triangle_list(m):
+    """(T, 3) int64 vertex indices of all triangles."""
+    nt = m.st[1]
+    out = np.empty((nt, 3), np.int64)
+    for t in range(nt):
+        out[t, 0] = m.tv[3 * t]
+        out[t, 1] = m.tv[3 * t + 1]
+        out[t, 2] = m.tv[3 * t + 2]
+    return out
+
+
+@njit(cache=True)
+def angle_ok(xy, a, b, c):
+    """Sign of the angle test at c for edge (a, b): (a - c).(b - c) (exact)."""
+    return dot2d(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])

@@ -1,0 +1,274 @@
+"""Algorithm INSERT (canonical Voronoi insertion) of Aurenhammer et al.
+
+Step j inserts the point p_j of the closed polygon P farthest from the current
+sites -- farthest in *visible* distance, the distance to the nearest site seen
+from the point inside P (plain Euclidean distance for a convex P).  The sites
+start as the polygon vertices V (and any extra ``sites``).
+
+Contract (design notes §2): p_j is a global maximiser within a relative 1e-9;
+``weights[j]`` = w_{j-1}(p_j) is its visible distance; the weights never
+increase; the same input gives bit-identical output.  Ties (weights within a
+relative 1e-9 of the best) go to the lexicographically smallest (x, y), with x
+compared to within 1e-9 of the bounding-box size, so the sequence is canonical
+and invariant under scaling and translation.  Geometry is computed on the input
+coordinates themselves: the exact predicates then certify the returned mesh.
+"""
+
+from __future__ import annotations
+
+import logging
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from ._kernel import cdt, heap
+from ._kernel import insert as kinsert
+from .errors import InsufficientPointsError, InvalidSitesError
+from .polygon import Polygon
+
+__all__ = ["insert", "InsertResult"]
+
+log = logging.getLogger(__name__)
+
+#: A site closer than this (relative to the polygon size) to the boundary is on it.
+BOUNDARY_TOL = 1e-10
+#: A chosen point closer than this (relative) to the boundary is placed on it.
+SNAP = 1e-12
+
+
+@dataclass(frozen=True, eq=False)
+class InsertResult:
+    """Result of :func:`insert`.
+
+    Attributes
+    ----------
+    points : ndarray, shape (n, 2)
+        Inserted points p_1..p_n, in insertion order.
+    weights : ndarray, shape (n,)
+        ``weights[j]`` = w_{j-1}(p_j), the visible distance of p_j to the sites
+        present before it was inserted.  Non-increasing.
+    on_boundary : ndarray, shape (n,), bool
+        Whether p_j was placed on the polygon boundary.
+    mesh_points : ndarray, shape (N, 2)
+        All vertices of the final triangulation: the polygon vertices (exactly as
+        ``polygon.vertices``), then the extra ``sites``, then ``points``.
+    triangles : ndarray, shape (M, 3), int64
+        The constrained Delaunay triangulation of ``mesh_points`` restricted to P,
+        counter-clockwise.
+    polygon : Polygon
+    sites : ndarray, shape (k, 2)
+        The extra initial sites (empty if none were given).
+    """
+
+    points: np.ndarray
+    weights: np.ndarray
+    on_boundary: np.ndarray
+    mesh_points: np.ndarray
+    triangles: np.ndarray
+    polygon: Polygon
+    sites: np.ndarray
+
+    def min_distance(self) -> float:
+        """d = l(S ∪ V, S ∪ V): the smallest distance between two vertices of the mesh."""
+        d, _ = cKDTree(self.mesh_points).query(self.mesh_points, k=2)
+        return float(d[:, 1].min())
+
+
+def _size(polygon: Polygon) -> float:
+    """max(width, height) of the bounding box: the unit of every relative tolerance."""
+    xmin, ymin, xmax, ymax = polygon.bounds
+    return max(xmax - xmin, ymax - ymin)
+
+
+def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
+    """Split sites into interior ones and boundary ones (edge index, parameter)."""
+    V = polygon.vertices
+    edges = polygon.edges
+    a = V[edges[:, 0]]
+    d = V[edges[:, 1]] - a
+    L2 = (d * d).sum(axis=1)
+    shape = polygon.to_shapely()
+    interior, boundary = [], []
+    for i, s in enumerate(sites):
+        rel = s - a
+        t = np.clip((rel * d).sum(axis=1) / L2, 0.0, 1.0)
+        dist = np.hypot(*(rel - t[:, None] * d).T)
+        e = int(np.argmin(dist))
+        if dist[e] <= tol:
+            if t[e] * np.sqrt(L2[e]) <= tol or (1 - t[e]) * np.sqrt(L2[e]) <= tol:
+                k = edges[e, 0] if t[e] < 0.5 else edges[e, 1]
+                raise InvalidSitesError(
+                    f"site {i} {tuple(s)} coincides with polygon vertex {int(k)}; "
+                    "polygon vertices are sites already, remove it"
+                )
+            boundary.append((i, e, float(t[e])))
+        elif shapely.contains_xy(shape, s[0], s[1]):
+            interior.append(i)
+        else:
+            raise InvalidSitesError(
+                f"site {i} {tuple(s)} lies outside the polygon; sites must be inside P "
+                "or on its boundary"
+            )
+    return interior, boundary
+
+
+def _check_sites(polygon: Polygon, sites) -> np.ndarray:
+    if sites is None:
+        return np.empty((0, 2), np.float64)
+    try:
+        s = np.array(sites, dtype=np.float64).reshape(-1, 2)
+    except (TypeError, ValueError):
+        raise InvalidSitesError("sites must be a (k, 2) array of coordinates") from None
+    if not np.isfinite(s).all():
+        i = int(np.flatnonzero(~np.isfinite(s).all(axis=1))[0])
+        raise InvalidSitesError(f"site {i} has a non-finite coordinate {tuple(s[i])}")
+    _, first, counts = np.unique(s, axis=0, return_index=True, return_counts=True)
+    if (counts > 1).any():
+        i = int(first[np.flatnonzero(counts > 1)[0]])
+        raise InvalidSitesError(f"site {i} {tuple(s[i])} is given more than once")
+    return s
+
+
+def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
+    """Run Algorithm INSERT: place ``n`` points, each farthest from all sites before it.
+
+    Parameters
+    ----------
+    polygon : Polygon
+        The domain P (holes allowed).
+    n : int
+        Number of points to insert, n >= 0.
+    sites : array_like, shape (k, 2), optional
+        Extra initial sites inside P or on its boundary (besides the polygon
+        vertices), e.g. prescribed boundary points (T+ uses this).
+
+    Returns
+    -------
+    InsertResult
+
+    Raises
+    ------
+    InsufficientPointsError
+        If n is negative or not an integer.
+    InvalidSitesError
+        If a site is outside P, repeated, non-finite or equal to a polygon vertex.
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon, insert
+    >>> res = insert(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 3)
+    >>> res.points.round(6).tolist()
+    [[0.5, 0.5], [0.0, 0.5], [0.5, 0.0]]
+    >>> res.weights.round(6).tolist()
+    [0.707107, 0.5, 0.5]
+    >>> res.triangles.shape
+    (8, 3)
+    """
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 0:
+        raise InsufficientPointsError(f"n must be a non-negative integer, got {n!r}")
+    n = int(n)
+    sites = _check_sites(polygon, sites)
+    scale = _size(polygon)
+    interior, boundary = _classify_sites(polygon, sites, BOUNDARY_TOL * scale)
+
+    V = polygon.vertices
+    nV = len(V)
+    Vn = V
+    Sn = sites
+    # rings with the boundary sites spliced in, as kernel vertex indices
+    by_edge: dict[int, list[tuple[float, int]]] = {}
+    for i, e, t in boundary:
+        by_edge.setdefault(e, []).append((t, nV + i))
+    rings = []
+    for r in range(len(polygon.rings)):
+        lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
+        ring = []
+        for e in range(lo, hi):
+            ring.append(e)  # edge e starts at vertex e (Polygon.edges layout)
+            ring.extend(k for _, k in sorted(by_edge.get(e, [])))
+        rings.append(ring)
+
+    allxy = np.concatenate([Vn, Sn], axis=0)
+    n_int = len(interior)
+    nmax = nV + len(sites) + n
+    nb0 = sum(len(r) for r in rings)
+    t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
+    tmax = t0 + 2 * (n_int + n) + 4
+    m = cdt.allocate(nmax, tmax)
+    m.xy[: len(allxy)] = allxy
+    m.st[0] = len(allxy)
+
+    tris = _initial_triangles(allxy, rings)
+    if len(tris) != t0:
+        raise RuntimeError(f"initial triangulation has {len(tris)} triangles, expected {t0}")
+    nbh = cdt.build_adjacency(m, tris)
+    if nbh != nb0:
+        raise RuntimeError("initial triangulation does not cover the polygon boundary")
+    cdt.legalize_all(m)
+
+    for i in interior:
+        x, y = Sn[i]
+        t = cdt.locate_scan(m, x, y)
+        # the site's index is fixed in advance (nV + i): insert_point uses st[0]
+        m.st[0] = nV + i
+        status = cdt.insert_point(m, x, y, t, -1)
+        m.st[0] = len(allxy)
+        if status < 0:
+            raise RuntimeError(f"could not insert site {i} (status {status})")
+
+    hk, ha, hb, hs = heap.new_heap(4 * tmax + 64)
+    hk, ha, hb = kinsert.push_initial(m, hk, ha, hb, hs)
+    out_xy = np.empty((n, 2), np.float64)
+    out_w = np.empty(n, np.float64)
+    out_b = np.zeros(n, np.bool_)
+    status, hk, ha, hb = kinsert.run(
+        m, hk, ha, hb, hs, n, out_xy, out_w, out_b, kinsert.REL_X * scale, SNAP * scale
+    )
+    if status != n:
+        j = -status // 100
+        raise RuntimeError(
+            f"INSERT kernel failed (status {status}) at step {j}, point {tuple(out_xy[j])}, "
+            f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
+        )
+    log.debug("insert: %d points, heap capacity %d", n, hk.shape[0])
+
+    points = out_xy
+    weights = out_w
+    mesh_points = np.concatenate([V, sites, points], axis=0)
+    triangles = cdt.triangle_list(m)
+    for arr in (points, weights, out_b, mesh_points, triangles):
+        arr.setflags(write=False)
+    return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
+
+
+def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
+    """Constrained Delaunay triangles of the rings (GEOS), as CCW vertex indices.
+
+    GEOS returns the input coordinates unchanged, so vertices are matched exactly.
+    Its in-circle decisions are not exact; :func:`cdt.legalize_all` fixes that.
+    """
+    shell = xy[rings[0]]
+    holes = [xy[r] for r in rings[1:]]
+    geom = shapely.constrained_delaunay_triangles(shapely.Polygon(shell, holes))
+    index = {(float(x), float(y)): k for r in rings for k in r for x, y in [xy[k]]}
+    out = []
+    for g in shapely.get_parts(geom):
+        c = np.asarray(g.exterior.coords)[:3]
+        try:
+            tri = [index[(float(x), float(y))] for x, y in c]
+        except KeyError:
+            raise RuntimeError("GEOS returned a vertex that is not a polygon vertex") from None
+        out.append(tri)
+    tris = np.array(out, dtype=np.int32).reshape(-1, 3)
+    p = xy[tris]
+    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
+        p[:, 1, 1] - p[:, 0, 1]
+    ) * (p[:, 2, 0] - p[:, 0, 0])
+    flip = cross < 0
+    tris[flip] = tris[flip][:, ::-1]
+    return np.ascontiguousarray(tris)

@@ -1,0 +1,193 @@
+"""The paper's two-phase mesh T+ (Section 3), with one documented correction.
+
+1. Run INSERT for n points; d_n = l(S_n ∪ V, S_n ∪ V), the smallest distance
+   among the polygon vertices and the inserted points.
+2. Put points on every polygon edge (outer ring and holes) at equal spacing: an
+   edge of length L gets m = max(1, ⌈L / (hi · d_n)⌉) pieces (hi = 3 by default).
+3. k = number of boundary points placed; run INSERT again for n − k points from
+   the sites V ∪ (those k points).
+4. T+ = the constrained Delaunay triangulation of all of them: exactly n Steiner
+   points.
+
+The correction.  The paper asks for consecutive boundary distances in
+[2 d_n, 3 d_n] and says such a placement always exists.  It does not for an edge
+of length L ∈ (3 d_n, 4 d_n): one piece is too long, two are too short.  With
+m = ⌈L/(3 d_n)⌉ pieces the spacing L/m is still ≤ 3 d_n, and it is ≥ 1.5 d_n:
+for L ≥ 3 d_n, m < L/(3 d_n) + 1 ≤ 2L/(3 d_n), so L/m > 1.5 d_n; for L < 3 d_n
+the edge is not split and its length is ≥ l(V, V) ≥ 2 d_n under the theorem's
+first hypothesis.  The proofs only use (i) boundary gaps ≤ 3 d_n (Lemma 5: the
+circles of radius 3/2 d_n around later points stay inside P; Theorem 2, case 1:
+critical triangles have edges ≤ 3 d_n by Lemma 3) and (ii) l(V', V') ≥ d_n for
+the new boundary set V' (the lower bound of Theorem 2), and 1.5 d_n ≥ d_n; the
+count bound k ≤ B/(2 d_n) − |V| of Lemma 6 uses the gaps being ≥ 2 d_n, and with
+gaps ≥ 1.5 d_n it becomes k ≤ B/(1.5 d_n), so Lemma 6's sufficient condition is
+weaker than stated -- which is why the hypothesis n ≥ 2k is checked directly.
+
+Which hypotheses are checked.  Theorem 2 assumes d_n ≤ l(V,V)/2 and
+d_n ≤ A/(π·B); the second only serves (Lemma 6) to guarantee n ≥ 2k, which
+Lemma 5 needs.  Since k is known, ``info`` reports all three conditions and
+the theorem is taken to apply when d_n ≤ l(V,V)/2 and n ≥ 2k hold -- exactly
+what the proof uses.  Then every edge of T+ is ≤ 6 d_n and the edge ratio ≤ 6.
+
+Other ``spacing=(lo, hi)``.  The edges get m = max(1, ⌈L/(hi·d_n)⌉) pieces, so
+gaps are ≤ hi·d_n, and ≥ hi·d_n/2 on split edges.  Redoing the proofs with hi:
+the gaps must stay ≥ d_n, so hi ≥ 2; Lemma 5's circles get radius hi/2·d_n and
+its area count gives w(p'_n) ≤ hi·d_n once n ≥ c·k with c = hi²/(hi² − 4)
+(the paper rounds c = 9/5 up to 2 for hi = 3; we use c = max(2, hi²/(hi² − 4)));
+then every edge is ≤ 2·hi·d_n, every edge ≥ d_n/2, and the ratio bound is
+2·hi (``info["edge_ratio_bound"]``).  For hi ≤ 2 no bound follows.  ``lo`` is
+only reported: whether every gap is ≥ lo·d_n (``info["gaps_within_spacing"]``).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import numbers
+
+import numpy as np
+
+from .errors import InsufficientPointsError
+from .insert import insert
+from .mesh import Mesh
+from .polygon import Polygon
+
+__all__ = ["tplus", "boundary_points"]
+
+log = logging.getLogger(__name__)
+
+
+def boundary_points(polygon: Polygon, gap: float):
+    """Equally spaced points on every polygon edge, at most ``gap`` apart.
+
+    Returns ``(points (k, 2) float64, pieces (E,) int)``: an edge of length L is
+    cut into m = max(1, ⌈L / gap⌉) equal pieces (m − 1 new points on it).
+    """
+    V = polygon.vertices
+    E = polygon.edges
+    a, b = V[E[:, 0]], V[E[:, 1]]
+    L = np.hypot(*(b - a).T)
+    m = np.maximum(1, np.ceil(L / gap)).astype(np.int64)
+    pts = [a[e] + (b[e] - a[e]) * (np.arange(1, m[e])[:, None] / m[e]) for e in range(len(E))]
+    return np.concatenate(pts, axis=0) if pts else np.empty((0, 2)), m
+
+
+def _phase1(polygon, n, hi):
+    res = insert(polygon, n)
+    d_n = res.min_distance()
+    pts, m = boundary_points(polygon, hi * d_n)
+    return res, d_n, pts, m
+
+
+def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1) -> int:
+    """The smallest n for which T+ places no more boundary points than n (k <= n)."""
+
+    def ok(n):
+        return len(_phase1(polygon, n, hi)[2]) <= n
+
+    lo, n = max(0, start - 1), max(1, start)
+    while not ok(n):
+        lo, n = n, 2 * n
+        if n > 10_000_000:
+            raise InsufficientPointsError("no feasible n below 10^7 for this polygon")
+    while lo + 1 < n:  # ok(n) holds, ok(lo) does not (or lo is the start)
+        mid = (lo + n) // 2
+        if ok(mid):
+            n = mid
+        else:
+            lo = mid
+    return n
+
+
+def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
+    """The paper's mesh T+ with exactly ``n`` Steiner points.
+
+    Parameters
+    ----------
+    polygon : Polygon
+    n : int
+        Number of Steiner points (boundary and interior together).
+    spacing : (float, float)
+        (lo, hi): boundary gaps are at most hi·d_n; lo·d_n is the lower end the
+        paper asks for, reported in ``info["gaps_within_spacing"]``.
+
+    Returns
+    -------
+    Mesh
+        ``info`` holds ``d_n``, ``k``, ``hypotheses`` (the three conditions of
+        Theorem 2), ``theorem_applies``, ``gap_min``/``gap_max`` (in units of
+        d_n) and ``w_last`` (w(p'_n), the last weight of phase 2).
+
+    Raises
+    ------
+    InsufficientPointsError
+        If phase 1 asks for more boundary points than n (the message names the
+        smallest n that works).
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon, tplus
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> mesh = tplus(sq, 100)
+    >>> mesh.n_steiner, len(mesh.points)
+    (100, 104)
+    >>> mesh.info["k"], mesh.info["theorem_applies"]
+    (12, True)
+    """
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+        raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+    lo, hi = (float(s) for s in spacing)
+    if not (0 < lo <= hi):
+        raise ValueError(f"spacing must be (lo, hi) with 0 < lo <= hi, got {spacing!r}")
+    n = int(n)
+
+    _, d_n, bpts, m = _phase1(polygon, n, hi)
+    k = len(bpts)
+    if k > n:
+        need = smallest_feasible_n(polygon, hi, start=n + 1)
+        raise InsufficientPointsError(
+            f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n; "
+            f"the smallest n that works for this polygon is {need}"
+        )
+    res2 = insert(polygon, n - k, sites=bpts)
+
+    V = polygon.vertices
+    E = polygon.edges
+    L = np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T)
+    gaps = L / m
+    lVV = polygon.min_vertex_distance()
+    A, B = polygon.area, polygon.perimeter
+    c = 2.0 if hi == 3.0 else (max(2.0, hi * hi / (hi * hi - 4.0)) if hi > 2 else math.inf)
+    hyp = {
+        "d_n <= l(V,V)/2": bool(d_n <= lVV / 2),
+        "d_n <= A/(pi*B)": bool(d_n <= A / (math.pi * B)),
+        f"n >= {c:g}k": bool(n >= c * k),
+    }
+    applies = hyp["d_n <= l(V,V)/2"] and n >= c * k and hi > 2
+    info = {
+        "method": "paper",
+        "d_n": d_n,
+        "k": k,
+        "spacing": (lo, hi),
+        "gap_min": float(gaps.min() / d_n),
+        "gap_max": float(gaps.max() / d_n),
+        "gaps_within_spacing": bool(
+            np.all(gaps >= lo * d_n * (1 - 1e-12)) and np.all(gaps <= hi * d_n * (1 + 1e-12))
+        ),
+        "w_last": float(res2.weights[-1]) if len(res2.weights) else float("nan"),
+        "l(V,V)": lVV,
+        "hypotheses": hyp,
+        "n_over_k_required": c,
+        "theorem_applies": applies,
+        "edge_ratio_bound": 2 * hi if applies else None,
+    }
+    log.debug("tplus: n=%d d_n=%g k=%d theorem=%s", n, d_n, k, info["theorem_applies"])
+    return Mesh(
+        points=np.array(res2.mesh_points),
+        triangles=np.array(res2.triangles),
+        polygon=polygon,
+        n_steiner=n,
+        info=info,
+    )
