@@ -10,8 +10,10 @@ Contract (design notes §2): p_j is a global maximiser within a relative 1e-9;
 increase; the same input gives bit-identical output.  Ties (weights within a
 relative 1e-9 of the best) go to the lexicographically smallest (x, y), with x
 compared to within 1e-9 of the bounding-box size, so the sequence is canonical
-and invariant under scaling and translation.  Geometry is computed on the input
-coordinates themselves: the exact predicates then certify the returned mesh.
+and invariant under scaling and translation.  See ``uniform2d._kernel.insert``
+for how the tied group is found in O(log n) a step.  The kernel works on coordinates
+normalised exactly (see ``_normaliser``); the polygon vertices and sites are
+returned exactly as given, the inserted points mapped back.
 """
 
 from __future__ import annotations
@@ -77,10 +79,26 @@ class InsertResult:
         return float(d[:, 1].min())
 
 
-def _size(polygon: Polygon) -> float:
-    """max(width, height) of the bounding box: the unit of every relative tolerance."""
+def _normaliser(polygon: Polygon):
+    """(centre, scale) with x_norm = (x - centre) / scale, exact both ways when possible.
+
+    ``scale`` is the power of two nearest max(width, height), so dividing by it
+    and multiplying back are exact.  A polygon near the origin (bounding-box
+    centre within 2 sizes of it) is not translated: the kernel then works on an
+    exact image of the caller's coordinates and the returned mesh is exactly the
+    one the predicates certified.  A polygon far from the origin is translated by
+    its centre rounded to a multiple of 2**-20 scale, which keeps the subtraction
+    exact for coordinates on that scale; mapping the points back then rounds
+    them to what the caller's coordinates can represent there.
+    """
     xmin, ymin, xmax, ymax = polygon.bounds
-    return max(xmax - xmin, ymax - ymin)
+    size = max(xmax - xmin, ymax - ymin)
+    scale = 2.0 ** round(np.log2(size))
+    centre = np.array([(xmin + xmax) / 2.0, (ymin + ymax) / 2.0])
+    if np.abs(centre).max() <= 2.0 * size:
+        return np.zeros(2), scale
+    q = scale * 2.0**-20
+    return np.round(centre / q) * q, scale
 
 
 def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
@@ -164,8 +182,8 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
     [[0.5, 0.5], [0.0, 0.5], [0.5, 0.0]]
     >>> res.weights.round(6).tolist()
     [0.707107, 0.5, 0.5]
-    >>> res.triangles.shape
-    (8, 3)
+    >>> res.triangles.shape        # 7 vertices, 6 of them on the boundary
+    (6, 3)
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
@@ -173,13 +191,14 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
         raise InsufficientPointsError(f"n must be a non-negative integer, got {n!r}")
     n = int(n)
     sites = _check_sites(polygon, sites)
-    scale = _size(polygon)
-    interior, boundary = _classify_sites(polygon, sites, BOUNDARY_TOL * scale)
+    centre, scale = _normaliser(polygon)
+    size = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
+    interior, boundary = _classify_sites(polygon, sites, BOUNDARY_TOL * size)
 
     V = polygon.vertices
     nV = len(V)
-    Vn = V
-    Sn = sites
+    Vn = (V - centre) / scale
+    Sn = (sites - centre) / scale
     # rings with the boundary sites spliced in, as kernel vertex indices
     by_edge: dict[int, list[tuple[float, int]]] = {}
     for i, e, t in boundary:
@@ -199,9 +218,9 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
     nb0 = sum(len(r) for r in rings)
     t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
     tmax = t0 + 2 * (n_int + n) + 4
-    m = cdt.allocate(nmax, tmax)
-    m.xy[: len(allxy)] = allxy
-    m.st[0] = len(allxy)
+    m, xy = cdt.allocate(nmax, tmax)
+    xy[: len(allxy)] = allxy
+    cdt.set_nv(m, len(allxy))
 
     tris = _initial_triangles(allxy, rings)
     if len(tris) != t0:
@@ -211,39 +230,60 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
         raise RuntimeError("initial triangulation does not cover the polygon boundary")
     cdt.legalize_all(m)
 
-    for i in interior:
-        x, y = Sn[i]
-        t = cdt.locate_scan(m, x, y)
-        # the site's index is fixed in advance (nV + i): insert_point uses st[0]
-        m.st[0] = nV + i
-        status = cdt.insert_point(m, x, y, t, -1)
-        m.st[0] = len(allxy)
+    if interior:
+        idx = nV + np.asarray(interior, dtype=np.int64)
+        idx = idx[hilbert_order(allxy[idx])]
+        status = cdt.insert_sites(m, idx)
         if status < 0:
-            raise RuntimeError(f"could not insert site {i} (status {status})")
+            raise RuntimeError(f"could not insert site {int(idx[-status - 1]) - nV}")
 
-    hk, ha, hb, hs = heap.new_heap(4 * tmax + 64)
-    hk, ha, hb = kinsert.push_initial(m, hk, ha, hb, hs)
+    # points nearer the boundary than this go on it: SNAP of the size, or more if
+    # rounding the result back to the caller's coordinates could move a point that far
+    snap = max(SNAP * size, 8 * np.finfo(float).eps * float(np.abs(V).max()))
+    M = heap.new_heap(4 * tmax + 64)
+    kinsert.push_initial(m, M)
+    P = kinsert.new_pool(64)
     out_xy = np.empty((n, 2), np.float64)
     out_w = np.empty(n, np.float64)
     out_b = np.zeros(n, np.bool_)
-    status, hk, ha, hb = kinsert.run(
-        m, hk, ha, hb, hs, n, out_xy, out_w, out_b, kinsert.REL_X * scale, SNAP * scale
-    )
+    xtol = kinsert.REL_TIE * size / scale
+    status = kinsert.run(m, M, P, n, out_xy, out_w, out_b, xtol, snap / scale)
     if status != n:
         j = -status // 100
         raise RuntimeError(
             f"INSERT kernel failed (status {status}) at step {j}, point {tuple(out_xy[j])}, "
             f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
         )
-    log.debug("insert: %d points, heap capacity %d", n, hk.shape[0])
 
-    points = out_xy
-    weights = out_w
+    points = out_xy * scale + centre
+    weights = out_w * scale
     mesh_points = np.concatenate([V, sites, points], axis=0)
     triangles = cdt.triangle_list(m)
     for arr in (points, weights, out_b, mesh_points, triangles):
         arr.setflags(write=False)
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
+
+
+def hilbert_order(points: np.ndarray, bits: int = 16) -> np.ndarray:
+    """Indices sorting points (K, 2) along a Hilbert curve over their bounding box."""
+    lo = points.min(axis=0)
+    span = max(float((points.max(axis=0) - lo).max()), 1e-300)
+    side = 1 << bits
+    q = np.minimum(((points - lo) / span * (side - 1)).astype(np.int64), side - 1)
+    x, y = q[:, 0].copy(), q[:, 1].copy()
+    d = np.zeros(len(points), np.int64)
+    s = side >> 1
+    while s > 0:
+        rx = (x & s) > 0
+        ry = (y & s) > 0
+        d += s * s * ((3 * rx) ^ ry)
+        # rotate the quadrant
+        flip = ~ry
+        swap_x = np.where(flip & rx, s - 1 - x, x)
+        swap_y = np.where(flip & rx, s - 1 - y, y)
+        x, y = np.where(flip, swap_y, swap_x), np.where(flip, swap_x, swap_y)
+        s >>= 1
+    return np.argsort(d, kind="stable")
 
 
 def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:

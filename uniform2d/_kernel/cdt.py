@@ -17,7 +17,9 @@ no twin** (``tw[h] == -1``): that is the constrained flag, and every boundary
 subsegment.  ``vseg[v]`` is the boundary half-edge leaving boundary vertex ``v``
 (each boundary vertex has exactly one: rings are disjoint and simple), -1 inside.
 ``tstamp[t]`` counts rewrites of slot ``t``, so a stored ``(t, stamp)`` pair tells
-whether a triangle still exists.  Everything is preallocated to its final size.
+whether a triangle still exists.  Everything is preallocated to its final size and
+held by one mutable ``Tri`` structref (a numba record passed by reference: one
+reference count per call, where a tuple of arrays costs one per array).
 
 Insertion (Bowyer-Watson, cavity stopped at constraints)
 --------------------------------------------------------
@@ -57,10 +59,9 @@ our own exact ``incircle``: a flip replaces the diagonal of the quadrilateral
            d                 d
 """
 
-from collections import namedtuple
-
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
 
 from .predicates import dot2d, incircle, orient2d
 
@@ -69,45 +70,76 @@ __all__ = ["Tri", "allocate", "legalize_all", "insert_point", "locate", "circumc
 # Status codes returned by insert_point (>= 0 means success: number of new triangles).
 ERR_ORIENT = -1  # a new triangle would not be strictly counter-clockwise
 
-Tri = namedtuple(
-    "Tri",
-    [
-        "xy",  # (nmax, 2) float64 vertex coordinates (normalised)
-        "tv",  # (3*tmax,) int32 origin vertex of each half-edge
-        "tw",  # (3*tmax,) int32 twin half-edge or -1 (constrained)
-        "tstamp",  # (tmax,) int32 rewrite counter of each triangle slot
-        "vseg",  # (nmax,) int32 boundary half-edge leaving each vertex, or -1
-        "tmark",  # (tmax,) int32 scratch tags (cavity / search membership)
-        "vmark",  # (nmax,) int32 scratch tags on vertices
-        "vmap",  # (nmax,) int32 scratch map vertex -> local index
-        "stack",  # (tmax + 8,) int32 scratch stack of triangles
-        "cav",  # (tmax + 8,) int32 cavity triangles / new triangle slots
-        "bh",  # (tmax + 8,) int32 cavity boundary half-edges
-        "vbuf",  # (nmax + 8,) int32 collected vertices (subsegment search)
-        "ebuf",  # (nmax + 8,) int32 collected constrained half-edges
-        "st",  # (4,) int64: [number of vertices, number of triangles, tag, unused]
-    ],
-)
+
+@structref.register
+class TriType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+class Tri(structref.StructRefProxy):
+    """The triangulation state (fields listed in ``_FIELDS``)."""
+
+
+_FIELDS = [
+    "xy",  # (nmax, 2) float64 vertex coordinates (normalised)
+    "tv",  # (3*tmax,) int32 origin vertex of each half-edge
+    "tw",  # (3*tmax,) int32 twin half-edge or -1 (constrained)
+    "tstamp",  # (tmax,) int32 rewrite counter of each triangle slot
+    "vseg",  # (nmax,) int32 boundary half-edge leaving each vertex, or -1
+    "tmark",  # (tmax,) int32 scratch tags (cavity / search membership)
+    "vmark",  # (nmax,) int32 scratch tags on vertices
+    "vmap",  # (nmax,) int32 scratch map vertex -> local index
+    "stack",  # (tmax + 8,) int32 scratch stack of triangles
+    "cav",  # (tmax + 8,) int32 cavity triangles / new triangle slots
+    "bh",  # (tmax + 8,) int32 cavity boundary half-edges
+    "vbuf",  # (nmax + 8,) int32 collected vertices (subsegment search)
+    "ebuf",  # (nmax + 8,) int32 collected constrained half-edges
+    "nv",  # int64 number of vertices
+    "nt",  # int64 number of triangles
+    "tag",  # int64 last scratch tag handed out
+]
+structref.define_proxy(Tri, TriType, _FIELDS)
+
+
+@njit(cache=True)
+def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf):
+    return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf, 0, 0, 0)
+
+
+@njit(cache=True)
+def counts(m):
+    """(number of vertices, number of triangles)."""
+    return m.nv, m.nt
+
+
+@njit(cache=True)
+def set_nv(m, nv):
+    m.nv = nv
 
 
 def allocate(nmax, tmax):
-    """Preallocate a triangulation for at most ``nmax`` vertices and ``tmax`` triangles."""
-    return Tri(
-        xy=np.zeros((nmax, 2), np.float64),
-        tv=np.full(3 * tmax, -1, np.int32),
-        tw=np.full(3 * tmax, -1, np.int32),
-        tstamp=np.zeros(tmax, np.int32),
-        vseg=np.full(nmax, -1, np.int32),
-        tmark=np.zeros(tmax, np.int32),
-        vmark=np.zeros(nmax, np.int32),
-        vmap=np.zeros(nmax, np.int32),
-        stack=np.zeros(tmax + 8, np.int32),
-        cav=np.zeros(tmax + 8, np.int32),
-        bh=np.zeros(tmax + 8, np.int32),
-        vbuf=np.zeros(nmax + 8, np.int32),
-        ebuf=np.zeros(nmax + 8, np.int32),
-        st=np.zeros(4, np.int64),
+    """Preallocate a triangulation for at most ``nmax`` vertices and ``tmax`` triangles.
+
+    Returns ``(m, xy)``: the state and its coordinate array (shared, for filling).
+    """
+    xy = np.zeros((nmax, 2), np.float64)
+    m = _new_tri(
+        xy,
+        np.full(3 * tmax, -1, np.int32),
+        np.full(3 * tmax, -1, np.int32),
+        np.zeros(tmax, np.int32),
+        np.full(nmax, -1, np.int32),
+        np.zeros(tmax, np.int32),
+        np.zeros(nmax, np.int32),
+        np.zeros(nmax, np.int32),
+        np.zeros(tmax + 8, np.int32),
+        np.zeros(tmax + 8, np.int32),
+        np.zeros(tmax + 8, np.int32),
+        np.zeros(nmax + 8, np.int32),
+        np.zeros(nmax + 8, np.int32),
     )
+    return m, xy
 
 
 @njit(cache=True, inline="always")
@@ -127,8 +159,8 @@ def _orient_v(xy, u, v, x, y):
 
 @njit(cache=True)
 def new_tag(m):
-    m.st[2] += 1
-    return np.int32(m.st[2])
+    m.tag += 1
+    return np.int32(m.tag)
 
 
 @njit(cache=True)
@@ -209,7 +241,7 @@ def _not_delaunay(m, h):
 @njit(cache=True)
 def legalize_all(m):
     """Flip until every unconstrained edge is locally Delaunay; returns the flip count."""
-    nt = m.st[1]
+    nt = m.nt
     todo = np.empty(6 * nt + 16, np.int32)
     sp = 0
     for h in range(3 * nt):
@@ -246,10 +278,10 @@ def build_adjacency(m, tris):
     Returns the number of boundary half-edges.
     """
     nt = tris.shape[0]
-    nv = m.st[0]
+    nv = m.nv
     for t in range(nt):
         _set_triangle(m, t, tris[t, 0], tris[t, 1], tris[t, 2])
-    m.st[1] = nt
+    m.nt = nt
     keys = np.empty(3 * nt, np.int64)
     for h in range(3 * nt):
         u = np.int64(m.tv[h])
@@ -306,7 +338,7 @@ def locate(m, t, x, y, max_steps):
 def locate_scan(m, x, y):
     """Brute-force location: the first triangle containing (x, y) (closed), or -1."""
     xy = m.xy
-    for t in range(m.st[1]):
+    for t in range(m.nt):
         inside = True
         for i in range(3):
             h = 3 * t + i
@@ -325,7 +357,7 @@ def locate_scan(m, x, y):
 def insert_point(m, x, y, t0, hs):
     """Insert (x, y) lying in triangle t0, or on its boundary half-edge hs (else hs = -1).
 
-    The new vertex gets index ``st[0]``.  On success returns the number k of new
+    The new vertex gets index ``nv``.  On success returns the number k of new
     triangles, whose slots are ``cav[:k]``; on failure a negative status and the
     triangulation is unchanged.
     """
@@ -381,12 +413,12 @@ def insert_point(m, x, y, t0, hs):
             m.bh[nb] = h
             nb += 1
     # 3. the fan: read every boundary edge before slots are overwritten
-    p = m.st[0]
+    p = m.nv
     xy[p, 0] = x
     xy[p, 1] = y
     m.vseg[p] = -1
-    m.st[0] = p + 1
-    nt = m.st[1]
+    m.nv = p + 1
+    nt = m.nt
     bu = m.vbuf  # reused as scratch: u, v, outer twin of each boundary edge
     for k in range(nb):
         h = m.bh[k]
@@ -396,7 +428,7 @@ def insert_point(m, x, y, t0, hs):
     for k in range(ncav, nb):
         m.cav[k] = nt + (k - ncav)
     if nb > ncav:
-        m.st[1] = nt + (nb - ncav)
+        m.nt = nt + (nb - ncav)
     for k in range(nb):
         s = m.cav[k]
         u = bu[k]
@@ -423,9 +455,36 @@ def insert_point(m, x, y, t0, hs):
 
 
 @njit(cache=True)
+def insert_sites(m, idx):
+    """Insert the vertices ``idx`` (coordinates already in ``xy``) in the given order,
+    each keeping its own index.  Walks from the last new triangle, so a spatially
+    coherent order makes each location O(1).  Returns 0, or -(k + 1) if site k
+    could not be inserted."""
+    nv = m.nv
+    t = 0
+    for k in range(idx.shape[0]):
+        v = idx[k]
+        x = m.xy[v, 0]
+        y = m.xy[v, 1]
+        loc = locate(m, t, x, y, 4096)
+        if loc < 0:
+            loc = locate_scan(m, x, y)
+            if loc < 0:
+                m.nv = nv
+                return -(k + 1)
+        m.nv = v
+        if insert_point(m, x, y, loc, -1) < 0:
+            m.nv = nv
+            return -(k + 1)
+        t = m.cav[0]
+    m.nv = nv
+    return 0
+
+
+@njit(cache=True)
 def triangle_list(m):
     """(T, 3) int64 vertex indices of all triangles."""
-    nt = m.st[1]
+    nt = m.nt
     out = np.empty((nt, 3), np.int64)
     for t in range(nt):
         out[t, 0] = m.tv[3 * t]

@@ -1,105 +1,203 @@
-"""A binary max-heap in flat arrays, for numba.
+"""Binary heaps in flat arrays, for numba: one keyed by value, one lexicographic.
 
-Entries are ``(key, a, b)``: a float64 key and two int32 payload words whose
-meaning belongs to the caller (Algorithm INSERT stores ``(t, stamp)`` for a
-triangle candidate and ``(-(u + 1), v)`` for a boundary subsegment ``u -> v``).
+Value heap ``Heap(keys, pa, pb, size)``: entries ``(key; a, b)`` served largest key
+first.  ``keys`` (cap,) float64, ``pa``/``pb`` (cap,) int32 payload words owned by
+the caller, ``size`` the number of entries: 16 bytes an entry.
 
-Key and tie-break
------------------
-The heap orders by key only, largest first.  Among equal keys the order is
-whatever the sequence of pushes and pops produces: deterministic, but not
-meaningful.  Callers that need a canonical choice among (near-)equal keys pop
-all of them and choose themselves -- INSERT does, by the lexicographic rule on
-the candidate points.
+Lexicographic heap ``LHeap(k1, k2, pa, pb, size)``: entries ``(k1, k2; a, b)``
+served smallest ``k1`` first, then smallest ``k2``.  Both are mutable structrefs.
 
-The heap is *lazy*: nothing is ever removed from the middle.  Keys are upper
-bounds of the current value of their candidates; stale entries are recognised
-and dropped (or re-pushed with a fresh key) by the caller when popped.
-
-Storage: ``keys`` (cap,) float64, ``pa``/``pb`` (cap,) int32 and ``size`` (1,)
-int64.  ``push`` returns the three arrays, reallocated (doubled) when full.
+Equal keys are served in an order fixed by the sequence of pushes and pops:
+deterministic but not meaningful -- callers needing a canonical choice among
+near-equal keys make it themselves (Algorithm INSERT does, see
+:mod:`.insert`).  Both heaps are *lazy*: nothing is removed from the middle;
+callers recognise stale entries when they are served.  ``push``/``lpush`` double
+the arrays when full.
 """
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
 
-__all__ = ["new_heap", "push", "pop", "top_key"]
+__all__ = ["new_heap", "push", "pop", "top_key", "new_lheap", "lpush", "lpop", "ltop"]
 
 
+@structref.register
+class HeapType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+@structref.register
+class LHeapType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+class Heap(structref.StructRefProxy):
+    """Value heap (see the module docstring)."""
+
+
+class LHeap(structref.StructRefProxy):
+    """Lexicographic heap (see the module docstring)."""
+
+
+structref.define_proxy(Heap, HeapType, ["keys", "pa", "pb", "size"])
+structref.define_proxy(LHeap, LHeapType, ["k1", "k2", "pa", "pb", "size"])
+
+
+@njit(cache=True)
 def new_heap(capacity):
-    """Empty heap arrays with room for ``capacity`` entries."""
-    capacity = max(int(capacity), 16)
-    return (
-        np.empty(capacity, np.float64),
-        np.empty(capacity, np.int32),
-        np.empty(capacity, np.int32),
-        np.zeros(1, np.int64),
+    """An empty value heap with room for ``capacity`` entries."""
+    c = max(capacity, 16)
+    return Heap(np.empty(c, np.float64), np.empty(c, np.int32), np.empty(c, np.int32), 0)
+
+
+@njit(cache=True)
+def new_lheap(capacity):
+    """An empty lexicographic heap with room for ``capacity`` entries."""
+    c = max(capacity, 16)
+    return LHeap(
+        np.empty(c, np.float64),
+        np.empty(c, np.float64),
+        np.empty(c, np.int32),
+        np.empty(c, np.int32),
+        0,
     )
 
 
 @njit(cache=True)
-def push(keys, pa, pb, size, key, a, b):
-    """Add an entry; returns (keys, pa, pb), grown if they were full."""
-    n = size[0]
-    if n == keys.shape[0]:
-        cap = 2 * n
-        k2 = np.empty(cap, np.float64)
-        a2 = np.empty(cap, np.int32)
-        b2 = np.empty(cap, np.int32)
-        k2[:n] = keys[:n]
-        a2[:n] = pa[:n]
-        b2[:n] = pb[:n]
-        keys, pa, pb = k2, a2, b2
-    # sift up
+def _grow_f(a, cap):
+    out = np.empty(cap, a.dtype)
+    out[: a.shape[0]] = a
+    return out
+
+
+# -- value heap ---------------------------------------------------------------------------
+@njit(cache=True)
+def push(H, key, a, b):
+    """Add ``(key; a, b)``."""
+    n = H.size
+    if n == H.keys.shape[0]:
+        H.keys = _grow_f(H.keys, 2 * n)
+        H.pa = _grow_f(H.pa, 2 * n)
+        H.pb = _grow_f(H.pb, 2 * n)
+    K, PA, PB = H.keys, H.pa, H.pb
     i = n
     while i > 0:
-        parent = (i - 1) >> 1
-        if keys[parent] >= key:
+        p = (i - 1) >> 1
+        if K[p] >= key:
             break
-        keys[i] = keys[parent]
-        pa[i] = pa[parent]
-        pb[i] = pb[parent]
-        i = parent
-    keys[i] = key
-    pa[i] = a
-    pb[i] = b
-    size[0] = n + 1
-    return keys, pa, pb
+        K[i] = K[p]
+        PA[i] = PA[p]
+        PB[i] = PB[p]
+        i = p
+    K[i] = key
+    PA[i] = a
+    PB[i] = b
+    H.size = n + 1
 
 
 @njit(cache=True)
-def pop(keys, pa, pb, size):
-    """Remove and return the entry with the largest key as (key, a, b).
-
-    The heap must not be empty.
-    """
-    n = size[0] - 1
-    key, a, b = keys[0], pa[0], pb[0]
-    size[0] = n
+def pop(H):
+    """Remove and return the entry with the largest key as (key, a, b); H not empty."""
+    K, PA, PB = H.keys, H.pa, H.pb
+    n = H.size - 1
+    key, a, b = K[0], PA[0], PB[0]
+    H.size = n
     if n > 0:
-        lk, la, lb = keys[n], pa[n], pb[n]
+        lk, la, lb = K[n], PA[n], PB[n]
         i = 0
         while True:
             c = 2 * i + 1
             if c >= n:
                 break
-            if c + 1 < n and keys[c + 1] > keys[c]:
+            if c + 1 < n and K[c + 1] > K[c]:
                 c += 1
-            if keys[c] <= lk:
+            if K[c] <= lk:
                 break
-            keys[i] = keys[c]
-            pa[i] = pa[c]
-            pb[i] = pb[c]
+            K[i] = K[c]
+            PA[i] = PA[c]
+            PB[i] = PB[c]
             i = c
-        keys[i] = lk
-        pa[i] = la
-        pb[i] = lb
+        K[i] = lk
+        PA[i] = la
+        PB[i] = lb
     return key, a, b
 
 
 @njit(cache=True)
-def top_key(keys, size):
-    """The largest key, or -inf for an empty heap."""
-    if size[0] == 0:
+def top_key(H):
+    """The largest key, or -inf when empty."""
+    if H.size == 0:
         return -np.inf
-    return keys[0]
+    return H.keys[0]
+
+
+# -- lexicographic heap --------------------------------------------------------------------
+@njit(cache=True, inline="always")
+def _lt(a1, a2, b1, b2):
+    return a1 < b1 or (a1 == b1 and a2 < b2)
+
+
+@njit(cache=True)
+def lpush(L, k1, k2, a, b):
+    """Add ``(k1, k2; a, b)``."""
+    n = L.size
+    if n == L.k1.shape[0]:
+        L.k1 = _grow_f(L.k1, 2 * n)
+        L.k2 = _grow_f(L.k2, 2 * n)
+        L.pa = _grow_f(L.pa, 2 * n)
+        L.pb = _grow_f(L.pb, 2 * n)
+    K1, K2, PA, PB = L.k1, L.k2, L.pa, L.pb
+    i = n
+    while i > 0:
+        p = (i - 1) >> 1
+        if not _lt(k1, k2, K1[p], K2[p]):
+            break
+        K1[i] = K1[p]
+        K2[i] = K2[p]
+        PA[i] = PA[p]
+        PB[i] = PB[p]
+        i = p
+    K1[i] = k1
+    K2[i] = k2
+    PA[i] = a
+    PB[i] = b
+    L.size = n + 1
+
+
+@njit(cache=True)
+def lpop(L):
+    """Remove and return the smallest entry as (k1, k2, a, b); L not empty."""
+    K1, K2, PA, PB = L.k1, L.k2, L.pa, L.pb
+    n = L.size - 1
+    k1, k2, a, b = K1[0], K2[0], PA[0], PB[0]
+    L.size = n
+    if n > 0:
+        l1, l2, la, lb = K1[n], K2[n], PA[n], PB[n]
+        i = 0
+        while True:
+            c = 2 * i + 1
+            if c >= n:
+                break
+            if c + 1 < n and _lt(K1[c + 1], K2[c + 1], K1[c], K2[c]):
+                c += 1
+            if not _lt(K1[c], K2[c], l1, l2):
+                break
+            K1[i] = K1[c]
+            K2[i] = K2[c]
+            PA[i] = PA[c]
+            PB[i] = PB[c]
+            i = c
+        K1[i] = l1
+        K2[i] = l2
+        PA[i] = la
+        PB[i] = lb
+    return k1, k2, a, b
+
+
+@njit(cache=True)
+def ltop(L):
+    """(k1, a, b) of the smallest entry; L not empty."""
+    return L.k1[0], L.pa[0], L.pb[0]

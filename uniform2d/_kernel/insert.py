@@ -1,37 +1,68 @@
 """Algorithm INSERT on the flat-array CDT: one loop, pop -> validate -> insert -> push.
 
-Candidates (design notes §2) and their heap entries ``(key, a, b)``:
+Candidates (design notes §2):
 
 * a triangle ``t`` whose circumcentre lies in the closed triangle -- no obtuse
   angle, and no right angle facing a boundary edge (that circumcentre is the
   midpoint of a boundary subsegment and belongs to the subsegment's entry).
-  Entry ``(R, t, tstamp[t])``.  Its value never changes while the triangle lives.
-* a boundary subsegment ``u -> v``.  Entry ``(key, -(u + 1), v)``, where the key
-  is an upper bound of its value (first |uv|/2); re-evaluated when popped.
+  Its value, the circumradius, never changes while the triangle lives.
+  Payload ``(t, tstamp[t])``: alive while the slot's stamp is unchanged.
+* a boundary subsegment ``u -> v``: its largest visible distance, found by
+  :func:`eval_segment`; it changes only when sites appear near it.
+  Payload ``(-(u + 1), v)``: alive while ``u -> v`` is a boundary half-edge.
 
-Every value only decreases as sites are added, so keys are upper bounds and the
-first popped entry whose value survives re-evaluation is a global maximum W.
-Ties: every entry with key >= W (1 - REL_TIE) is popped and validated, and the
-candidate with the lexicographically smallest (x, y) wins, x compared with the
-tolerance ``xtol`` = REL_X times the polygon's size.  The kernel computes on the
-caller's coordinates (not normalised ones), so that the exact predicates
-certify the very coordinates returned; every tolerance is relative, which makes
-the sequence invariant under scaling and translation all the same.
+The main queue M (a value heap, key = an upper bound of the candidate's weight:
+exact for triangles, the last evaluation or |uv|/2 for subsegments) holds every
+candidate.  Weights only decrease as sites are added, so the first candidate
+served whose value survives re-evaluation is a global maximum W.
+
+Ties: the rule is "among candidates with weight >= W (1 - REL_TIE), the smallest
+x; among those within ``xtol`` of that x, the smallest y (then x)".  Doing that
+by popping the whole tied group every step is quadratic on symmetric polygons,
+where thousands of candidates tie.  So the tied group is kept between steps in a
+*pool*: slots (payload, weight, x, y) indexed by a value heap (to find W), and
+split into the *x-window* (members with x <= x_min + xtol, in heaps by x and by
+y) and the rest (a heap by x).  Both persist across steps.  A step
+
+1. validates the pool's largest member (W), then moves every candidate of M with
+   key >= W (1 - REL_TIE) into the pool, re-evaluating subsegments on the way;
+2. finds x_min (smallest valid x, window or outside), pulls outside members with
+   x <= x_min + xtol into the window, and takes the window's smallest y; a new
+   member with a smaller x than the window's rebuilds the window;
+3. inserts the chosen point and pushes the new candidates into M.
+
+Pool members are validated whenever they are served (a dead triangle is dropped,
+a subsegment whose value or point changed goes back to M with its fresh value),
+and thresholds only decrease, so the pool always holds exactly the tied group
+(plus stale entries skipped lazily).  Cost: O(log n) amortised per step.
 """
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
 
 from . import heap
-from .cdt import ERR_ORIENT, circumcircle, insert_point, locate, new_tag, nxt, prv
+from .cdt import circumcircle, insert_point, locate, new_tag, nxt, prv
 from .predicates import dot2d, orient2d
 
 REL_TIE = 1e-9
-REL_X = 1e-9
 DISK_SLACK = 1e-12  # inclusive slack when collecting sites near a subsegment (harmless)
 
 ERR_EMPTY = -10  # no candidate left (cannot happen for a valid polygon)
 ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
+
+
+@njit(cache=True, inline="always")
+def better(w1, x1, y1, w2, x2, y2, xtol):
+    """The tie rule for two candidates: does 1 come before 2?"""
+    hi = max(w1, w2) * (1.0 - REL_TIE)
+    if w1 < hi or w2 < hi:
+        return w1 > w2
+    if x1 < x2 - xtol:
+        return True
+    if x2 < x1 - xtol:
+        return False
+    return y1 < y2 or (y1 == y2 and x1 < x2)
 
 
 @njit(cache=True)
@@ -90,8 +121,12 @@ def eval_segment(m, h, xtol):
     If the apex of the triangle on h is outside the open diametral disk of h, no
     visible site is inside that disk and the midpoint wins with |h|/2.
     Otherwise gather, by a search across unconstrained edges that meet the disk,
-    the sites in it and the constrained edges around them; the maximum of the
-    visible lower envelope is at a point of h equidistant from two of them.
+    the sites in it on the inner side of h and the constrained edges around them;
+    the maximum of the visible lower envelope is at a point of h equidistant from
+    two of them.  Visibility from x on h to such a site q is decided against the
+    gathered constrained edges only, which is enough: x -> q enters P through the
+    triangle on h and lies in the disk, so every triangle it crosses before its
+    first constrained edge is reached by the search, and so is that edge.
     """
     xy = m.xy
     a = m.tv[h]
@@ -123,7 +158,10 @@ def eval_segment(m, h, xtol):
             if m.vmark[w] != tag:
                 m.vmark[w] = tag
                 ddx, ddy = xy[w, 0] - mx, xy[w, 1] - my
-                if ddx * ddx + ddy * ddy < r2:
+                # a site not strictly on the inner side of h's line is never seen
+                # from inside h (the segment would leave P at once), nor nearer
+                # than a or b if it lies on that line
+                if ddx * ddx + ddy * ddy < r2 and orient2d(ax, ay, bx, by, xy[w, 0], xy[w, 1]) > 0.0:
                     m.vbuf[nv] = w
                     nv += 1
             g = m.tw[e]
@@ -147,12 +185,7 @@ def eval_segment(m, h, xtol):
     sites[0] = a
     sites[1] = b
     sites[2:] = m.vbuf[:nv]
-    best = -1.0
-    bx_, by_ = mx, my
-    cand_v = np.empty(ns * (ns - 1) // 2, np.float64)
-    cand_x = np.empty(ns * (ns - 1) // 2, np.float64)
-    cand_y = np.empty(ns * (ns - 1) // 2, np.float64)
-    nc = 0
+    bv, bx_, by_ = -1.0, mx, my
     for i in range(ns):
         p = sites[i]
         pa2 = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
@@ -174,156 +207,313 @@ def eval_segment(m, h, xtol):
                 if d2 < wmin and (k < 2 or _visible(m, ne, x, y, z)):
                     wmin = d2
             val = np.sqrt(wmin)
-            cand_v[nc] = val
-            cand_x[nc] = x
-            cand_y[nc] = y
-            nc += 1
-            if val > best:
-                best = val
-    if nc == 0:
+            if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol):
+                bv, bx_, by_ = val, x, y
+    if bv < 0.0:
         return half, mx, my
-    k = choose(cand_v, cand_x, cand_y, nc, best, xtol)
-    return cand_v[k], cand_x[k], cand_y[k]
+    return bv, bx_, by_
 
 
 @njit(cache=True)
-def choose(vals, xs, ys, nc, best, xtol):
-    """The canonical candidate among the first nc: weight >= best (1 - REL_TIE), then
-    smallest x (within xtol), then smallest y, then smallest x."""
-    thr = best * (1.0 - REL_TIE)
-    xmin = np.inf
-    for i in range(nc):
-        if vals[i] >= thr and xs[i] < xmin:
-            xmin = xs[i]
-    k = -1
-    for i in range(nc):
-        if vals[i] >= thr and xs[i] <= xmin + xtol:
-            if k < 0 or ys[i] < ys[k] or (ys[i] == ys[k] and xs[i] < xs[k]):
-                k = i
-    return k
+def _push_triangle(m, M, t):
+    r = triangle_key(m, t)
+    if r > 0.0:
+        heap.push(M, r, t, m.tstamp[t])
 
 
 @njit(cache=True)
-def _validate(m, key, a, b, xtol):
-    """(alive, value, x, y) of a popped entry; for a subsegment the value is fresh."""
+def _push_segment(m, M, h):
+    u = m.tv[h]
+    v = m.tv[nxt(h)]
+    ddx = m.xy[v, 0] - m.xy[u, 0]
+    ddy = m.xy[v, 1] - m.xy[u, 1]
+    heap.push(M, 0.5 * np.sqrt(ddx * ddx + ddy * ddy), -(u + 1), v)
+
+
+@njit(cache=True)
+def push_initial(m, M):
+    """Entries for every candidate triangle and every boundary subsegment."""
+    for t in range(m.nt):
+        _push_triangle(m, M, t)
+    for h in range(3 * m.nt):
+        if m.tw[h] < 0:
+            _push_segment(m, M, h)
+
+
+@njit(cache=True)
+def push_new(m, M, k, split):
+    """Entries for the k new triangles cav[:k] and, after a split, the two new halves."""
+    p = m.nv - 1
+    for i in range(k):
+        t = m.cav[i]
+        _push_triangle(m, M, t)
+        if split:
+            for e in range(3):
+                h = 3 * t + e
+                if m.tw[h] < 0 and (m.tv[h] == p or m.tv[nxt(h)] == p):
+                    _push_segment(m, M, h)
+
+
+@njit(cache=True)
+def _current(m, a, b, xtol):
+    """(alive, weight, x, y) of candidate (a, b) now (a subsegment is re-evaluated)."""
     if a >= 0:
         if m.tstamp[a] != b:
             return False, 0.0, 0.0, 0.0
         cx, cy, r = circumcircle(m.xy, m.tv[3 * a], m.tv[3 * a + 1], m.tv[3 * a + 2])
-        return True, key, cx, cy
-    u = -a - 1
-    h = m.vseg[u]
+        return True, r, cx, cy
+    h = m.vseg[-a - 1]
     if h < 0 or m.tv[nxt(h)] != b:
         return False, 0.0, 0.0, 0.0
-    val, x, y = eval_segment(m, h, xtol)
-    return True, val, x, y
+    w, x, y = eval_segment(m, h, xtol)
+    return True, w, x, y
+
+
+# -- the pool of tied candidates -------------------------------------------------------------
+# Slot s holds payload (pa, pb), weight pw, point (px, py); pgen[s] bumps when s is
+# freed, so a heap entry (s, gen) is current while pgen[s] == gen; ploc[s] is 1 in
+# the x-window, 0 outside; free slots are stacked in pfree[:nfree].  ``bound`` is the
+# window bound B = x_min + xtol (-inf: no window).  Heaps: pv (value, all members),
+# lo ((x, y), members outside the window), wx ((x, y)) and wy ((y, x)) of the window.
+
+
+@structref.register
+class PoolType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+class Pool(structref.StructRefProxy):
+    """The tied group (see above)."""
+
+
+structref.define_proxy(
+    Pool,
+    PoolType,
+    ["pa", "pb", "pw", "px", "py", "pgen", "ploc", "pfree", "nslots", "nfree", "bound",
+     "pv", "lo", "wx", "wy"],
+)  # fmt: skip
 
 
 @njit(cache=True)
-def push_new(m, hk, ha, hb, hs, k, split_h, p):
-    """Push the candidates created by an insertion: the k new triangles cav[:k] and,
-    after a boundary split, the two new subsegments around vertex p."""
-    for i in range(k):
-        t = m.cav[i]
-        r = triangle_key(m, t)
-        if r > 0.0:
-            hk, ha, hb = heap.push(hk, ha, hb, hs, r, t, m.tstamp[t])
-    if split_h:
-        h1 = np.int64(m.vseg[p])
-        h0 = np.int64(_boundary_into(m, p))
-        for h in (h0, h1):
-            u = m.tv[h]
-            v = m.tv[nxt(h)]
-            ddx = m.xy[v, 0] - m.xy[u, 0]
-            ddy = m.xy[v, 1] - m.xy[u, 1]
-            hk, ha, hb = heap.push(hk, ha, hb, hs, 0.5 * np.sqrt(ddx * ddx + ddy * ddy), -(u + 1), v)
-    return hk, ha, hb
+def new_pool(capacity):
+    c = max(capacity, 16)
+    return Pool(
+        np.empty(c, np.int32),
+        np.empty(c, np.int32),
+        np.empty(c, np.float64),
+        np.empty(c, np.float64),
+        np.empty(c, np.float64),
+        np.zeros(c, np.int32),
+        np.zeros(c, np.int8),
+        np.empty(c, np.int32),
+        0,
+        0,
+        -np.inf,
+        heap.new_heap(c),
+        heap.new_lheap(c),
+        heap.new_lheap(c),
+        heap.new_lheap(c),
+    )
 
 
 @njit(cache=True)
-def _boundary_into(m, p):
-    """The boundary half-edge ending at boundary vertex p (walk around p)."""
-    h = m.vseg[p]  # p -> v; rotate clockwise around p until no twin
-    e = prv(h)  # w -> p in the same triangle
-    while m.tw[e] >= 0:
-        e = prv(m.tw[e])
-    return e
+def _to_window(P, s):
+    P.ploc[s] = 1
+    heap.lpush(P.wx, P.px[s], P.py[s], s, P.pgen[s])
+    heap.lpush(P.wy, P.py[s], P.px[s], s, P.pgen[s])
 
 
 @njit(cache=True)
-def push_initial(m, hk, ha, hb, hs):
-    """Entries for every candidate triangle and every boundary subsegment."""
-    for t in range(m.st[1]):
-        r = triangle_key(m, t)
-        if r > 0.0:
-            hk, ha, hb = heap.push(hk, ha, hb, hs, r, t, m.tstamp[t])
-    for h in range(3 * m.st[1]):
-        if m.tw[h] < 0:
-            u = m.tv[h]
-            v = m.tv[nxt(h)]
-            ddx = m.xy[v, 0] - m.xy[u, 0]
-            ddy = m.xy[v, 1] - m.xy[u, 1]
-            hk, ha, hb = heap.push(hk, ha, hb, hs, 0.5 * np.sqrt(ddx * ddx + ddy * ddy), -(u + 1), v)
-    return hk, ha, hb
+def _to_outside(P, s):
+    P.ploc[s] = 0
+    heap.lpush(P.lo, P.px[s], P.py[s], s, P.pgen[s])
 
 
 @njit(cache=True)
-def run(m, hk, ha, hb, hs, n, out_xy, out_w, out_b, xtol, snap):
-    """Insert n points; returns (status, hk, ha, hb): status = points inserted, or < 0.
+def _dump_window(P):
+    """Move every window member back outside; the window is rebuilt next time."""
+    while P.wx.size > 0:
+        x, y, s, g = heap.lpop(P.wx)
+        if P.pgen[s] == g and P.ploc[s] == 1:
+            _to_outside(P, s)
+    P.wy.size = 0
+    P.bound = -np.inf
 
-    ``xtol`` is the tie tolerance on x; a circumcentre closer than ``snap`` to a
-    boundary subsegment of its triangle is placed on that subsegment (it is
-    numerically on the boundary; inside it would only make a sliver).
-    """
-    cap = 16
-    cv = np.empty(cap, np.float64)
-    cx_ = np.empty(cap, np.float64)
-    cy_ = np.empty(cap, np.float64)
-    ca = np.empty(cap, np.int32)
-    cb = np.empty(cap, np.int32)
-    for j in range(n):
-        # -- pop until the first entry that survives validation: the maximum W
-        nc = 0
-        best = -1.0
-        while True:
-            if hs[0] == 0:
-                if nc > 0:
-                    break
-                return ERR_EMPTY, hk, ha, hb
-            if nc > 0 and heap.top_key(hk, hs) < best * (1.0 - REL_TIE):
+
+@njit(cache=True)
+def _grow_pool(P):
+    s = P.nslots
+    c = 2 * s
+    P.pa = heap._grow_f(P.pa, c)
+    P.pb = heap._grow_f(P.pb, c)
+    P.pw = heap._grow_f(P.pw, c)
+    P.px = heap._grow_f(P.px, c)
+    P.py = heap._grow_f(P.py, c)
+    g2 = np.zeros(c, np.int32)
+    g2[:s] = P.pgen
+    P.pgen = g2
+    l2 = np.zeros(c, np.int8)
+    l2[:s] = P.ploc
+    P.ploc = l2
+    P.pfree = heap._grow_f(P.pfree, c)
+
+
+@njit(cache=True)
+def _pool_add(P, a, b, w, x, y, xtol):
+    if P.nfree > 0:
+        P.nfree -= 1
+        s = P.pfree[P.nfree]
+    else:
+        s = P.nslots
+        if s == P.pa.shape[0]:
+            _grow_pool(P)
+        P.nslots = s + 1
+    P.pa[s] = a
+    P.pb[s] = b
+    P.pw[s] = w
+    P.px[s] = x
+    P.py[s] = y
+    heap.push(P.pv, w, s, P.pgen[s])
+    if x < P.bound - xtol:  # a new smallest x: the window must be rebuilt around it
+        _dump_window(P)
+        _to_outside(P, s)
+    elif x <= P.bound:
+        _to_window(P, s)
+    else:
+        _to_outside(P, s)
+
+
+@njit(cache=True)
+def _pool_kill(P, s):
+    P.pgen[s] += 1
+    P.pfree[P.nfree] = s
+    P.nfree += 1
+
+
+@njit(cache=True)
+def _revalidate(m, M, P, s, thr, xtol):
+    """Is member s current and unchanged?  If dead it is dropped; if changed it is
+    re-filed with its fresh values (in the pool if still >= thr, else in M)."""
+    a, b = P.pa[s], P.pb[s]
+    alive, w, x, y = _current(m, a, b, xtol)
+    if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
+        return True
+    _pool_kill(P, s)
+    if alive:
+        if w >= thr:
+            _pool_add(P, a, b, w, x, y, xtol)
+        else:
+            heap.push(M, w, a, b)
+    return False
+
+
+@njit(cache=True)
+def _gather(m, M, P, xtol):
+    """Step 1: validate the pool's maximum W and pull every candidate of M with key
+    >= W (1 - REL_TIE) into the pool.  Returns (W, a, b, x, y): W < 0 when no
+    candidate is left; a winner (a, b, x, y) directly when it is the only member of
+    its tied group (the common case, which needs no pool at all), else a = b = -1
+    and the group is in the pool."""
+    W = -1.0
+    while P.pv.size > 0:
+        w, s, g = P.pv.keys[0], P.pv.pa[0], P.pv.pb[0]
+        if P.pgen[s] != g:
+            heap.pop(P.pv)
+            continue
+        if _revalidate(m, M, P, s, np.inf, xtol):
+            W = w
+            break
+    while M.size > 0 and (W < 0.0 or heap.top_key(M) >= W * (1.0 - REL_TIE)):
+        key, a, b = heap.pop(M)
+        alive, w, x, y = _current(m, a, b, xtol)
+        if not alive:
+            continue
+        if w < key and (W < 0.0 or w < W * (1.0 - REL_TIE)):
+            heap.push(M, w, a, b)  # stale subsegment key; it may come back
+            continue
+        if W < 0.0 and P.nslots == P.nfree and heap.top_key(M) < w * (1.0 - REL_TIE):
+            return w, a, b, x, y  # alone in its tied group
+        _pool_add(P, a, b, w, x, y, xtol)
+        if w > W:
+            W = w
+    return W, -1, -1, 0.0, 0.0
+
+
+@njit(cache=True)
+def _lclean(m, M, P, L, loc, thr, xtol):
+    """Drop stale or invalid entries from the top of L (an (x, y) heap whose members
+    have ploc == loc); returns the top x, or inf when L is empty."""
+    while L.size > 0:
+        x, s, g = heap.ltop(L)
+        if P.pgen[s] != g or P.ploc[s] != loc:
+            heap.lpop(L)
+            continue
+        if _revalidate(m, M, P, s, thr, xtol):
+            return x
+    return np.inf
+
+
+@njit(cache=True)
+def _choose(m, M, P, W, xtol):
+    """Step 2: the slot of the canonical candidate (or -1)."""
+    thr = W * (1.0 - REL_TIE)
+    while True:
+        xw = _lclean(m, M, P, P.wx, 1, thr, xtol)
+        xo = _lclean(m, M, P, P.lo, 0, thr, xtol)
+        if xw == np.inf and xo == np.inf:
+            return -1
+        if xo < xw and xw != np.inf:  # a smaller x outside: rebuild the window
+            _dump_window(P)
+            continue
+        P.bound = min(xw, xo) + xtol
+        restart = False
+        while P.lo.size > 0:  # pull members with x <= B into the window
+            x, s, g = heap.ltop(P.lo)
+            if P.pgen[s] != g or P.ploc[s] != 0:
+                heap.lpop(P.lo)
+                continue
+            if x > P.bound:
                 break
-            key, a, b = heap.pop(hk, ha, hb, hs)
-            alive, val, x, y = _validate(m, key, a, b, xtol)
-            if not alive:
+            heap.lpop(P.lo)
+            if not _revalidate(m, M, P, s, thr, xtol):
+                restart = True  # a re-filed member may have moved the anchor
+                break
+            _to_window(P, s)
+        if restart:
+            continue
+        while P.wy.size > 0:  # the smallest y in the window
+            y, s, g = heap.ltop(P.wy)
+            if P.pgen[s] != g or P.ploc[s] != 1:
+                heap.lpop(P.wy)
                 continue
-            if a < 0 and val < key:
-                # stale subsegment key: re-queue with the fresh value; it comes back
-                # (and is accepted, value == key) if it is still the largest
-                hk, ha, hb = heap.push(hk, ha, hb, hs, val, a, b)
-                continue
-            if nc == cap:
-                cap *= 2
-                cv = _grow_f(cv, cap)
-                cx_ = _grow_f(cx_, cap)
-                cy_ = _grow_f(cy_, cap)
-                ca = _grow_i(ca, cap)
-                cb = _grow_i(cb, cap)
-            cv[nc] = val
-            cx_[nc] = x
-            cy_[nc] = y
-            ca[nc] = a
-            cb[nc] = b
-            nc += 1
-            if val > best:
-                best = val
-        k = choose(cv, cx_, cy_, nc, best, xtol)
-        for i in range(nc):
-            if i != k:
-                hk, ha, hb = heap.push(hk, ha, hb, hs, cv[i], ca[i], cb[i])
-        # -- insert the winner
-        a = ca[k]
-        x = cx_[k]
-        y = cy_[k]
+            if not _revalidate(m, M, P, s, thr, xtol):
+                restart = True
+                break
+            return s
+        if not restart:
+            _dump_window(P)
+
+
+@njit(cache=True)
+def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
+    """Insert n points; returns n, or a negative status on failure.
+
+    A circumcentre closer than ``snap`` to a boundary subsegment of its triangle
+    is placed on that subsegment (it is numerically on the boundary; inside it
+    would only make a sliver).  On failure ``out_*[j]`` describe the failing
+    point and the status is ``code - 100 * j``.
+    """
+    for j in range(n):
+        w, a, b, x, y = _gather(m, M, P, xtol)
+        if w < 0.0:
+            return ERR_EMPTY - 100 * j
+        if a == -1 and b == -1:
+            s = _choose(m, M, P, w, xtol)
+            if s < 0:
+                return ERR_EMPTY - 100 * j
+            a, w, x, y = P.pa[s], P.pw[s], P.px[s], P.py[s]
+            _pool_kill(P, s)
         if a >= 0:
             loc = locate(m, a, x, y, 64)
             if loc >= 0:
@@ -333,22 +523,21 @@ def run(m, hk, ha, hb, hs, n, out_xy, out_w, out_b, xtol, snap):
                 hsplit = -loc - 1  # the rounded circumcentre crossed this boundary edge
                 t0 = hsplit // 3
             else:
-                return ERR_LOCATE - 100 * j, hk, ha, hb
+                return ERR_LOCATE - 100 * j
             if hsplit >= 0:
                 x, y = _project(m, hsplit, x, y)
         else:
             hsplit = m.vseg[-a - 1]
             t0 = hsplit // 3
-        p = m.st[0]
         out_xy[j, 0] = x
         out_xy[j, 1] = y
-        out_w[j] = cv[k]
+        out_w[j] = w
         out_b[j] = hsplit >= 0
-        kk = insert_point(m, x, y, t0, hsplit)
-        if kk < 0:  # out_*[j] describe the point that failed
-            return kk - 100 * j, hk, ha, hb
-        hk, ha, hb = push_new(m, hk, ha, hb, hs, kk, hsplit >= 0, p)
-    return n, hk, ha, hb
+        k = insert_point(m, x, y, t0, hsplit)
+        if k < 0:
+            return k - 100 * j
+        push_new(m, M, k, hsplit >= 0)
+    return n
 
 
 @njit(cache=True)
@@ -375,17 +564,3 @@ def _project(m, h, x, y):
     s = ((x - xy[u, 0]) * dx + (y - xy[u, 1]) * dy) / (dx * dx + dy * dy)
     s = min(1.0 - 1e-12, max(1e-12, s))
     return xy[u, 0] + s * dx, xy[u, 1] + s * dy
-
-
-@njit(cache=True)
-def _grow_f(a, cap):
-    out = np.empty(cap, np.float64)
-    out[: a.shape[0]] = a
-    return out
-
-
-@njit(cache=True)
-def _grow_i(a, cap):
-    out = np.empty(cap, np.int32)
-    out[: a.shape[0]] = a
-    return out

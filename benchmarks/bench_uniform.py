@@ -1,0 +1,167 @@
+"""Benchmark: uniform_mesh (optimised, exact n) vs T+ vs Gmsh Frontal-Delaunay tuned to N.
+
+Usage::
+
+    python benchmarks/bench_uniform.py [--n 200 1000 10000] [--speed 100000] [--objective balanced]
+
+For every benchmark polygon (data/benchmarks/*.json) and every n it measures the
+edge ratio, longest edge / lower bound, largest perimeter / lower bound, edge CV
+and min angle of three meshes: T+ (the paper), ours (``uniform2d.optimize``) and
+Gmsh (algorithm 6, ``Mesh.MeshSizeExtendFromBoundary = 0``,
+``Mesh.MeshSizeMax = size``, size bisected until Gmsh's vertex count is |V| + n,
+or as close as the bisection gets).  The lower bounds are those of
+``uniform2d.quality`` with the same n and d_n for all three.  It prints the
+geometric means per n and a speed comparison at ~1e5 vertices.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+
+import uniform2d  # noqa: E402
+from uniform2d.optimize import optimize_mesh  # noqa: E402
+from polygen import benchmark_polygons  # noqa: E402
+
+
+def gmsh_mesh(poly, size):
+    import gmsh
+
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("p")
+        loops = []
+        for ring in poly.rings:
+            tags = [gmsh.model.geo.addPoint(float(x), float(y), 0.0, size) for x, y in ring]
+            lines = [gmsh.model.geo.addLine(tags[i], tags[(i + 1) % len(tags)]) for i in range(len(tags))]
+            loops.append(gmsh.model.geo.addCurveLoop(lines))
+        gmsh.model.geo.addPlaneSurface(loops)
+        gmsh.model.geo.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.option.setNumber("Mesh.Algorithm", 6)
+        t = time.perf_counter()
+        gmsh.model.mesh.generate(2)
+        dt = time.perf_counter() - t
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        pts = xyz.reshape(-1, 3)[:, :2]
+        index = {int(t): i for i, t in enumerate(tags)}
+        etypes, _, enodes = gmsh.model.mesh.getElements(2)
+        tri = None
+        for et, en in zip(etypes, enodes):
+            if et == 2:
+                tri = np.array([index[int(v)] for v in en], dtype=np.int64).reshape(-1, 3)
+        return pts, tri, dt
+    finally:
+        gmsh.finalize()
+
+
+def gmsh_tuned(poly, N):
+    """Bisection on the size until Gmsh makes N vertices (or the closest count found)."""
+    s0 = math.sqrt(poly.area / (N * math.sqrt(3) / 2))
+    lo, hi = 0.5 * s0, 2.0 * s0
+    best = None
+    for _ in range(30):
+        mid = math.sqrt(lo * hi)
+        pts, tri, dt = gmsh_mesh(poly, mid)
+        if best is None or abs(len(pts) - N) < abs(len(best[0]) - N):
+            best = (pts, tri, dt, mid)
+        if len(pts) == N:
+            break
+        if len(pts) > N:
+            lo = mid
+        else:
+            hi = mid
+    return best
+
+
+def row(q):
+    return (
+        q.edge_ratio,
+        q.longest_edge_bound.factor,
+        q.max_perimeter_bound.factor,
+        q.cv_edge,
+        q.min_angle,
+    )
+
+
+def gmean(v):
+    v = np.asarray(v, float)
+    return float(np.exp(np.log(v).mean()))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--n", type=int, nargs="+", default=[200, 1000, 10000])
+    ap.add_argument("--speed", type=int, default=100000, help="vertex count for the speed test (0: skip)")
+    ap.add_argument("--objective", default="balanced")
+    ap.add_argument("--no-gmsh", action="store_true")
+    args = ap.parse_args(argv)
+    polys = benchmark_polygons()
+    cols = ("ratio", "long/LB", "perim/LB", "CV", "minang")
+    for n in args.n:
+        table = {"T+": [], "ours": [], "gmsh": []}
+        times = {"T+": 0.0, "ours": 0.0, "gmsh": 0.0}
+        gm_n = []
+        print(f"\n=== n = {n} ===")
+        print(f"{'polygon':15s} {'mesh':5s} " + " ".join(f"{c:>9s}" for c in cols) + "   time")
+        for name, p in polys.items():
+            nV = len(p.vertices)
+            t = time.perf_counter()
+            tp = uniform2d.tplus(p, n)
+            t_tp = time.perf_counter() - t
+            d_n = tp.info["d_n"]
+            t = time.perf_counter()
+            ours = optimize_mesh(p, n, objective=args.objective, start=tp)
+            t_ours = time.perf_counter() - t + t_tp
+            assert ours.n_steiner == n and len(ours.points) == nV + n
+            entries = [("T+", tp.quality(d_n=d_n), t_tp), ("ours", ours.quality(d_n=d_n), t_ours)]
+            if not args.no_gmsh:
+                pts, tri, dt, size = gmsh_tuned(p, nV + n)
+                gm_n.append(len(pts) - nV)
+                qg = uniform2d.quality(pts, tri, p, n_steiner=max(n, len(pts) - nV), d_n=d_n)
+                entries.append(("gmsh", qg, dt))
+            for key, q, dt in entries:
+                r = row(q)
+                table[key].append(r)
+                times[key] += dt
+                print(f"{name:15s} {key:5s} " + " ".join(f"{x:9.3f}" for x in r) + f"  {dt:6.2f}s")
+        print(f"--- geometric means, n = {n} (min angle: worst) ---")
+        for key, rows in table.items():
+            if not rows:
+                continue
+            a = np.array(rows)
+            vals = [gmean(a[:, i]) for i in range(4)] + [a[:, 4].min()]
+            print(f"{'':15s} {key:5s} " + " ".join(f"{x:9.3f}" for x in vals) + f"  {times[key]:6.2f}s")
+        if gm_n:
+            print(f"(gmsh Steiner counts: {gm_n})")
+    if args.speed:
+        p = polys["square"]
+        N = args.speed
+        n = N - len(p.vertices)
+        t = time.perf_counter()
+        tp = uniform2d.tplus(p, n)
+        t_tp = time.perf_counter() - t
+        t = time.perf_counter()
+        ours = optimize_mesh(p, n, objective=args.objective, start=tp)
+        t_ours = time.perf_counter() - t
+        print(f"\n=== speed at {N} vertices (square) ===")
+        print(f"T+            {t_tp:8.2f}s")
+        print(f"ours (+T+)    {t_ours + t_tp:8.2f}s   (optimisation alone {t_ours:.2f}s)")
+        print("ours quality  ratio %.3f long/LB %.3f perim/LB %.3f CV %.3f minang %.1f" % row(ours.quality(d_n=tp.info["d_n"])))
+        if not args.no_gmsh:
+            pts, tri, dt, size = gmsh_tuned(p, N)
+            print(f"gmsh          {dt:8.2f}s   ({len(pts)} vertices, generate() only)")
+
+
+if __name__ == "__main__":
+    main()

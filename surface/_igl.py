@@ -1,0 +1,143 @@
+"""The one adapter around libigl (no other module imports :mod:`igl`).
+
+Facts about libigl 2.6.3's Python bindings this module relies on (measured):
+
+- ``igl.lscm(V, F, b, bc)`` returns a tuple ``(uv, Q)``; its global scale is
+  fixed by the pinned values ``bc``, not by the surface, so callers rescale;
+- ARAP is ``igl.ARAPData()`` (``igl.ARAP`` is an enum, not a class) with
+  ``with_dynamics = False``, ``igl.arap_precomputation(V, F, 2, b, data)`` with
+  ``b`` an int32 index array, then ``igl.arap_solve(bc, data, U0)``;
+- ``igl.map_vertices_to_circle`` wants a Fortran-ordered V and an int32 loop;
+- ``igl.AABB`` built on 2-column UV coordinates crashes the process, so 2-D point
+  location pads UV with z = 0 and uses ``igl.point_mesh_squared_distance``.
+
+Every function takes and returns plain numpy arrays with the dtypes the bindings
+want made explicit here, so callers never see binding details.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import igl
+
+__all__ = ["lscm", "arap", "harmonic_disk", "closest_faces", "closest_points"]
+
+
+def _V(V) -> np.ndarray:
+    return np.ascontiguousarray(V, dtype=np.float64)
+
+
+def _F(F) -> np.ndarray:
+    return np.ascontiguousarray(F, dtype=np.int64)
+
+
+def lscm(V, F, pins) -> np.ndarray:
+    """Free-boundary least-squares conformal map with two pinned vertices.
+
+    Parameters
+    ----------
+    V : (N, 3) float64
+    F : (M, 3) int
+    pins : (2,) int
+        Two distinct vertices (far apart on the boundary works best); they are
+        placed on the u axis at their 3-D distance.
+
+    Returns
+    -------
+    (N, 2) float64
+        UV coordinates, up to a global similarity.
+    """
+    V, F = _V(V), _F(F)
+    b = np.ascontiguousarray(pins, dtype=np.int64)
+    d = float(np.linalg.norm(V[b[1]] - V[b[0]])) or 1.0
+    bc = np.array([[0.0, 0.0], [d, 0.0]])
+    uv, _ = igl.lscm(V, F, b, bc)
+    return np.asarray(uv, dtype=np.float64)[:, :2].copy()
+
+
+def arap(V, F, uv0, pin: int, iterations: int = 20) -> np.ndarray:
+    """As-rigid-as-possible parameterisation started from ``uv0``.
+
+    Parameters
+    ----------
+    V : (N, 3) float64
+    F : (M, 3) int
+    uv0 : (N, 2) float64
+        Initial map (flip-free works best); also fixes the pinned vertex's position.
+    pin : int
+        The one vertex held fixed (removes the translation freedom).
+    iterations : int
+        Local-global iterations.
+
+    Returns
+    -------
+    (N, 2) float64
+    """
+    V, F = _V(V), _F(F)
+    uv0 = np.ascontiguousarray(uv0, dtype=np.float64)
+    data = igl.ARAPData()
+    data.with_dynamics = False
+    data.max_iter = int(iterations)
+    b = np.array([pin], dtype=np.int32)
+    igl.arap_precomputation(V, F, 2, b, data)
+    uv = igl.arap_solve(np.ascontiguousarray(uv0[b]), data, uv0)
+    return np.asarray(uv, dtype=np.float64).copy()
+
+
+def harmonic_disk(V, F, loop) -> np.ndarray:
+    """Harmonic map with the boundary loop fixed on the unit circle (by arc length).
+
+    Only for patches with a single boundary loop.  On non-round patches it can
+    flip triangles; the caller checks.
+
+    Returns
+    -------
+    (N, 2) float64
+    """
+    V, F = _V(V), _F(F)
+    bnd = np.ascontiguousarray(loop, dtype=np.int32)
+    bc = igl.map_vertices_to_circle(np.asfortranarray(V), bnd)
+    uv = igl.harmonic(V, F, bnd.astype(np.int64), np.ascontiguousarray(bc), 1)
+    return np.asarray(uv, dtype=np.float64)[:, :2].copy()
+
+
+def closest_faces(P, UV, F):
+    """Locate 2-D points in a 2-D triangle mesh.
+
+    Parameters
+    ----------
+    P : (K, 2) float64
+        Query points.
+    UV : (N, 2) float64
+        Mesh vertices in the plane.
+    F : (M, 3) int
+
+    Returns
+    -------
+    dist2 : (K,) float64
+        Squared distance to the mesh (0 inside).
+    face : (K,) int64
+        A closest face (one containing the point if dist2 == 0).
+    closest : (K, 2) float64
+        The closest point of the mesh.
+    """
+    P3 = np.zeros((len(P), 3))
+    P3[:, :2] = P
+    U3 = np.zeros((len(UV), 3))
+    U3[:, :2] = UV
+    d2, idx, c = igl.point_mesh_squared_distance(P3, U3, _F(F))
+    return np.asarray(d2), np.asarray(idx, dtype=np.int64), np.asarray(c)[:, :2].copy()
+
+
+def closest_points(P, V, F):
+    """Squared distances, closest faces and closest points from 3-D points to a mesh.
+
+    Returns
+    -------
+    dist2 : (K,) float64
+    face : (K,) int64
+    closest : (K, 3) float64
+    """
+    d2, idx, c = igl.point_mesh_squared_distance(_V(P).reshape(-1, 3), _V(V), _F(F))
+    return np.asarray(d2), np.asarray(idx, dtype=np.int64), np.asarray(c)

@@ -1,0 +1,31 @@
+"""Typed exceptions raised by the surface layer.
+
+Each derives from :class:`uniform2d.errors.Uniform2dError` (so the command line
+reports it as one line and exit code 2) and from :class:`ValueError`.  Messages
+say what is wrong and what to do about it.
+"""
+
+from uniform2d.errors import Uniform2dError
+
+__all__ = ["InvalidPatchError", "ParameterizationError", "CrossCheckError"]
+
+
+class InvalidPatchError(Uniform2dError, ValueError):
+    """The input is not a usable patch.
+
+    The attribute :attr:`reason` names the failed check, one of
+    ``"not_triangle_mesh"``, ``"non_manifold"``, ``"closed"``, ``"components"``,
+    ``"topology"`` (not a disk with holes), ``"degenerate"``.
+    """
+
+    def __init__(self, message: str, reason: str = "invalid"):
+        super().__init__(message)
+        self.reason = reason
+
+
+class ParameterizationError(Uniform2dError, ValueError):
+    """No parameterisation method produced a flip-free, non-overlapping map."""
+
+
+class CrossCheckError(Uniform2dError, ValueError):
+    """pymeshlab's measures of the output mesh disagree with ours (a bug: report it)."""

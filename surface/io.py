@@ -1,0 +1,162 @@
+"""Reading and writing surface patches through trimesh.
+
+Any format trimesh reads can be read (OBJ, PLY, STL, OFF, GLB, and the meshio
+formats when meshio is installed); polygonal faces in a file are triangulated by
+trimesh while reading.  Writing supports trimesh's mesh exporters
+(:data:`WRITE_FORMATS`) and is atomic: the file is written to a temporary file in
+the same directory and moved into place with :func:`os.replace`, so a reader never
+sees a half-written file.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from uniform2d.errors import FileFormatError, UnsupportedFormatError
+
+from .errors import InvalidPatchError
+from .patch import Patch
+
+__all__ = ["read_patch", "write_patch", "WRITE_FORMATS"]
+
+log = logging.getLogger(__name__)
+
+#: File extensions :func:`write_patch` accepts.
+WRITE_FORMATS = ("obj", "off", "ply", "stl", "glb")
+
+
+def _suffix(path: Path) -> str:
+    name = path.name.lower()
+    for double in ("stl_ascii", "dato.gz", "post.gz", "vol.gz"):
+        if name.endswith("." + double):
+            return double
+    return path.suffix.lower().lstrip(".")
+
+
+def read_patch(path) -> Patch:
+    """Read a triangle mesh file and check it as a patch.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Any mesh format trimesh can load.  Several meshes in one file (a scene) are
+        concatenated, which the checks then refuse as several components.  Vertices
+        with bit-identical coordinates are merged (STL stores every triangle
+        separately); nothing else is changed.
+
+    Returns
+    -------
+    Patch
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    UnsupportedFormatError
+        If trimesh cannot read files with this extension.
+    FileFormatError
+        If trimesh fails to parse the file.
+    InvalidPatchError
+        If the file holds no triangles or fails a patch check.
+    """
+    import trimesh
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no such mesh file: {path}")
+    ext = _suffix(path)
+    if ext not in trimesh.available_formats():
+        raise UnsupportedFormatError(
+            f"{path}: trimesh cannot read '.{ext}' files; use one of "
+            "obj, ply, stl, off, glb (or another format listed by trimesh.available_formats())"
+        )
+    try:
+        mesh = trimesh.load(str(path), force="mesh", process=False)
+    except Exception as exc:  # trimesh raises many kinds on bad content
+        raise FileFormatError(f"{path}: trimesh could not read it ({exc})") from None
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise InvalidPatchError(
+            f"{path}: not a triangle mesh (found {type(mesh).__name__} with no triangles); "
+            "export the surface as triangles",
+            "not_triangle_mesh",
+        )
+    V = np.asarray(mesh.vertices, dtype=np.float64)
+    F = np.asarray(mesh.faces, dtype=np.int64)
+    uniq, inv = np.unique(V, axis=0, return_inverse=True)
+    if len(uniq) < len(V):
+        log.info("%s: merging %d duplicated vertices", path, len(V) - len(uniq))
+        # keep the first occurrence order so indices stay close to the file's
+        first = np.full(len(uniq), len(V))
+        np.minimum.at(first, inv.ravel(), np.arange(len(V)))
+        rank = np.empty(len(uniq), dtype=np.int64)
+        rank[np.argsort(first)] = np.arange(len(uniq))
+        V = V[np.sort(first)]
+        F = rank[inv.ravel()][F]
+    return Patch(V, F)
+
+
+def _default_mode(path: Path) -> int:
+    """The existing file's permissions, else what a plain open() would give."""
+    try:
+        return path.stat().st_mode & 0o777
+    except FileNotFoundError:
+        mask = os.umask(0)
+        os.umask(mask)
+        return 0o666 & ~mask
+
+
+def write_patch(path, vertices, faces) -> Path:
+    """Write a triangle mesh atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; the extension picks the format (:data:`WRITE_FORMATS`).
+    vertices : array_like, shape (N, 3)
+    faces : array_like, shape (M, 3)
+
+    OBJ and OFF are written with 17 significant digits (coordinates read back to
+    within about 1e-17); PLY, STL and GLB store single precision (about 1e-7
+    relative), and STL does not store shared vertices (they are merged on reading).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not in :data:`WRITE_FORMATS`.
+    """
+    import trimesh
+
+    path = Path(path)
+    ext = _suffix(path)
+    if ext not in WRITE_FORMATS:
+        raise UnsupportedFormatError(
+            f"{path}: cannot write '.{ext}' files; use one of {', '.join(WRITE_FORMATS)}"
+        )
+    V = np.asarray(vertices, dtype=np.float64)
+    F = np.asarray(faces, dtype=np.int64)
+    mesh = trimesh.Trimesh(V, F, process=False, validate=False)
+    directory = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".{ext}", dir=directory)
+    try:
+        os.chmod(tmp, _default_mode(path))
+        kwargs = {"digits": 17} if ext in ("obj", "off") else {}  # round-trip exact
+        with os.fdopen(fd, "wb") as fh:
+            mesh.export(fh, file_type=ext, **kwargs)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return path

@@ -1,0 +1,391 @@
+"""Remeshing a surface patch with edges as equal in length as possible.
+
+The pipeline (see ``docs/surface.md``)::
+
+    patch --check--> Patch --parameterize--> UV map (flip- and overlap-free)
+          --boundary_domain--> Polygon (corners kept, boundary even in 3-D length)
+          --compensation_field--> SizeField h * sqrt(area scale)
+          --_mesh_domain--> planar mesh with exactly n_vertices points
+          --lift--> 3-D mesh on the input surface --report--> measures + cross-check
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import numbers
+import time
+
+import numpy as np
+
+from uniform2d.errors import InsufficientPointsError
+
+from . import _igl, _meshlab
+from .domain import CORNER_ANGLE, Domain, boundary_domain
+from .lift import lift
+from .measure import edge_stats, unique_edges
+from .parameterize import parameterize
+from .patch import Patch, as_patch
+from .report import Report, cross_check, size_trend
+from .sizing import compensation_field, target_size, vertex_count
+
+__all__ = ["RemeshResult", "remesh", "isotropic_remesh"]
+
+log = logging.getLogger(__name__)
+
+#: Iterations of the TEMPORARY planar smoothing (0 disables it); see surface._smooth2d.
+SMOOTH_ITERATIONS = 40
+
+
+@dataclasses.dataclass(frozen=True)
+class RemeshResult:
+    """A remeshed patch.
+
+    Attributes
+    ----------
+    vertices : (N, 3) float64
+        On the input surface; boundary vertices on input boundary edges.
+    faces : (M, 3) int64
+        Oriented like the input faces.
+    uv : (N, 2) float64
+        The planar mesh the faces were built on, in the parameter plane.
+    boundary : (N,) bool
+        Vertices on the boundary.
+    report : Report
+    domain : Domain
+        The polygon that was meshed and where its vertices lie on the input.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    uv: np.ndarray
+    boundary: np.ndarray
+    report: Report
+    domain: Domain
+
+    def write(self, path):
+        """Write the 3-D mesh (see :func:`surface.write_patch`)."""
+        from .io import write_patch
+
+        return write_patch(path, self.vertices, self.faces)
+
+
+def _mesh_domain(polygon, n_interior: int, size_field, *, smooth_iterations=SMOOTH_ITERATIONS):
+    """Mesh a polygon with exactly ``len(polygon.vertices) + n_interior`` points.
+
+    The one swappable 2-D meshing step.  Now: Algorithm INSERT of the planar
+    core (graded by ``size_field`` when the core supports ``size=``), then the
+    TEMPORARY smoothing of :mod:`surface._smooth2d` until the issue-5 optimiser
+    exists.
+
+    Parameters
+    ----------
+    polygon : uniform2d.Polygon
+    n_interior : int
+    size_field : uniform2d.SizeField or None
+
+    Returns
+    -------
+    points : (N, 2) float64
+        ``polygon.vertices`` first, then the inserted points.
+    triangles : (M, 3) int64
+        Counter-clockwise.
+    mesher : str
+        What produced the mesh (goes into the report).
+    """
+    import importlib
+
+    insert = importlib.import_module("uniform2d.insert").insert
+    kwargs = {} if size_field is None else {"size": size_field}
+    desc = "uniform2d.insert"
+    try:
+        res = insert(polygon, n_interior, **kwargs)
+    except TypeError as exc:
+        if "size" not in str(exc) or not kwargs:
+            raise
+        log.warning("uniform2d.insert has no size= yet: INSERT ran ungraded")
+        desc += " (size field NOT applied: core lacks size=)"
+        res = insert(polygon, n_interior)
+    else:
+        if kwargs:
+            desc += " with size field"
+    P = np.asarray(res.mesh_points, dtype=np.float64)
+    T = np.asarray(res.triangles, dtype=np.int64)
+    K = len(polygon.vertices)
+    if len(P) != K + n_interior or not np.array_equal(P[:K], polygon.vertices):
+        raise RuntimeError(
+            f"planar mesher broke its contract: {len(P)} points for {K} + {n_interior}"
+        )
+    if smooth_iterations:
+        from ._smooth2d import smooth
+
+        E = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]])
+        E = np.sort(E, axis=1)
+        _, inv, cnt = np.unique(E, axis=0, return_inverse=True, return_counts=True)
+        fixed = np.zeros(len(P), dtype=bool)
+        fixed[:K] = True
+        fixed[E[cnt[inv.ravel()] == 1].ravel()] = True
+        P, T = smooth(P, T, fixed, size_field, iterations=smooth_iterations)
+        desc += f" + TEMPORARY spring smoothing ({smooth_iterations} it.)"
+    return P, T, desc
+
+
+def _boundary_mask(T, n):
+    E = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]])
+    key = np.sort(E, axis=1)
+    _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    once = cnt[inv.ravel()] == 1
+    mask = np.zeros(n, dtype=bool)
+    mask[E[once].ravel()] = True
+    return mask, E[once]  # boundary edges keep their triangle direction
+
+
+def _segment_distance(P, A, B):
+    """Distance from each point (K, 3) to the nearest of segments A[i]-B[i] (E, 3)."""
+    out = np.full(len(P), np.inf)
+    AB = B - A
+    L2 = np.einsum("ij,ij->i", AB, AB)
+    for s in range(0, len(P), 256):
+        p = P[s : s + 256, None, :]
+        t = np.clip(np.einsum("kij,ij->ki", p - A[None], AB) / L2, 0.0, 1.0)
+        q = A[None] + t[..., None] * AB[None]
+        out[s : s + 256] = np.linalg.norm(p - q, axis=2).min(axis=1)
+    return out
+
+
+def _as_count(n) -> int:
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral):
+        if isinstance(n, numbers.Real) and float(n).is_integer():
+            n = int(n)
+        else:
+            raise ValueError(f"n_vertices must be an integer, got {n!r}")
+    if n < 3:
+        raise ValueError(f"n_vertices must be at least 3, got {n}")
+    return int(n)
+
+
+def remesh(
+    patch,
+    n_vertices=None,
+    *,
+    size=None,
+    param: str = "lscm",
+    compensate: bool = True,
+    corner_angle: float = CORNER_ANGLE,
+    check: bool = True,
+    hausdorff: bool = True,
+    smooth_iterations: int = SMOOTH_ITERATIONS,
+) -> RemeshResult:
+    """Remesh a disk-like surface patch with near-equal 3-D edges.
+
+    Parameters
+    ----------
+    patch : path, (V, F) pair, trimesh.Trimesh or Patch
+        A triangle mesh that is a disk, possibly with holes (see :class:`surface.Patch`).
+    n_vertices : int, optional
+        Exact number of vertices of the output.  Default: the input's vertex count
+        (unless ``size`` is given).
+    size : float, optional
+        Target 3-D edge length instead of a count (give one or the other); the
+        count is then derived from the area and boundary length.
+    param : {"lscm", "arap", "harmonic"}
+        Parameterisation to try first (see :mod:`surface.parameterize`).
+    compensate : bool
+        Grade the planar mesh by ``sqrt`` of the parameterisation's area scale and
+        space the boundary evenly in 3-D, so the output is uniform in 3-D.  With
+        False the planar mesh is uniform in UV instead.
+    corner_angle : float
+        Boundary vertices turning more than this (degrees, in 3-D) are kept.
+    check : bool
+        Run the pymeshlab cross-check (raises CrossCheckError on disagreement).
+    hausdorff : bool
+        Measure the Hausdorff distances to the input with pymeshlab.
+    smooth_iterations : int
+        TEMPORARY planar smoothing iterations (until the issue-5 optimiser lands).
+
+    Returns
+    -------
+    RemeshResult
+
+    Raises
+    ------
+    InvalidPatchError
+        If the patch fails a check.
+    ParameterizationError
+        If no flip-free, non-overlapping flattening was found.
+    InsufficientPointsError
+        If ``n_vertices`` is too small to place the boundary points.
+    CrossCheckError
+        If pymeshlab disagrees with our edge measures.
+    """
+    times = {}
+    t0 = time.perf_counter()
+    P: Patch = as_patch(patch)
+    V, F = P.vertices, P.faces
+    times["check"] = time.perf_counter() - t0
+
+    t = time.perf_counter()
+    prm = parameterize(P, param)
+    times["parameterize"] = time.perf_counter() - t
+
+    A = P.area
+    Bl = float(sum(np.linalg.norm(V[np.roll(lp, -1)] - V[lp], axis=1).sum() for lp in P.boundary_loops))
+    chi = P.euler_characteristic
+    if n_vertices is not None and size is not None:
+        raise ValueError("give n_vertices or size, not both")
+    if size is not None:
+        h = float(size)
+        if not (np.isfinite(h) and h > 0):
+            raise ValueError(f"size must be a positive length, got {size!r}")
+        N = vertex_count(A, Bl, h, chi)
+        if N < 3:
+            raise ValueError(f"size={size} is larger than the patch; use a smaller size")
+    else:
+        N = P.n_vertices if n_vertices is None else _as_count(n_vertices)
+        h = target_size(A, Bl, N, chi) if N - chi > 0 else float("inf")
+
+    t = time.perf_counter()
+    measure = "3d" if compensate else "uv"
+    domain = boundary_domain(P, prm.uv, h, measure=measure, corner_angle=corner_angle)
+    times["domain"] = time.perf_counter() - t
+    K = len(domain.polygon.vertices)
+    n_int = N - K
+    if n_int < 0:
+
+        def boundary_count(m):
+            hm = target_size(A, Bl, m, chi)
+            return len(_domain(hm).polygon.vertices)
+
+        def _domain(hm):
+            return boundary_domain(P, prm.uv, hm, measure=measure, corner_angle=corner_angle)
+
+        lo, hi = N, max(2 * N, 16)
+        while boundary_count(hi) > hi:
+            lo, hi = hi, 2 * hi
+        while hi - lo > 1:  # smallest m with boundary_count(m) <= m
+            mid = (lo + hi) // 2
+            lo, hi = (lo, mid) if boundary_count(mid) <= mid else (mid, hi)
+        what = f"n_vertices={N}" if size is None else f"size={size} (about {N} vertices)"
+        raise InsufficientPointsError(
+            f"{what} is too small: the boundary alone needs {K} points at that size "
+            f"({domain.n_corners} corners kept); the smallest vertex count that works "
+            f"is {hi}"
+        )
+
+    t = time.perf_counter()
+    field = compensation_field(V, F, prm.uv, prm.area_scale, h)
+    times["size_field"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    pts, tris, mesher = _mesh_domain(
+        domain.polygon, n_int, field if compensate else None, smooth_iterations=smooth_iterations
+    )
+    times["mesh_2d"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    n = len(pts)
+    bmask, bedges = _boundary_mask(tris, n)
+    xyz = np.zeros((n, 3))
+    xyz[:K] = domain.xyz
+    extra = np.flatnonzero(bmask[K:]) + K
+    if len(extra):
+        # points the mesher put on polygon edges: find their edge, map onto the arc
+        ring_next = np.empty(K, dtype=np.int64)
+        off = domain.polygon.ring_offsets
+        for r in range(len(off) - 1):
+            idx = np.arange(off[r], off[r + 1])
+            ring_next[idx] = np.roll(idx, -1)
+        pv = domain.polygon.vertices
+        a, b = pv, pv[ring_next]
+        ab = b - a
+        for k in extra:
+            q = pts[k]
+            tt = np.clip(((q - a) * ab).sum(1) / (ab * ab).sum(1), 0, 1)
+            d = np.linalg.norm(a + tt[:, None] * ab - q, axis=1)
+            e = int(np.argmin(d))
+            xyz[k] = domain.chord_points([e], [ring_next[e]], [tt[e]], V)[0][0]
+        log.info("%d points were inserted on the boundary", len(extra))
+    inner = np.flatnonzero(~bmask)
+    lifted = lift(pts[inner], V, F, prm.uv)
+    xyz[inner] = lifted.xyz
+    times["lift"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    stats = edge_stats(xyz, tris)
+    stats_uv = edge_stats(pts, tris)
+    E = unique_edges(tris)
+    mid = 0.5 * (pts[E[:, 0]] + pts[E[:, 1]])
+    L = np.linalg.norm(xyz[E[:, 1]] - xyz[E[:, 0]], axis=1)
+    scale_mid = (field(mid) / h) ** 2
+    trend = size_trend(L, scale_mid)
+    diag = P.diagonal
+    d2, _, _ = _igl.closest_points(xyz, V, F)
+    bl = np.concatenate([np.stack([lp, np.roll(lp, -1)], axis=1) for lp in P.boundary_loops])
+    bdist = _segment_distance(xyz[bmask], V[bl[:, 0]], V[bl[:, 1]])
+    fidelity = {
+        "surface_distance_max": float(np.sqrt(d2.max())),
+        "boundary_distance_max": float(bdist.max()),
+        "uv_outside_max": float(lifted.uv_distance.max()) if len(inner) else 0.0,
+    }
+    times["measure"] = time.perf_counter() - t
+
+    meshlab = None
+    if check:
+        t = time.perf_counter()
+        meshlab = cross_check(stats, _meshlab.edge_measures(xyz, tris))
+        times["cross_check"] = time.perf_counter() - t
+    if hausdorff:
+        t = time.perf_counter()
+        ns = int(min(200_000, 10 * (len(F) + len(tris))))
+        fidelity["hausdorff_out_in"] = _meshlab.hausdorff(xyz, tris, V, F, ns)
+        fidelity["hausdorff_in_out"] = _meshlab.hausdorff(V, F, xyz, tris, ns)
+        times["hausdorff"] = time.perf_counter() - t
+    for key in list(fidelity):
+        if isinstance(fidelity[key], float):
+            fidelity[key + "_rel"] = fidelity[key] / diag
+    for key in ("hausdorff_out_in", "hausdorff_in_out"):
+        if key in fidelity:
+            fidelity[key + "_max_rel"] = fidelity[key]["max"] / diag
+    times["total"] = time.perf_counter() - t0
+
+    dist = prm.distortion(P.face_areas)
+    dist["attempts"] = [list(a) for a in prm.attempts]
+    report = Report(
+        n_vertices=n,
+        n_faces=len(tris),
+        n_boundary=int(bmask.sum()),
+        n_corners=domain.n_corners,
+        target_size=h,
+        diagonal=diag,
+        edges={k: v for k, v in stats.items() if not k.startswith("face_")},
+        edges_uv={k: v for k, v in stats_uv.items() if not k.startswith("face_")},
+        meshlab=meshlab,
+        parameterization=dist,
+        size_trend=trend,
+        fidelity=fidelity,
+        timings=times,
+        mesher=mesher,
+        compensate=bool(compensate),
+    )
+    for arr in (xyz, tris, pts, bmask):
+        arr.setflags(write=False)
+    return RemeshResult(xyz, tris, pts, bmask, report, domain)
+
+
+def isotropic_remesh(patch, size: float, iterations: int = 10):
+    """MeshLab's isotropic explicit remeshing, for comparison (the benchmark).
+
+    Parameters
+    ----------
+    patch : path, (V, F) pair, trimesh.Trimesh or Patch
+    size : float
+        Absolute target edge length.
+    iterations : int
+
+    Returns
+    -------
+    vertices : (N, 3) float64
+    faces : (M, 3) int64
+    """
+    P = as_patch(patch)
+    return _meshlab.isotropic_remesh(P.vertices, P.faces, size, iterations)

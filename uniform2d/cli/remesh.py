@@ -1,0 +1,123 @@
+"""``uniform2d remesh``: remesh a disk-like surface patch with near-equal 3-D edges.
+
+Wraps :func:`surface.remesh` (needs the ``surface`` extra: trimesh, libigl,
+pymeshlab).  Input: any triangle-mesh format trimesh reads; output: one of
+``surface.io.WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb).
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+from ._common import positive_float, positive_int, print_json
+
+log = logging.getLogger(__name__)
+
+PARAMS = ("lscm", "arap", "harmonic")
+
+
+def add_parser(subparsers):
+    p = subparsers.add_parser(
+        "remesh",
+        help="remesh a surface patch (needs the 'surface' extra)",
+        description="Remesh a disk-like triangulated surface patch (possibly with holes) "
+        "with exactly N vertices and near-equal 3-D edges: flatten it (libigl), mesh "
+        "the flat domain with uniform2d, lift the mesh back.",
+    )
+    p.add_argument("input", metavar="INPUT", help="surface mesh file (.obj, .off, .ply, .stl, ...)")
+    count = p.add_mutually_exclusive_group(required=True)
+    count.add_argument("-n", type=positive_int, metavar="N",
+                       help="number of vertices of the output")
+    count.add_argument("--size", type=positive_float, metavar="H", help="target 3-D edge length")
+    p.add_argument("-o", "--output", required=True, metavar="OUTPUT",
+                   help="output mesh file (.obj, .off, .ply, .stl, .glb)")
+    p.add_argument("--param", choices=PARAMS, default="lscm",
+                   help="parameterisation tried first (default lscm)")
+    p.add_argument("--plot", metavar="PNG", help="also write a figure of the 3-D mesh")
+    show = p.add_mutually_exclusive_group()
+    show.add_argument("--stats", action="store_true", help="print the remesh report")
+    show.add_argument("--json", action="store_true", help="print the report as JSON")
+    return p
+
+
+def _check_output(path: Path) -> None:
+    from ..errors import UnsupportedFormatError
+
+    try:
+        from surface.io import WRITE_FORMATS, _suffix
+    except ImportError as exc:
+        raise ImportError(
+            f"'uniform2d remesh' needs the surface extra ({exc}); "
+            "install it with: pip install 'uniform2d[surface]'"
+        ) from None
+    if _suffix(path) not in WRITE_FORMATS:
+        raise UnsupportedFormatError(
+            f"cannot write a surface mesh to '{path}'; use one of "
+            + ", ".join("." + e for e in WRITE_FORMATS)
+        )
+
+
+def _plot(result, path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+    from ..errors import UnsupportedFormatError
+    from ..plot import _FORMATS
+
+    if Path(path).suffix.lower() not in _FORMATS:
+        raise UnsupportedFormatError(
+            f"cannot save a figure as '{path}'; use one of {', '.join(_FORMATS)}"
+        )
+    V, F = result.vertices, result.faces
+    e = np.sort(F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    e = np.unique(e, axis=0)
+    length = np.linalg.norm(V[e[:, 1]] - V[e[:, 0]], axis=1)
+    rel = length / length.mean()
+    fig = plt.figure(figsize=(11, 4.8))
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    lc = Line3DCollection(V[e], cmap="coolwarm", linewidths=0.5)
+    lc.set_array(rel)
+    lc.set_clim(0.5, 1.5)
+    ax.add_collection(lc)
+    lo, hi = V.min(axis=0), V.max(axis=0)
+    c, r = (lo + hi) / 2, (hi - lo).max() / 2
+    ax.set_xlim(c[0] - r, c[0] + r)
+    ax.set_ylim(c[1] - r, c[1] + r)
+    ax.set_zlim(c[2] - r, c[2] + r)
+    ax.set_axis_off()
+    fig.colorbar(lc, ax=ax, shrink=0.7, label="edge length / mean")
+    h = fig.add_subplot(1, 2, 2)
+    h.hist(rel, bins=40, color="0.4")
+    h.set_xlabel("3-D edge length / mean")
+    h.set_ylabel("edges")
+    fig.suptitle(f"{len(V)} vertices, {len(F)} faces, edge ratio {length.max() / length.min():.3g}")
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
+def run(args) -> int:
+    src, dst = Path(args.input), Path(args.output)
+    _check_output(dst)
+    if not src.exists():
+        raise FileNotFoundError(2, "input file not found", str(src))
+    import surface
+
+    patch = surface.read_patch(src)
+    log.info("%s: %r", src, patch)
+    result = surface.remesh(patch, n_vertices=args.n, size=args.size, param=args.param)
+    result.write(dst)
+    if args.plot:
+        _plot(result, args.plot)
+    if args.json:
+        print_json({"input": str(src), "output": str(dst), "report": result.report.as_dict()})
+    elif args.stats:
+        print(result.report.summary())
+    elif not args.quiet:
+        print(f"wrote {dst} ({len(result.vertices)} vertices, {len(result.faces)} faces)"
+              + (f", figure {args.plot}" if args.plot else ""))
+    return 0

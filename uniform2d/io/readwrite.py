@@ -1,0 +1,198 @@
+"""Read and write polygons and meshes, the format chosen by the file's extension.
+
+The extension is looked up in the registry (:mod:`uniform2d.io.registry`);
+:func:`polygon_formats` and :func:`mesh_formats` list what is supported.  Every
+write is atomic: the file appears complete or not at all, and an existing file
+is only replaced once the new one has been written successfully.
+
+Examples
+--------
+>>> import os, tempfile
+>>> from uniform2d import Polygon
+>>> from uniform2d.io import read_polygon, write_polygon, read_mesh, write_mesh
+>>> d = tempfile.mkdtemp()
+>>> square = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)], [[(0.4, 0.4), (0.6, 0.4), (0.5, 0.6)]])
+>>> write_polygon(os.path.join(d, "square.geojson"), square)
+>>> read_polygon(os.path.join(d, "square.geojson")) == square
+True
+>>> points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+>>> triangles = [[0, 1, 2], [0, 2, 3]]
+>>> write_mesh(os.path.join(d, "square.vtu"), points, triangles)
+>>> p, t = read_mesh(os.path.join(d, "square.vtu"))
+>>> p.shape, p.dtype, t.tolist()
+((4, 2), dtype('float64'), [[0, 1, 2], [0, 2, 3]])
+"""
+
+from __future__ import annotations
+
+import errno
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from ..polygon import Polygon
+from .atomic import atomic_write
+from .registry import find_mesh_format, find_polygon_format
+
+__all__ = ["read_polygon", "write_polygon", "read_mesh", "write_mesh"]
+
+logger = logging.getLogger(__name__)
+
+
+def _existing_file(path, what: str) -> Path:
+    p = Path(path)
+    if not p.exists():
+        raise FileNotFoundError(errno.ENOENT, f"{what} file not found", str(p))
+    if p.is_dir():
+        raise IsADirectoryError(errno.EISDIR, f"expected a {what} file, got a directory", str(p))
+    return p
+
+
+def read_polygon(path) -> Polygon:
+    """Read a polygon file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file with one of the extensions of :func:`polygon_formats`.
+
+    Returns
+    -------
+    Polygon
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not a polygon format.
+    FileNotFoundError
+        If the file does not exist.
+    FileFormatError
+        If the file's content is not a usable polygon (the message says why).
+    InvalidPolygonError
+        If the file describes an invalid polygon (the file name precedes the reason).
+    """
+    fmt = find_polygon_format(path, "read")
+    p = _existing_file(path, "polygon")
+    polygon = fmt.reader(p)
+    logger.debug("read %r from %s", polygon, p)
+    return polygon
+
+
+def write_polygon(path, polygon: Polygon) -> None:
+    """Write a polygon to a file, in the format given by the extension.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; its extension is one of :func:`polygon_formats`.
+    polygon : Polygon
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not a polygon format.
+    """
+    fmt = find_polygon_format(path, "write")
+    if not isinstance(polygon, Polygon):
+        raise TypeError(
+            f"write_polygon expects a uniform2d.Polygon, got {type(polygon).__name__}; "
+            "build one with Polygon(outer, holes)"
+        )
+    atomic_write(path, lambda tmp: fmt.writer(tmp, polygon), extension=fmt.extension)
+
+
+def read_mesh(path) -> tuple[np.ndarray, np.ndarray]:
+    """Read a triangle mesh file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file with one of the extensions of :func:`mesh_formats`.
+
+    Returns
+    -------
+    points : ndarray, shape (N, 2), float64
+    triangles : ndarray, shape (M, 3), int64
+        Only the triangle cells of the file; other cells are skipped.
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not a mesh format.
+    FileNotFoundError
+        If the file does not exist.
+    FileFormatError
+        If the file cannot be read as a planar triangle mesh.
+    """
+    fmt = find_mesh_format(path, "read")
+    p = _existing_file(path, "mesh")
+    return fmt.reader(p)
+
+
+def _as_mesh(points, triangles, point_data):
+    try:
+        pts = np.array(points, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"points must be an (N, 2) array of numbers ({exc})") from None
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise ValueError(f"points must have shape (N, 2), got {pts.shape}")
+    if not np.isfinite(pts).all():
+        raise ValueError("points contain a non-finite coordinate (NaN or inf)")
+    tri = np.array(triangles)
+    if tri.size == 0 or tri.ndim != 2 or tri.shape[1] != 3:
+        raise ValueError(f"triangles must have shape (M, 3) with M >= 1, got {tri.shape}")
+    if not np.issubdtype(tri.dtype, np.integer):
+        raise ValueError(f"triangles must be integer point indices, got dtype {tri.dtype}")
+    tri = tri.astype(np.int64)
+    if tri.min() < 0 or tri.max() >= len(pts):
+        raise ValueError(
+            f"triangles refer to points {tri.min()}..{tri.max()}, but there are {len(pts)} points"
+        )
+    data = {}
+    for name, values in (point_data or {}).items():
+        arr = np.array(values)
+        if arr.ndim == 0 or len(arr) != len(pts):
+            raise ValueError(
+                f"point data {name!r} must have one entry per point ({len(pts)}), "
+                f"got shape {arr.shape}"
+            )
+        data[str(name)] = arr
+    return pts, tri, data
+
+
+def write_mesh(path, points, triangles, *, point_data=None) -> None:
+    """Write a triangle mesh, in the format given by the extension.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; its extension is one of :func:`mesh_formats`.
+    points : array_like, shape (N, 2)
+    triangles : array_like of int, shape (M, 3)
+    point_data : dict of str to array_like, optional
+        Values per point (first axis of length N).  Formats that cannot store
+        them drop them with a logged warning.
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not a mesh format.
+    ValueError
+        If the arrays do not describe a triangle mesh.
+
+    Notes
+    -----
+    The inputs are copied, never modified.  The file is written atomically.
+    """
+    fmt = find_mesh_format(path, "write")
+    pts, tri, data = _as_mesh(points, triangles, point_data)
+    if data and not fmt.point_data:
+        logger.warning(
+            "%s: the %s format does not store point data; dropping %s",
+            path,
+            fmt.extension,
+            ", ".join(data),
+        )
+        data = {}
+    atomic_write(path, lambda tmp: fmt.writer(tmp, pts, tri, data), extension=fmt.extension)

@@ -1,0 +1,225 @@
+"""The one registry of file formats: which extension is read or written by what.
+
+Two tables, both keyed by lower-case extension:
+
+* :data:`POLYGON_FORMATS` -- polygon files, each with a reader returning a
+  :class:`uniform2d.Polygon` and a writer;
+* :data:`MESH_FORMATS` -- triangle mesh files, each with a writer taking
+  ``(path, points, triangles, point_data)`` and a reader returning
+  ``(points, triangles)``.
+
+Extensions may be compound (``.truss.json``, ``.vol.gz``); a file name is
+matched against the longest registered extension it ends with, ignoring case.
+Everything that lists formats -- :func:`polygon_formats`, :func:`mesh_formats`,
+the error for an unknown extension, the command line's help -- reads these
+tables, so a format is added in exactly one place.
+
+Mesh formats were kept only if meshio 5.3.5 round-trips points (x, y) and
+triangles of a 2-D mesh exactly here.  Left out: ``.stl`` (no shared vertices,
+float32), Nastran ``.bdf/.nas/.fem`` (fixed-width fields lose digits),
+``.xdmf``/``.med``/``.cgns``/``.h5m`` (need h5py), Exodus ``.e/.exo`` (need
+netCDF4), DOLFIN ``.xml`` (meshio prints a deprecation warning on every use),
+``.ugrid``/``.f3grid``/``.wkt``/TetGen ``.node/.ele`` (fail on triangle meshes) and
+``.svg`` (write only).
+
+Examples
+--------
+>>> from uniform2d.io import polygon_formats, mesh_formats
+>>> list(polygon_formats())
+['.json', '.geojson', '.wkt', '.poly', '.dxf']
+>>> mesh_formats()[".csv"]
+'truss: nodes, members (with lengths) and triangles in one CSV table'
+>>> find_mesh_format("Panel.Truss.JSON").extension
+'.truss.json'
+>>> find_polygon_format("plate.step")
+Traceback (most recent call last):
+    ...
+uniform2d.errors.UnsupportedFormatError: cannot read a polygon from 'plate.step': unknown extension '.step'; polygon extensions: .json, .geojson, .wkt, .poly, .dxf
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from ..errors import UnsupportedFormatError
+from . import polygon_files as _pf
+from . import truss as _truss
+from .mesh_files import meshio_reader, meshio_writer
+
+__all__ = [
+    "FileFormat",
+    "POLYGON_FORMATS",
+    "MESH_FORMATS",
+    "polygon_formats",
+    "mesh_formats",
+    "find_polygon_format",
+    "find_mesh_format",
+]
+
+
+@dataclass(frozen=True)
+class FileFormat:
+    """One registered file format.
+
+    Attributes
+    ----------
+    extension : str
+        Lower-case extension with its leading dot, possibly compound.
+    description : str
+        One human-readable line.
+    reader, writer : callable
+        See the module docstring for their signatures.
+    point_data : bool
+        Mesh formats only: whether per-point data is stored (otherwise it is
+        dropped with a logged warning).
+    """
+
+    extension: str
+    description: str
+    reader: Callable
+    writer: Callable
+    point_data: bool = False
+
+
+def _table(*formats: FileFormat) -> dict[str, FileFormat]:
+    return {f.extension: f for f in formats}
+
+
+POLYGON_FORMATS: dict[str, FileFormat] = _table(
+    FileFormat(
+        ".json",
+        'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...]} (GeoJSON also accepted)',
+        _pf.read_json,
+        _pf.write_json,
+    ),
+    FileFormat(
+        ".geojson",
+        "GeoJSON Polygon, Feature, or FeatureCollection with one polygon",
+        _pf.read_geojson,
+        _pf.write_geojson,
+    ),
+    FileFormat(".wkt", "Well-Known Text POLYGON", _pf.read_wkt, _pf.write_wkt),
+    FileFormat(
+        ".poly",
+        "Triangle .poly: vertices, segments forming rings, hole points",
+        _pf.read_poly,
+        _pf.write_poly,
+    ),
+    FileFormat(
+        ".dxf",
+        "DXF closed LWPOLYLINE/POLYLINE entities; largest is the outline",
+        _pf.read_dxf,
+        _pf.write_dxf,
+    ),
+)
+
+
+def _meshio(ext, description, name, *, pad_z=False, int32=False, point_data=False, **options):
+    return FileFormat(
+        ext,
+        description + ("; stored as 3-D points with z = 0" if pad_z else ""),
+        meshio_reader(name, ext),
+        meshio_writer(name, pad_z=pad_z, int32=int32, **options),
+        point_data,
+    )
+
+
+MESH_FORMATS: dict[str, FileFormat] = _table(
+    _meshio(".vtu", "VTK XML unstructured grid (ParaView)", "vtu", pad_z=True, point_data=True),
+    _meshio(".vtk", "legacy VTK (ParaView, VisIt)", "vtk", pad_z=True, point_data=True),
+    _meshio(".msh", "Gmsh 4.1, ASCII", "gmsh", binary=False),
+    _meshio(".obj", "Wavefront OBJ", "obj", pad_z=True),
+    _meshio(".ply", "Stanford PLY", "ply", pad_z=True, int32=True, point_data=True),
+    _meshio(".off", "Geomview OFF", "off", pad_z=True),
+    _meshio(".inp", "Abaqus input file", "abaqus"),
+    _meshio(".mesh", "Medit / INRIA mesh, ASCII", "medit"),
+    _meshio(".meshb", "Medit / INRIA mesh, binary", "medit"),
+    _meshio(".su2", "SU2 native mesh", "su2"),
+    _meshio(".vol", "Netgen mesh", "netgen"),
+    _meshio(".vol.gz", "Netgen mesh, gzip-compressed", "netgen"),
+    _meshio(".tec", "Tecplot ASCII", "tecplot", point_data=True),
+    _meshio(".avs", "AVS-UCD", "avsucd", pad_z=True),
+    _meshio(".mdpa", "Kratos Multiphysics model part", "mdpa", pad_z=True),
+    _meshio(".dato", "PERMAS input", "permas", pad_z=True),
+    _meshio(".dato.gz", "PERMAS input, gzip-compressed", "permas", pad_z=True),
+    FileFormat(
+        ".csv",
+        "truss: nodes, members (with lengths) and triangles in one CSV table",
+        _truss.read_truss_csv,
+        _truss.write_truss_csv,
+        point_data=True,
+    ),
+    FileFormat(
+        ".truss.json",
+        "truss: JSON with nodes, members, lengths and triangles",
+        _truss.read_truss_json,
+        _truss.write_truss_json,
+        point_data=True,
+    ),
+)
+
+
+def polygon_formats() -> dict[str, str]:
+    """Polygon file extensions (read and write) and their descriptions."""
+    return {ext: f.description for ext, f in POLYGON_FORMATS.items()}
+
+
+def mesh_formats() -> dict[str, str]:
+    """Mesh file extensions (read and write) and their descriptions."""
+    return {ext: f.description for ext, f in MESH_FORMATS.items()}
+
+
+def _match(path, table: dict[str, FileFormat]) -> FileFormat | None:
+    name = Path(path).name.lower()
+    best = None
+    for ext, fmt in table.items():
+        longer = best is None or len(ext) > len(best.extension)
+        if name.endswith(ext) and len(name) > len(ext) and longer:
+            best = fmt
+    return best
+
+
+def _unsupported(path, kind: str, action: str) -> UnsupportedFormatError:
+    table, other, other_kind = (
+        (POLYGON_FORMATS, MESH_FORMATS, "mesh")
+        if kind == "polygon"
+        else (MESH_FORMATS, POLYGON_FORMATS, "polygon")
+    )
+    verb = f"read a {kind} from" if action == "read" else f"write a {kind} to"
+    suffix = Path(path).suffix
+    found = f"unknown extension '{suffix}'" if suffix else "the file name has no extension"
+    message = f"cannot {verb} '{path}': {found}; {kind} extensions: {', '.join(table)}"
+    hit = _match(path, other)
+    if hit is not None:
+        message += f" ('{hit.extension}' is a {other_kind} format: use {action}_{other_kind})"
+    return UnsupportedFormatError(message)
+
+
+def find_polygon_format(path, action: str = "read") -> FileFormat:
+    """The polygon format for `path`'s extension (`action` is "read" or "write").
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If no polygon format matches; the message lists the supported extensions.
+    """
+    fmt = _match(path, POLYGON_FORMATS)
+    if fmt is None:
+        raise _unsupported(path, "polygon", action)
+    return fmt
+
+
+def find_mesh_format(path, action: str = "write") -> FileFormat:
+    """The mesh format for `path`'s extension (`action` is "read" or "write").
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If no mesh format matches; the message lists the supported extensions.
+    """
+    fmt = _match(path, MESH_FORMATS)
+    if fmt is None:
+        raise _unsupported(path, "mesh", action)
+    return fmt

@@ -1,0 +1,39 @@
+"""Peer meshers the comparison report measures uniform2d against.
+
+Each peer lives in its own module and is loaded lazily through the registry in
+:mod:`uniform2d.peers.base`, so that importing this package never imports an
+optional dependency (gmsh, triangle, pymeshlab).  A peer whose dependency is
+missing is reported as "not installed" (:func:`available` is False).
+
+>>> from uniform2d import peers
+>>> peers.names()
+('gmsh', 'triangle', 'cvt', 'meshlab')
+>>> peers.kind("cvt")
+'planar'
+"""
+
+from .base import (
+    PeerMesh,
+    Tuned,
+    available,
+    describe,
+    kind,
+    load,
+    mesh,
+    names,
+    size_for_count,
+    tune,
+)
+
+__all__ = [
+    "names",
+    "load",
+    "available",
+    "kind",
+    "describe",
+    "mesh",
+    "PeerMesh",
+    "Tuned",
+    "tune",
+    "size_for_count",
+]

@@ -1,0 +1,104 @@
+"""Gmsh's Frontal-Delaunay 2-D mesher, with a uniform size.
+
+Options: ``Mesh.Algorithm = 6`` (Frontal-Delaunay), ``Mesh.MeshSizeMax = size``,
+``Mesh.MeshSizeExtendFromBoundary = 0``, ``Mesh.MeshSizeFromPoints = 0`` and
+``Mesh.MeshSizeFromCurvature = 0``, so the size field is the constant ``size``.
+The size is bisected until the vertex count matches the target
+(:func:`uniform2d.peers.base.tune`).
+
+Gmsh keeps global state and is not thread-safe: every call holds a module lock
+and runs between its own ``gmsh.initialize`` / ``gmsh.finalize``, with no
+configuration files read, so the result depends only on the arguments.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import threading
+
+import numpy as np
+
+from .base import PeerMesh, compact, orient_ccw, size_for_count, tune
+
+NAME = "gmsh"
+KIND = "planar"
+DESCRIPTION = "Gmsh Frontal-Delaunay (Mesh.Algorithm 6), constant size MeshSizeMax"
+REQUIRES = ("gmsh",)
+
+_LOCK = threading.Lock()
+
+
+def available() -> bool:
+    """Whether the ``gmsh`` Python module is installed."""
+    return importlib.util.find_spec("gmsh") is not None
+
+
+def version() -> str:
+    import gmsh
+
+    return str(gmsh.__version__)
+
+
+def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh ``polygon`` with Gmsh at the constant target edge length ``size``.
+
+    Parameters
+    ----------
+    polygon : uniform2d.Polygon
+    size : float
+
+    Returns
+    -------
+    points : ndarray, shape (N, 2)
+    triangles : ndarray, shape (M, 3), int64, counter-clockwise
+    """
+    import gmsh
+
+    with _LOCK:
+        gmsh.initialize([], readConfigFiles=False, interruptible=False)
+        try:
+            gmsh.option.setNumber("General.Terminal", 0)
+            gmsh.option.setNumber("General.Verbosity", 0)
+            gmsh.model.add("uniform2d_peer")
+            geo = gmsh.model.geo
+            loops = []
+            for ring in polygon.rings:
+                pts = [geo.addPoint(float(x), float(y), 0.0, float(size)) for x, y in ring]
+                lines = [geo.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+                loops.append(geo.addCurveLoop(lines))
+            geo.addPlaneSurface(loops)
+            geo.synchronize()
+            gmsh.option.setNumber("Mesh.Algorithm", 6)
+            gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+            gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", float(size))
+            gmsh.model.mesh.generate(2)
+            tags, coords, _ = gmsh.model.mesh.getNodes()
+            etypes, _, enodes = gmsh.model.mesh.getElements(2)
+        finally:
+            gmsh.finalize()
+    tags = np.asarray(tags, dtype=np.int64)
+    xyz = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
+    order = np.argsort(tags, kind="stable")
+    points = xyz[order, :2]
+    tri_nodes = None
+    for et, nodes in zip(etypes, enodes):
+        if int(et) == 2:  # 3-node triangle
+            tri_nodes = np.asarray(nodes, dtype=np.int64).reshape(-1, 3)
+    if tri_nodes is None:
+        raise RuntimeError("gmsh produced no triangles")
+    triangles = np.searchsorted(tags[order], tri_nodes)
+    points, triangles = compact(points, triangles)
+    return np.ascontiguousarray(points), orient_ccw(points, triangles)
+
+
+def mesh(polygon, n_vertices: int) -> PeerMesh:
+    """Gmsh mesh of ``polygon`` with its size tuned to ``n_vertices`` vertices."""
+    size0 = size_for_count(polygon.area, polygon.perimeter, n_vertices, polygon.n_holes)
+    t = tune(lambda h: mesh_with_size(polygon, h), lambda m: len(m[0]), n_vertices, size0)
+    pts, tri = t.result
+    return PeerMesh(
+        pts, tri, t.size, t.evaluations, {"parameter": "Mesh.MeshSizeMax", "history": t.history}
+    )

@@ -1,0 +1,218 @@
+"""Figures of a mesh: edges coloured by length, and the edge-length distribution.
+
+Uses matplotlib's object-oriented API with no pyplot state, so it is safe in
+scripts, servers and tests (nothing is ever shown on screen).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+
+import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.colors import FuncNorm
+from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter
+
+from .errors import UnsupportedFormatError
+from .quality import _as_points, _as_polygon, _as_triangles, _histogram, edge_lengths
+
+__all__ = ["plot_mesh"]
+
+log = logging.getLogger(__name__)
+
+_FORMATS = (".png", ".pdf", ".svg")
+_CMAP = "RdBu_r"  # blue = short, white = mean, red = long
+
+
+def _log(x):
+    return np.log(np.maximum(x, 1e-300))
+
+
+def _exp(x):
+    return np.exp(x)
+
+
+def _ratio_ticks(h: float) -> list[float]:
+    """Colour-bar ticks between 1/h and h, symmetric in log scale about 1."""
+    cands = [1.02, 1.05, 1.1, 1.25, 1.5, 2.0, 3.0, 5.0, 10.0, 20.0, 50.0, 100.0, 1e3, 1e4]
+    up = []
+    for limit in (h * (1 + 1e-9), None):
+        if limit is None:
+            if not up:
+                break
+            limit = np.sqrt(up[0])
+        below = [c for c in cands if c <= limit]
+        if below:
+            up.append(below[-1])
+    return sorted({1.0, *up, *(1.0 / u for u in up)})
+
+
+def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figure:
+    """Plot a triangle mesh with each edge coloured by its length, beside a histogram.
+
+    The left panel draws every edge coloured by ``length / mean length`` on a
+    diverging colour map centred at 1 (blue shorter, red longer than the mean),
+    with the polygon boundary on top.  The right panel is the histogram of
+    ``length / mean length`` with the mean, shortest and longest edge marked.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        Vertex coordinates, float64.  Not modified.
+    triangles : array_like, shape (M, 3)
+        Vertex indices of each triangle, integers.  Not modified.
+    path : str or path-like, optional
+        Where to save the figure; the format follows the extension
+        (``.png``, ``.pdf`` or ``.svg``).  Not saved if omitted.
+    polygon : Polygon, optional
+        Boundary drawn over the mesh (a :class:`~uniform2d.Polygon`, a shapely
+        Polygon or an outer ring).
+    title : str, optional
+        Figure title; by default the vertex and triangle counts and edge ratio.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure: ``fig.axes[0]`` the mesh (its edges are the one
+        :class:`~matplotlib.collections.LineCollection` there),
+        ``fig.axes[1]`` the histogram, ``fig.axes[2]`` the colour bar.
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If ``path`` has an extension other than .png, .pdf or .svg.
+    ValueError
+        If the arrays have the wrong shape or an index is out of range.
+
+    Examples
+    --------
+    >>> from uniform2d.plot import plot_mesh
+    >>> pts = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    >>> fig = plot_mesh(pts, [(0, 1, 2), (0, 2, 3)], polygon=pts)
+    >>> len(fig.axes)
+    3
+    >>> len(fig.axes[0].collections[0].get_segments())      # one segment per edge
+    5
+    """
+    if path is not None:
+        ext = os.path.splitext(os.fspath(path))[1].lower()
+        if ext not in _FORMATS:
+            raise UnsupportedFormatError(
+                f"cannot save a figure as {ext or 'a file without extension'!r}; "
+                f"use one of {', '.join(_FORMATS)}"
+            )
+    pts = _as_points(points)
+    tri = _as_triangles(triangles, len(pts))
+    if len(tri) == 0:
+        raise ValueError("triangles: the mesh has no triangles")
+    poly = _as_polygon(polygon) if polygon is not None else None
+
+    edges, lengths = edge_lengths(pts, tri)
+    mean = float(lengths.mean())
+    rel = lengths / mean if mean > 0 else np.ones_like(lengths)
+    n_e = len(edges)
+    # Colour by log(length / mean), symmetric about 1, so that an edge twice the
+    # mean and one half the mean are equally saturated.  The range follows the
+    # 0.2% and 99.8% quantiles so that a few outliers (shown saturated) do not
+    # wash out the rest.
+    if mean > 0 and rel.min() > 0:
+        q_lo, q_hi = np.quantile(rel, [0.002, 0.998])
+        h = float(max(q_hi, 1.0 / q_lo, 1.05))
+    else:
+        h = 2.0
+    norm = FuncNorm((_log, _exp), vmin=1.0 / h, vmax=h)
+    extend = {(False, False): "neither", (True, False): "min", (False, True): "max",
+              (True, True): "both"}[(bool(rel.min() < 1.0 / h), bool(rel.max() > h))]
+
+    fig = Figure(figsize=(12.0, 5.4), layout="constrained")
+    ax_mesh, ax_hist = fig.subplots(1, 2, width_ratios=[1.45, 1.0])
+
+    # -- mesh panel --------------------------------------------------------------
+    lw = float(np.clip(45.0 / np.sqrt(n_e), 0.12, 1.4))
+    lc = LineCollection(pts[edges], cmap=_CMAP, norm=norm, linewidths=lw, capstyle="round")
+    lc.set_array(rel)
+    lc.set_rasterized(n_e > 20000)  # keep vector files small for big meshes
+    ax_mesh.add_collection(lc)
+    if poly is not None:
+        for ring in poly.rings:
+            closed = np.vstack([ring, ring[:1]])
+            ax_mesh.plot(closed[:, 0], closed[:, 1], color="0.1", lw=max(1.6 * lw, 0.9), zorder=3)
+    used = pts[np.unique(tri)]
+    lo, hi = used.min(axis=0), used.max(axis=0)
+    if poly is not None:
+        lo = np.minimum(lo, poly.vertices.min(axis=0))
+        hi = np.maximum(hi, poly.vertices.max(axis=0))
+    pad = 0.03 * float(max(hi - lo)) or 1.0
+    ax_mesh.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax_mesh.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax_mesh.set_aspect("equal")
+    ax_mesh.set_title("Edges coloured by length / mean", fontsize=11)
+    ax_mesh.tick_params(labelsize=8)
+    cb = fig.colorbar(lc, ax=ax_mesh, shrink=0.85, pad=0.02, extend=extend)
+    ticks = _ratio_ticks(h)
+    cb.set_ticks(ticks, labels=[f"{t:.3g}" for t in ticks])
+    cb.set_label("edge length / mean", fontsize=9)
+    cb.ax.tick_params(labelsize=8)
+
+    # -- histogram panel ---------------------------------------------------------
+    # A wide spread (a few very long or short edges) is drawn on a log axis so that
+    # the bulk and the outliers are both visible.
+    rmin, rmax = float(rel.min()), float(rel.max())
+    uniform = rmax - rmin <= 1e-9 * rmax
+    log_x = not uniform and rmin > 0 and rmax / rmin > 4.0
+    n_bins = int(np.clip(np.sqrt(n_e), 8, 60))
+    if uniform:  # all edges (nearly) equal: one narrow bar at their common value
+        counts, bin_edges = np.array([n_e]), np.array([rmin - 0.02, rmax + 0.02])
+    elif log_x:
+        counts, bin_edges = np.histogram(rel, bins=np.geomspace(rmin, rmax, n_bins + 1))
+        ax_hist.set_xscale("log")
+    else:
+        counts, bin_edges = _histogram(rel, n_bins)
+    centres = np.sqrt(bin_edges[:-1] * bin_edges[1:]) if log_x else 0.5 * (bin_edges[:-1] + bin_edges[1:])
+    colours = lc.cmap(norm(centres))
+    ax_hist.bar(
+        bin_edges[:-1], counts, width=np.diff(bin_edges), color=colours,
+        edgecolor="0.35", linewidth=0.4, align="edge",
+    )
+    ax_hist.axvline(1.0, color="0.1", lw=1.4, label=f"mean  {mean:.4g}")
+    ax_hist.axvline(rmin, color="tab:blue", lw=1.2, ls="--",
+                    label=f"shortest  {lengths.min():.4g}  ({rmin:.3f})")
+    ax_hist.axvline(rmax, color="tab:red", lw=1.2, ls="--",
+                    label=f"longest  {lengths.max():.4g}  ({rmax:.3f})")
+    ax_hist.set_xlabel("edge length / mean", fontsize=9)
+    ax_hist.set_ylabel("number of edges", fontsize=9)
+    ax_hist.set_title("Edge-length distribution", fontsize=11)
+    ax_hist.tick_params(labelsize=8)
+    ax_hist.set_ylim(0, counts.max() * 1.25 + 0.5)
+    if log_x:
+        ax_hist.set_xlim(rmin / 1.15, rmax * 1.15)
+        plain = FuncFormatter(lambda x, _pos: f"{x:g}")
+        ax_hist.xaxis.set_major_formatter(plain)
+        if rmax / rmin < 30:  # less than about a decade and a half: label the minor ticks too
+            ax_hist.xaxis.set_minor_formatter(plain)
+            ax_hist.tick_params(axis="x", which="minor", labelsize=7)
+        ax_hist.set_xlabel("edge length / mean (log scale)", fontsize=9)
+    elif uniform:
+        ax_hist.set_xlim(rmin - 0.2, rmax + 0.2)
+    else:
+        span = rmax - rmin
+        ax_hist.set_xlim(min(rmin, 1.0) - 0.06 * span, max(rmax, 1.0) + 0.06 * span)
+    ratio = rmax / rmin if rmin > 0 else np.inf
+    cv = float(lengths.std() / mean) if mean > 0 else np.inf
+    ax_hist.legend(
+        loc="upper right", fontsize=8, frameon=True, framealpha=0.9,
+        title=f"{n_e} edges   ratio {ratio:.4g}   CV {cv:.3g}", title_fontsize=8,
+    )
+    ax_hist.grid(axis="y", color="0.9", lw=0.6)
+    ax_hist.set_axisbelow(True)
+
+    if title is None:
+        title = f"{len(pts)} vertices, {len(tri)} triangles, edge ratio {ratio:.4g}"
+    fig.suptitle(title, fontsize=12)
+
+    if path is not None:
+        fig.savefig(path, dpi=150)
+        log.info("wrote %s", path)
+    return fig

@@ -1,0 +1,161 @@
+"""Building a report directory: plan, run, write meshes, results.json, report.md, index.html."""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .cases import load_inputs, plan
+from .render import groups, mesh_figure, render_html, render_markdown
+from .runners import run_cases
+
+log = logging.getLogger(__name__)
+
+__all__ = ["make_report", "strip_timings", "jsonable"]
+
+#: Version of the layout of results.json.
+RESULTS_FORMAT = 1
+
+
+def jsonable(obj):
+    """Plain JSON types: tuples -> lists, numpy scalars -> Python, NaN/inf -> None."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return jsonable(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    return obj
+
+
+def strip_timings(results: dict) -> dict:
+    """A copy of ``results`` without the timings (what must not depend on where cases ran)."""
+    out = json.loads(json.dumps(results))
+    for c in out["cases"]:
+        c.pop("time", None)
+    return out
+
+
+def _input_info(inp) -> dict:
+    d = {"name": inp.name, "path": inp.path, "kind": inp.kind}
+    if inp.kind == "polygon":
+        from ..polygon import Polygon
+
+        p = Polygon(inp.geometry["outer"], inp.geometry["holes"])
+        d.update(n_vertices=len(p.vertices), n_holes=p.n_holes, area=p.area, perimeter=p.perimeter)
+    else:
+        d.update(n_vertices=len(inp.geometry["vertices"]), n_faces=len(inp.geometry["faces"]))
+    return d
+
+
+def _write_mesh(out_dir: Path, case: dict, points, triangles) -> str:
+    rel = f"meshes/{case['id']}" + (".msh" if case["kind"] == "polygon" else ".obj")
+    path = out_dir / rel
+    if case["kind"] == "polygon":
+        from ..io import write_mesh
+
+        write_mesh(path, points, triangles)
+    else:
+        from surface import write_patch
+
+        write_patch(path, points, triangles)
+    return rel
+
+
+def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, scheduler=None,
+                progress: bool = False, figures: bool = True) -> dict:
+    """Compare uniform2d with peer meshers on polygons and surface patches.
+
+    Parameters
+    ----------
+    paths : list of path
+        Polygon files (any format of :func:`uniform2d.read_polygon`) and surface
+        patches (``.obj``, ``.ply``, ``.stl``, ``.off``).
+    out_dir : path
+        Created if needed; receives ``index.html``, ``report.md``,
+        ``results.json`` and ``meshes/<case>.msh`` (planar) / ``.obj`` (surface).
+    ns : sequence of int
+        Steiner points for polygons; vertex counts for surface patches.
+    peers : sequence of str, optional
+        Peer names (default: all registered, :func:`uniform2d.peers.names`).
+        Peers that are not installed are listed as such, never dropped.
+    jobs : int
+        Local worker processes.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address (or Client) to run the cases on instead.
+    progress : bool
+        tqdm bar over cases on stderr.
+    figures : bool
+        Embed mesh pictures and histograms in ``index.html``.
+
+    Returns
+    -------
+    dict
+        The content of ``results.json``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown peer, an empty input list or a bad n.
+    """
+    from .. import __version__
+    from .. import peers as _peers
+
+    paths = [str(p) for p in paths]
+    if not paths:
+        raise ValueError("give at least one input file")
+    ns = [int(n) for n in ns]
+    if not ns or min(ns) < 1:
+        raise ValueError(f"every n must be a positive integer, got {ns}")
+    ns = list(dict.fromkeys(ns))
+    names = list(_peers.names()) if peers is None else list(dict.fromkeys(peers))
+    unknown = [p for p in names if p not in _peers.names()]
+    if unknown:
+        raise ValueError(f"unknown peer(s) {', '.join(unknown)}; choose from {', '.join(_peers.names())}")
+    info = [_peers.describe(p) for p in names]
+    for p in info:
+        if not p["available"]:
+            log.warning("peer %s is not installed (needs %s)", p["name"], ", ".join(p["requires"]))
+    inputs = load_inputs(paths)
+    cases = plan(inputs, ns, names, availability={p["name"]: p["available"] for p in info})
+    results_list = run_cases(cases, jobs=jobs, scheduler=scheduler, progress=progress)
+
+    out_dir = Path(out_dir)
+    (out_dir / "meshes").mkdir(parents=True, exist_ok=True)
+    meshes = {}
+    for r in results_list:
+        if r["status"] == "ok":
+            pts, tri = r.pop("points"), r.pop("triangles")
+            r["mesh"] = _write_mesh(out_dir, r, pts, tri)
+            meshes[r["id"]] = (pts, tri)
+        else:
+            r["mesh"] = None
+    results = jsonable({
+        "format": RESULTS_FORMAT,
+        "uniform2d_version": __version__,
+        "ns": ns,
+        "peers": info,
+        "inputs": [_input_info(i) for i in inputs],
+        "cases": results_list,
+    })
+    (out_dir / "results.json").write_text(json.dumps(results, indent=1, allow_nan=False) + "\n")
+    pngs = {}
+    if figures:
+        for inp, n, cs in groups(results):
+            items = [(c["method"], *meshes[c["id"]]) for c in cs if c["id"] in meshes]
+            if items:
+                pngs[(inp["name"], n)] = mesh_figure(inp["kind"], items, title=f"{inp['name']}, n = {n}")
+    (out_dir / "index.html").write_text(render_html(results, pngs), encoding="utf-8")
+    (out_dir / "report.md").write_text(render_markdown(results), encoding="utf-8")
+    log.info("report written to %s (%d cases)", out_dir, len(results_list))
+    return results

@@ -1,0 +1,342 @@
+"""Inputs, the case list, and running one case.
+
+A *case* is one (input, n, method): a plain, picklable dict that carries the
+input's geometry itself (no file access), so it runs the same in this process,
+in a process pool, or on a Dask worker on another machine.  :func:`run_case`
+is a pure function of its case apart from the timings.
+
+Methods
+-------
+Polygons: ``tplus`` (:func:`uniform2d.tplus`) and ``uniform``
+(:func:`uniform2d.uniform_mesh`) with n Steiner points, i.e. ``n + |V|``
+vertices, then every planar peer tuned to that same vertex count.
+Surface patches: ``remesh`` (:func:`surface.remesh` with ``n_vertices=n``),
+then every surface peer tuned to n vertices.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+__all__ = [
+    "SURFACE_SUFFIXES",
+    "OURS",
+    "Input",
+    "load_input",
+    "plan",
+    "run_case",
+    "planar_measures",
+    "surface_measures",
+    "MEASURES",
+]
+
+#: File extensions read as surface patches (everything else is a polygon file).
+SURFACE_SUFFIXES = (".obj", ".ply", ".stl", ".off")
+
+#: Our own methods, per input kind.
+OURS = {"polygon": ("tplus", "uniform"), "surface": ("remesh",)}
+
+#: The table columns: (key in ``case["measures"]``, header, format).
+MEASURES = (
+    ("n_vertices", "vertices", "d"),
+    ("vertex_error", "error", "+d"),
+    ("edge_ratio", "edge ratio", ".3f"),
+    ("longest_edge", "longest edge", ".4g"),
+    ("max_perimeter", "largest perimeter", ".4g"),
+    ("factor_longest_edge", "factor L", ".3f"),
+    ("factor_perimeter", "factor P", ".3f"),
+    ("factor_edge_ratio", "factor ratio", ".3f"),
+    ("min_angle", "min angle", ".1f"),
+    ("cv_edge", "edge CV", ".4f"),
+    ("hausdorff_max_rel", "deviation", ".2e"),
+)
+
+
+@dataclass(frozen=True)
+class Input:
+    """One report input.
+
+    Attributes
+    ----------
+    name : str
+        Unique label (file stem, suffixed ``-2``, ``-3`` ... on clashes).
+    path : str
+        The file, as given.
+    kind : {"polygon", "surface"}
+    geometry : dict
+        ``{"outer": ..., "holes": [...]}`` (lists of (x, y)) for a polygon,
+        ``{"vertices": (N, 3) list, "faces": (M, 3) list}`` for a patch.
+    """
+
+    name: str
+    path: str
+    kind: str
+    geometry: dict
+
+    def n_boundary_vertices(self) -> int:
+        """|V| of a polygon (0 for a patch)."""
+        if self.kind != "polygon":
+            return 0
+        return len(self.geometry["outer"]) + sum(len(h) for h in self.geometry["holes"])
+
+
+def load_input(path, name: str | None = None) -> Input:
+    """Read a polygon file or a surface patch (by extension, see :data:`SURFACE_SUFFIXES`).
+
+    Raises
+    ------
+    FileNotFoundError, UnsupportedFormatError, FileFormatError, InvalidPatchError
+        As the readers do.
+    """
+    p = Path(path)
+    name = name or p.name.split(".")[0]
+    if p.suffix.lower() in SURFACE_SUFFIXES:
+        from surface import read_patch
+
+        patch = read_patch(p)
+        geom = {"vertices": np.asarray(patch.vertices).tolist(), "faces": np.asarray(patch.faces).tolist()}
+        return Input(name, str(path), "surface", geom)
+    from ..io import read_polygon
+
+    poly = read_polygon(p)
+    geom = {"outer": poly.outer.tolist(), "holes": [h.tolist() for h in poly.holes]}
+    return Input(name, str(path), "polygon", geom)
+
+
+def _unique_names(paths) -> list[str]:
+    seen: dict[str, int] = {}
+    out = []
+    for p in paths:
+        stem = Path(p).name.split(".")[0] or "input"
+        k = seen.get(stem, 0) + 1
+        seen[stem] = k
+        out.append(stem if k == 1 else f"{stem}-{k}")
+    return out
+
+
+def load_inputs(paths) -> list[Input]:
+    """:func:`load_input` for every path, with unique names."""
+    return [load_input(p, nm) for p, nm in zip(paths, _unique_names(paths))]
+
+
+def plan(inputs, ns, peer_names, *, availability=None) -> list[dict]:
+    """The case list: for each input, each n, our methods then each applicable peer.
+
+    Parameters
+    ----------
+    inputs : list of Input
+    ns : list of int
+        Steiner points for polygons, vertex counts for patches.
+    peer_names : list of str
+        Peers to compare with (registered names).
+    availability : dict, optional
+        ``{peer: bool}``; default :func:`uniform2d.peers.available` for each.
+        A peer that is not available still gets its cases, with status
+        ``"not installed"``; they are never run.
+
+    Returns
+    -------
+    list of dict
+        Cases, in report order; keys ``id``, ``input``, ``kind``, ``n``,
+        ``method``, ``family`` (``"ours"`` or ``"peer"``), ``target_vertices``,
+        ``status`` (``"pending"`` or ``"not installed"``) and ``geometry``.
+    """
+    from .. import peers as _peers
+
+    if availability is None:
+        availability = {p: _peers.available(p) for p in peer_names}
+    kinds = {p: _peers.kind(p) for p in peer_names}
+    cases = []
+    for inp in inputs:
+        peer_kind = "planar" if inp.kind == "polygon" else "surface"
+        for n in ns:
+            target = int(n) + inp.n_boundary_vertices()
+            methods = [(m, "ours") for m in OURS[inp.kind]]
+            methods += [(p, "peer") for p in peer_names if kinds[p] == peer_kind]
+            for method, family in methods:
+                ok = family == "ours" or availability.get(method, False)
+                cases.append(
+                    {
+                        "id": f"{inp.name}-n{int(n)}-{method}",
+                        "input": inp.name,
+                        "path": inp.path,
+                        "kind": inp.kind,
+                        "n": int(n),
+                        "method": method,
+                        "family": family,
+                        "target_vertices": target,
+                        "status": "pending" if ok else "not installed",
+                        "geometry": inp.geometry,
+                    }
+                )
+    return cases
+
+
+# -- measures --------------------------------------------------------------------
+def _f(x):
+    return float(x) if x is not None and math.isfinite(x) else None
+
+
+def planar_measures(points, triangles, polygon=None) -> tuple[dict, dict]:
+    """Table measures and the full :func:`uniform2d.quality` dict of a planar mesh.
+
+    Without a polygon the certified factors are ``None``.
+    """
+    from ..quality import quality
+
+    q = quality(points, triangles, polygon)
+    m = {
+        "n_vertices": int(q.n_vertices),
+        "n_triangles": int(q.n_triangles),
+        "edge_ratio": _f(q.edge_ratio),
+        "longest_edge": _f(q.longest_edge),
+        "max_perimeter": _f(q.max_perimeter),
+        "factor_longest_edge": _f(q.longest_edge_bound.factor) if q.longest_edge_bound else None,
+        "factor_perimeter": _f(q.max_perimeter_bound.factor) if q.max_perimeter_bound else None,
+        "factor_edge_ratio": _f(q.edge_ratio_bound.factor) if q.edge_ratio_bound else None,
+        "min_angle": _f(q.min_angle),
+        "cv_edge": _f(q.cv_edge),
+    }
+    return m, q.to_dict()
+
+
+def surface_measures(V, F, V0, F0) -> dict:
+    """Table measures of a surface mesh (V, F) remeshing the input (V0, F0).
+
+    Edge statistics are 3-D (:func:`surface.measure.edge_stats`); the largest
+    perimeter is the largest sum of a face's three edges; the deviation is
+    MeshLab's two-sided Hausdorff distance to the input (fixed sampling),
+    also relative to the input's bounding-box diagonal.  No certified factors:
+    the bounds of design.md section 4 are planar.
+    """
+    from surface import _meshlab
+    from surface.measure import edge_stats, face_edge_lengths
+
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F, dtype=np.int64)
+    s = edge_stats(V, F)
+    diag = float(np.linalg.norm(np.ptp(V0, axis=0)))
+    ns = int(min(200_000, 10 * (len(F0) + len(F))))
+    h1 = _meshlab.hausdorff(V, F, V0, F0, ns)
+    h2 = _meshlab.hausdorff(V0, F0, V, F, ns)
+    hmax = max(h1["max"], h2["max"])
+    return {
+        "n_vertices": int(len(V)),
+        "n_triangles": int(len(F)),
+        "edge_ratio": _f(s["ratio"]),
+        "longest_edge": _f(s["max"]),
+        "max_perimeter": _f(float(face_edge_lengths(V, F).sum(axis=1).max())),
+        "factor_longest_edge": None,
+        "factor_perimeter": None,
+        "factor_edge_ratio": None,
+        "min_angle": _f(s["angle_min"]),
+        "cv_edge": _f(s["cv"]),
+        "hausdorff_out_in": h1["max"],
+        "hausdorff_in_out": h2["max"],
+        "hausdorff_max": hmax,
+        "hausdorff_max_rel": hmax / diag if diag > 0 else None,
+    }
+
+
+# -- running a case ----------------------------------------------------------------
+def _polygon(geom):
+    from ..polygon import Polygon
+
+    return Polygon(geom["outer"], geom["holes"])
+
+
+def _make(case):
+    """(points, triangles, details) of a case; details is JSON-able."""
+    method, n = case["method"], case["n"]
+    if case["kind"] == "polygon":
+        polygon = _polygon(case["geometry"])
+        if method in ("tplus", "uniform"):
+            from ..tplus import tplus
+            from ..uniform import uniform_mesh
+
+            m = tplus(polygon, n) if method == "tplus" else uniform_mesh(polygon, n)
+            keep = ("method", "d_n", "k", "theorem_applies", "gap_min", "gap_max")
+            return m.points, m.triangles, {k: m.info.get(k) for k in keep if k in m.info}
+        from .. import peers
+
+        pm = peers.mesh(method, polygon, case["target_vertices"])
+        return pm.points, pm.triangles, _peer_details(pm)
+    V0 = np.asarray(case["geometry"]["vertices"], dtype=np.float64)
+    F0 = np.asarray(case["geometry"]["faces"], dtype=np.int64)
+    if method == "remesh":
+        from surface import remesh
+
+        r = remesh((V0, F0), n, check=False, hausdorff=False)
+        det = {"mesher": r.report.mesher, "target_size": r.report.target_size,
+               "parameterization": r.report.parameterization.get("method")}
+        return np.asarray(r.vertices), np.asarray(r.faces), det
+    from .. import peers
+
+    pm = peers.mesh(method, (V0, F0), case["target_vertices"])
+    return pm.points, pm.triangles, _peer_details(pm)
+
+
+def _peer_details(pm) -> dict:
+    d = {"size": pm.size, "evaluations": int(pm.evaluations)}
+    for k, v in pm.info.items():
+        if k == "history":
+            d["history"] = [[float(s), int(c)] for s, c in v]
+        elif isinstance(v, (int, float, str, bool)) or v is None:
+            d[k] = v
+    return d
+
+
+def run_case(case: dict) -> dict:
+    """Run one case.
+
+    Returns
+    -------
+    dict
+        The case without its geometry, plus ``status`` (``"ok"``, ``"failed"``
+        or ``"not installed"``), ``message``, ``measures`` (see
+        :data:`MEASURES`), ``quality`` (the full :func:`uniform2d.quality`
+        dict, planar only), ``details`` (method specifics: tuning, d_n, ...),
+        ``time`` (``{"total": s, "per_mesh": s}``: all meshes made while
+        tuning, and that divided by their number; the only non-deterministic
+        field) and,
+        when ``status == "ok"``, ``points`` and ``triangles`` arrays (the
+        caller writes them and removes them).
+    """
+    out = {k: v for k, v in case.items() if k != "geometry"}
+    out.update(message="", measures=None, quality=None, details=None, time=None)
+    if case["status"] == "not installed":
+        out["message"] = f"{case['method']} is not installed"
+        return out
+    t0 = time.perf_counter()
+    try:
+        pts, tri, details = _make(case)
+    except Exception as exc:  # a failing mesher is a result, not a crash of the report
+        log.warning("case %s failed: %s", case["id"], exc)
+        out["status"] = "failed"
+        out["message"] = " ".join(f"{type(exc).__name__}: {exc}".split())
+        out["time"] = {"total": time.perf_counter() - t0}
+        return out
+    elapsed = time.perf_counter() - t0
+    pts = np.ascontiguousarray(pts, dtype=np.float64)
+    tri = np.ascontiguousarray(tri, dtype=np.int64)
+    if case["kind"] == "polygon":
+        meas, qd = planar_measures(pts, tri, _polygon(case["geometry"]))
+    else:
+        V0 = np.asarray(case["geometry"]["vertices"], dtype=np.float64)
+        F0 = np.asarray(case["geometry"]["faces"], dtype=np.int64)
+        meas, qd = surface_measures(pts, tri, V0, F0), None
+    meas["vertex_error"] = meas["n_vertices"] - case["target_vertices"]
+    meas["vertex_error_rel"] = meas["vertex_error"] / case["target_vertices"]
+    evals = int(details.get("evaluations", 1)) if details else 1
+    out.update(status="ok", measures=meas, quality=qd, details=details,
+               time={"total": elapsed, "per_mesh": elapsed / max(evals, 1)},
+               points=pts, triangles=tri)
+    return out

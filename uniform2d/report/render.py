@@ -1,0 +1,303 @@
+"""Rendering a report: figures (PNG), one self-contained HTML page, Markdown.
+
+Everything here reads the ``results`` dict of :func:`uniform2d.report.make_report`
+(the content of ``results.json``) plus the meshes; nothing is recomputed.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import math
+from collections import defaultdict
+
+import numpy as np
+
+from .cases import MEASURES
+
+__all__ = ["mesh_figure", "render_html", "render_markdown", "summary_rows", "fmt"]
+
+#: Bins of the edge-length histograms, in units of each mesh's mean edge.
+HIST_BINS = np.linspace(0.0, 2.5, 51)
+
+
+def fmt(value, spec: str) -> str:
+    """Format one table cell; ``None`` (or non-finite) becomes an en dash."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "–"
+    return format(value, spec)
+
+
+def _columns(kind: str):
+    if kind == "polygon":
+        return [c for c in MEASURES if c[0] != "hausdorff_max_rel"]
+    return [c for c in MEASURES if not c[0].startswith("factor_")]
+
+
+def groups(results: dict):
+    """``[(input dict, n, [case, ...]), ...]`` in report order."""
+    by = defaultdict(list)
+    for c in results["cases"]:
+        by[(c["input"], c["n"])].append(c)
+    out = []
+    for inp in results["inputs"]:
+        for n in results["ns"]:
+            if by.get((inp["name"], n)):
+                out.append((inp, n, by[(inp["name"], n)]))
+    return out
+
+
+def _time(c) -> str:
+    t = c.get("time") or {}
+    return fmt(t.get("per_mesh"), ".3f")
+
+
+def _status(c) -> str:
+    return {"ok": "", "not installed": "not installed", "failed": "failed"}.get(c["status"], c["status"])
+
+
+# -- figures -------------------------------------------------------------------
+def _edge_lengths(points, triangles):
+    e = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    e = np.unique(e, axis=0)
+    return np.linalg.norm(points[e[:, 1]] - points[e[:, 0]], axis=1)
+
+
+def mesh_figure(kind: str, items, *, title: str = "", dpi: int = 72) -> bytes:
+    """PNG of several meshes side by side and their edge-length histograms.
+
+    Parameters
+    ----------
+    kind : {"polygon", "surface"}
+    items : list of (label, points, triangles)
+    title : str
+    dpi : int
+
+    Returns
+    -------
+    bytes
+        The PNG file.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    k = len(items)
+    fig = Figure(figsize=(2.6 * (k + 1), 2.9), dpi=dpi)
+    FigureCanvasAgg(fig)
+    for i, (label, P, T) in enumerate(items):
+        if kind == "polygon":
+            ax = fig.add_subplot(1, k + 1, i + 1)
+            ax.triplot(P[:, 0], P[:, 1], T, lw=0.35, color="0.15")
+            ax.set_aspect("equal")
+        else:
+            ax = fig.add_subplot(1, k + 1, i + 1, projection="3d")
+            ax.plot_trisurf(P[:, 0], P[:, 1], P[:, 2], triangles=T, color="0.92",
+                            edgecolor="0.15", linewidth=0.2, shade=False)
+            ax.set_box_aspect(np.ptp(P, axis=0) + 1e-12)
+        ax.set_axis_off()
+        ax.set_title(f"{label}\n{len(P)} vertices", fontsize=8)
+    ax = fig.add_subplot(1, k + 1, k + 1)
+    for label, P, T in items:
+        L = _edge_lengths(P, T)
+        ax.hist(L / L.mean(), bins=HIST_BINS, histtype="step", density=True, label=label, lw=1.0)
+    ax.set_xlabel("edge length / mean", fontsize=7)
+    ax.tick_params(labelsize=6)
+    ax.set_title("edge lengths", fontsize=8)
+    ax.legend(fontsize=6, frameon=False)
+    if title:
+        fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", metadata={"Software": None})
+    return buf.getvalue()
+
+
+# -- summary -------------------------------------------------------------------
+def summary_rows(results: dict, kind: str):
+    """Per method: number of cases run, then the median of each measure over them."""
+    cols = [c for c in _columns(kind) if c[0] not in ("n_vertices",)]
+    methods = []
+    for c in results["cases"]:
+        if c["kind"] == kind and c["method"] not in methods:
+            methods.append(c["method"])
+    rows = []
+    for m in methods:
+        cs = [c for c in results["cases"] if c["kind"] == kind and c["method"] == m]
+        ok = [c for c in cs if c["status"] == "ok"]
+        row = {"method": m, "cases": len(ok), "of": len(cs),
+               "status": "not installed" if all(c["status"] == "not installed" for c in cs) else ""}
+        for key, _, _ in cols:
+            vals = [c["measures"][key] for c in ok if c["measures"].get(key) is not None]
+            if key == "vertex_error":
+                vals = [abs(v) for v in vals]
+            row[key] = float(np.median(vals)) if vals else None
+        rows.append(row)
+    return cols, rows
+
+
+# -- HTML ------------------------------------------------------------------------
+_CSS = """
+body{font-family:system-ui,sans-serif;margin:2em;max-width:1400px;color:#222}
+table{border-collapse:collapse;margin:0.6em 0;font-size:13px}
+th,td{border:1px solid #ccc;padding:3px 7px;text-align:right}
+th{background:#f2f2f2} td.l,th.l{text-align:left}
+tr.ours td{background:#eef6ff} tr.missing td{color:#999;font-style:italic}
+tr.failed td{color:#a00}
+figure{margin:0.5em 0} img{max-width:100%}
+.note{color:#555;font-size:13px}
+"""
+
+
+def _e(x) -> str:
+    return html.escape(str(x), quote=True)
+
+
+def _case_row_html(c, cols) -> str:
+    cls = "ours" if c["family"] == "ours" else ""
+    if c["status"] == "not installed":
+        cls = "missing"
+    elif c["status"] == "failed":
+        cls = "failed"
+    cells = [f'<td class="l">{_e(c["method"])}</td>']
+    if c["status"] == "ok":
+        m = c["measures"]
+        cells += [f"<td>{_e(fmt(m.get(k), spec))}</td>" for k, _, spec in cols]
+        cells.append(f"<td>{_e(_time(c))}</td>")
+        cells.append(f'<td class="l"><a href="{_e(c["mesh"])}">{_e(c["mesh"].split("/")[-1])}</a></td>')
+    else:
+        cells.append(f'<td class="l" colspan="{len(cols) + 2}">{_e(_status(c))}'
+                     + (f": {_e(c['message'])}" if c["status"] == "failed" else "") + "</td>")
+    return (f'<tr id="case-{_e(c["id"])}" class="{cls}" data-case="{_e(c["id"])}" '
+            f'data-status="{_e(c["status"])}">' + "".join(cells) + "</tr>")
+
+
+def _header_html(cols) -> str:
+    return ("<thead><tr><th class=\"l\">method</th>"
+            + "".join(f"<th>{_e(h)}</th>" for _, h, _ in cols)
+            + "<th>time [s]</th><th class=\"l\">mesh</th></tr></thead>")
+
+
+def render_html(results: dict, figures: dict | None = None) -> str:
+    """The report as one self-contained HTML page.
+
+    Parameters
+    ----------
+    results : dict
+        The content of ``results.json``.
+    figures : dict, optional
+        ``{(input name, n): PNG bytes}``, embedded as base64 ``data:`` URIs.
+
+    Returns
+    -------
+    str
+    """
+    figures = figures or {}
+    out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+           "<title>uniform2d comparison report</title>", f"<style>{_CSS}</style></head><body>",
+           "<h1>uniform2d comparison report</h1>",
+           f'<p class="note">uniform2d {_e(results["uniform2d_version"])}; '
+           f'n = {_e(", ".join(str(n) for n in results["ns"]))} '
+           "(Steiner points for polygons, vertices for surface patches). "
+           "Every peer is tuned to the same total vertex count as ours; "
+           "<i>error</i> is how far it got. Factors are certified: achieved / lower bound "
+           "on the optimum over all triangulations with as many points (1 is optimal). "
+           "Time is per mesh (tuning runs a peer several times).</p>",
+           "<h2>Peers</h2>", '<table class="peers"><thead><tr><th class="l">peer</th>'
+           '<th class="l">kind</th><th class="l">status</th><th class="l">what</th></tr></thead><tbody>']
+    for p in results["peers"]:
+        st = "installed" if p["available"] else "not installed (pip install " + " ".join(p["requires"]) + ")"
+        out.append(f'<tr data-peer="{_e(p["name"])}" data-available="{str(p["available"]).lower()}">'
+                   f'<td class="l">{_e(p["name"])}</td><td class="l">{_e(p["kind"])}</td>'
+                   f'<td class="l">{_e(st)}</td><td class="l">{_e(p["description"])}</td></tr>')
+    out.append("</tbody></table>")
+    for kind in ("polygon", "surface"):
+        if not any(c["kind"] == kind for c in results["cases"]):
+            continue
+        cols, rows = summary_rows(results, kind)
+        out.append(f"<h2>Summary: {'polygons' if kind == 'polygon' else 'surface patches'} "
+                   "(medians over cases; error as |error|)</h2>")
+        out.append(f'<table class="summary" data-kind="{kind}"><thead><tr><th class="l">method</th>'
+                   "<th>cases</th>" + "".join(f"<th>{_e(h)}</th>" for _, h, _ in cols)
+                   + "</tr></thead><tbody>")
+        for r in rows:
+            spec = {k: s for k, _, s in cols}
+            cells = "".join(
+                f"<td>{_e(fmt(r[k], '.1f' if k == 'vertex_error' else spec[k]))}</td>" for k, _, _ in cols
+            )
+            out.append(f'<tr><td class="l">{_e(r["method"])}</td><td>{r["cases"]}/{r["of"]}'
+                       + (f" ({_e(r['status'])})" if r["status"] else "") + f"</td>{cells}</tr>")
+        out.append("</tbody></table>")
+    current = None
+    for inp, n, cases in groups(results):
+        if inp["name"] != current:
+            if current is not None:
+                out.append("</section>")
+            current = inp["name"]
+            out.append(f'<section class="input" id="input-{_e(inp["name"])}" data-input="{_e(inp["name"])}">')
+            out.append(f'<h2>{_e(inp["name"])}</h2><p class="note">{_e(inp["path"])} — {_e(_describe(inp))}</p>')
+        cols = _columns(inp["kind"])
+        out.append(f'<section class="n" data-n="{n}"><h3>n = {n} '
+                   f'(target {cases[0]["target_vertices"]} vertices)</h3>')
+        out.append('<table class="cases">' + _header_html(cols) + "<tbody>")
+        out += [_case_row_html(c, cols) for c in cases]
+        out.append("</tbody></table>")
+        png = figures.get((inp["name"], n))
+        if png:
+            b64 = base64.b64encode(png).decode("ascii")
+            out.append(f'<figure><img alt="meshes of {_e(inp["name"])} at n = {n}" '
+                       f'src="data:image/png;base64,{b64}"></figure>')
+        out.append("</section>")
+    if current is not None:
+        out.append("</section>")
+    out.append("</body></html>")
+    return "\n".join(out) + "\n"
+
+
+def _describe(inp) -> str:
+    if inp["kind"] == "polygon":
+        return (f"polygon, {inp['n_vertices']} vertices, {inp['n_holes']} holes, "
+                f"area {inp['area']:.6g}")
+    return f"surface patch, {inp['n_vertices']} vertices, {inp['n_faces']} faces"
+
+
+# -- Markdown ----------------------------------------------------------------------
+def render_markdown(results: dict) -> str:
+    """The report's tables as Markdown (no pictures; see index.html for those)."""
+    lines = ["# uniform2d comparison report", "",
+             f"uniform2d {results['uniform2d_version']}; n = "
+             + ", ".join(str(n) for n in results["ns"])
+             + " (Steiner points for polygons, vertices for surface patches). Peers are tuned to "
+             "the same total vertex count; *error* is how far they got. Factors are certified "
+             "(achieved / lower bound on the optimum). Time is seconds per mesh.", "",
+             "| peer | kind | status |", "|---|---|---|"]
+    for p in results["peers"]:
+        lines.append(f"| {p['name']} | {p['kind']} | {'installed' if p['available'] else 'not installed'} |")
+    for kind in ("polygon", "surface"):
+        if not any(c["kind"] == kind for c in results["cases"]):
+            continue
+        cols, rows = summary_rows(results, kind)
+        lines += ["", f"## Summary: {'polygons' if kind == 'polygon' else 'surface patches'} "
+                  "(medians; error as |error|)", "",
+                  "| method | cases | " + " | ".join(h for _, h, _ in cols) + " |",
+                  "|---|" + "---:|" * (len(cols) + 1)]
+        spec = {k: s for k, _, s in cols}
+        for r in rows:
+            cells = [fmt(r[k], ".1f" if k == "vertex_error" else spec[k]) for k, _, _ in cols]
+            lines.append(f"| {r['method']} | {r['cases']}/{r['of']}"
+                         + (f" ({r['status']})" if r["status"] else "") + " | " + " | ".join(cells) + " |")
+    for inp, n, cases in groups(results):
+        cols = _columns(inp["kind"])
+        lines += ["", f"## {inp['name']}, n = {n} (target {cases[0]['target_vertices']} vertices)", "",
+                  f"{inp['path']} — {_describe(inp)}", "",
+                  "| method | " + " | ".join(h for _, h, _ in cols) + " | time [s] |",
+                  "|---|" + "---:|" * (len(cols) + 1)]
+        for c in cases:
+            if c["status"] == "ok":
+                cells = [fmt(c["measures"].get(k), s) for k, _, s in cols] + [_time(c)]
+            else:
+                msg = _status(c) + (f": {c['message']}" if c["status"] == "failed" else "")
+                cells = [msg.replace("|", "/")] + [""] * len(cols)
+            name = f"**{c['method']}**" if c["family"] == "ours" else c["method"]
+            lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"

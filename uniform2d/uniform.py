@@ -1,0 +1,63 @@
+"""The recommended entry point: :func:`uniform_mesh`."""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+from .errors import InsufficientPointsError
+from .mesh import Mesh
+from .polygon import Polygon
+from .tplus import tplus
+
+__all__ = ["uniform_mesh", "steiner_count_for_size"]
+
+
+def steiner_count_for_size(polygon: Polygon, size: float) -> int:
+    """Number of Steiner points n for a target edge length ``size``.
+
+    A mesh of equilateral triangles of side h has T = A / (√3/4 · h²) triangles
+    and about B/h boundary vertices; Euler's formula for a polygon with h_P holes,
+    T = 2N − N_b − 2 + 2 h_P, then gives the vertex count
+    N = (T + N_b + 2 − 2 h_P) / 2, and n = N − |V| (at least 0).
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> steiner_count_for_size(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 0.1)
+    129
+    """
+    if not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
+        raise ValueError(f"size must be a positive finite number, got {size!r}")
+    T = polygon.area / (math.sqrt(3) / 4 * size * size)
+    Nb = polygon.perimeter / size
+    N = (T + Nb + 2 - 2 * polygon.n_holes) / 2
+    return max(0, round(N) - len(polygon.vertices))
+
+
+def uniform_mesh(polygon: Polygon, n: int | None = None, *, size: float | None = None) -> Mesh:
+    """The most uniform mesh uniform2d makes, with exactly ``n`` Steiner points.
+
+    Give exactly one of ``n`` (Steiner points, boundary and interior) and ``size``
+    (a target edge length; n is derived by :func:`steiner_count_for_size`).
+    Currently this is the paper's T+ (:func:`uniform2d.tplus`).
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon, uniform_mesh
+    >>> mesh = uniform_mesh(Polygon([(0, 0), (2, 0), (2, 1), (0, 1)]), size=0.25)
+    >>> mesh.n_steiner
+    48
+    """
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    if (n is None) == (size is None):
+        raise ValueError("give exactly one of n (number of Steiner points) and size")
+    if n is None:
+        n = steiner_count_for_size(polygon, size)
+        if n < 1:
+            raise InsufficientPointsError(
+                f"size {size!r} is larger than the polygon needs: it asks for no Steiner "
+                "points; use a smaller size"
+            )
+    return tplus(polygon, n)
