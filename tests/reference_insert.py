@@ -54,8 +54,9 @@ as the tie rule needs -- that selects exactly the point full validation would.
 Tie rule (identical in the kernel, ``uniform2d._kernel.insert``): in coordinates
 normalised by the bounding box (centre subtracted, divided by max(width, height)),
 let W be the largest candidate weight, C the candidates with weight >= W (1 - 1e-9),
-x_min = min x over C, C' = members of C with x <= x_min + 1e-9; choose the member
-of C' with the smallest y (then smallest x).  The reported weight is the chosen
+x_min = min x over C, C' = members of C with x <= x_min + 1e-9, y_min = min y over
+C', C'' = members of C' with y <= y_min + 1e-9; choose the member of C'' with the
+smallest x.  The reported weight is the chosen
 point's own visible distance.
 """
 
@@ -677,8 +678,8 @@ def tie_break(g: PolygonGeometry, pts, vals) -> int:
     xn = (pts[C, 0] - g.centre[0]) / g.size
     yn = (pts[C, 1] - g.centre[1]) / g.size
     C2 = np.flatnonzero(xn <= xn.min() + TIE_X)
-    order = np.lexsort((xn[C2], yn[C2]))  # smallest y, then smallest x
-    return int(C[C2[order[0]]])
+    C3 = C2[yn[C2] <= yn[C2].min() + TIE_X]
+    return int(C[C3[np.argmin(xn[C3])]])
 
 
 def reference_insert(

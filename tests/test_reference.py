@@ -142,9 +142,11 @@ def test_tie_rule_on_synthetic_candidates(scale):
     ) * scale
     w = np.array([1.0, 1 - 5e-10, 1 - 2e-10, 1 - 2e-9, 1.0]) * scale
     assert tie_break(g, pts, w) == 2
-    # equal x: smallest y wins; equal y too: smallest x
-    pts2 = np.array([[0.3, 0.7], [0.3, 0.2], [0.3 + 1e-10, 0.2]]) * scale
-    assert tie_break(g, pts2, np.ones(3) * scale) == 1
+    # equal x: smallest y wins; y within 1e-9 too: smallest x
+    pts2 = np.array([[0.3 + 1e-10, 0.7], [0.3 + 1e-10, 0.2], [0.3, 0.2 + 5e-10]]) * scale
+    assert tie_break(g, pts2, np.ones(3) * scale) == 2
+    pts3 = np.array([[0.3 + 1e-10, 0.7], [0.3 + 1e-10, 0.2], [0.3, 0.2 + 2e-9]]) * scale
+    assert tie_break(g, pts3, np.ones(3) * scale) == 1
 
 
 # -- the two candidate enumerations agree ----------------------------------------------
@@ -276,7 +278,7 @@ def test_visibility_agrees_with_shapely(polygon):
 
 
 # -- invariance ---------------------------------------------------------------------------------
-def _snap(p: Polygon, bits: int = 31) -> Polygon:
+def _snap(p: Polygon, bits: int = 20) -> Polygon:
     f = lambda r: np.round(np.asarray(r) * 2.0**bits) / 2.0**bits  # noqa: E731
     return Polygon(f(p.outer), [f(h) for h in p.holes])
 

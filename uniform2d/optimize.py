@@ -160,7 +160,7 @@ def _seed_interior(polygon: Polygon, count: int, h: float, bpts: np.ndarray) -> 
         allp = np.concatenate([polygon.vertices, bpts, P])
         tri = _restricted_delaunay(allp, shp)
         q = allp[tri]
-        area = 0.5 * np.abs(np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]))
+        area = 0.5 * np.abs(_cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]))
         need = count - len(P)
         order = np.lexsort((np.arange(len(tri)), -area))[:need]
         P = np.concatenate([P, q[order].mean(axis=1)])
@@ -173,15 +173,29 @@ def _restricted_delaunay(points: np.ndarray, shp) -> np.ndarray:
     c = points[tri].mean(axis=1)
     tri = tri[shapely.contains_xy(shp, c[:, 0], c[:, 1])]
     q = points[tri]
-    cr = np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
+    cr = _cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
     tri[cr < 0] = tri[cr < 0][:, [0, 2, 1]]
     return tri
+
+
+def _cross(u, v):
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
 def _edges(tri: np.ndarray) -> np.ndarray:
     e = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
     e.sort(axis=1)
-    return np.unique(e, axis=0)
+    n = int(e.max()) + 1 if len(e) else 1
+    key = np.unique(e[:, 0] * n + e[:, 1])
+    return np.stack([key // n, key % n], axis=1)
+
+
+def _scatter(idx_pos, idx_neg, vec, n):
+    """G[i] = Σ vec over edges with idx_pos == i minus Σ over idx_neg == i (bincount, fast)."""
+    G = np.empty((n, 2))
+    for c in (0, 1):
+        G[:, c] = np.bincount(idx_pos, vec[:, c], minlength=n) - np.bincount(idx_neg, vec[:, c], minlength=n)
+    return G
 
 
 # ----------------------------------------------------------------------------- objectives
@@ -306,7 +320,7 @@ def _rebalance_boundary(st: "_State", h: float, hysteresis: float = 0.6) -> int:
             # nearest interior point to the edge, projecting inside it
             q = p[ipos] - st.a[e]
             t = (q @ st.d[e]) / st.L[e] ** 2
-            dist = np.abs(np.cross(st.d[e], q)) / st.L[e]
+            dist = np.abs(_cross(st.d[e], q)) / st.L[e]
             cand = np.flatnonzero((t > 0.05) & (t < 0.95) & (dist < 1.2 * h))
             cand = [c for c in cand if ipos[c] not in take]
             if cand:
@@ -354,9 +368,7 @@ def _spring_relax(st: _State, h: float, iters: int, tol: float = 1e-4):
         # rest length: keep the mean edge ≈ its present value, slightly pushed outward
         L0 = 1.02 * math.sqrt((L * L).mean())
         f = ((L0 - L) / L)[:, None] * dv  # positive: repel
-        F = np.zeros_like(p)
-        np.add.at(F, E[:, 1], f)
-        np.add.at(F, E[:, 0], -f)
+        F = _scatter(E[:, 1], E[:, 0], f, len(p))
         disp = 0.2 * F[sl]
         step = np.hypot(disp[:, 0], disp[:, 1])
         lim = 0.3 * h
@@ -382,7 +394,6 @@ def _objective_pass(st: _State, objective: str, h: float, iters: int, p_exp: flo
         dv = p[E[:, 1]] - p[E[:, 0]]
         L = np.hypot(dv[:, 0], dv[:, 1])
         u = dv / L[:, None]
-        G = np.zeros_like(p)
         Lmean = L.mean()
         x = L / Lmean
         w = np.zeros_like(L)
@@ -391,8 +402,7 @@ def _objective_pass(st: _State, objective: str, h: float, iters: int, p_exp: flo
         if objective in ("ratio", "balanced"):
             w -= x ** (-p_exp - 1)  # penalises short edges
         g = w[:, None] * u
-        np.add.at(G, E[:, 1], g)
-        np.add.at(G, E[:, 0], -g)
+        G = _scatter(E[:, 1], E[:, 0], g, len(p))
         if objective in ("max_perimeter", "balanced"):
             q = p[tri]
             per = np.zeros(len(tri))
@@ -405,8 +415,7 @@ def _objective_pass(st: _State, objective: str, h: float, iters: int, p_exp: flo
             wt = (per / per.mean()) ** (p_exp - 1)
             for i, j, uu in us:
                 gg = wt[:, None] * uu
-                np.add.at(G, tri[:, j], gg)
-                np.add.at(G, tri[:, i], -gg)
+                G += _scatter(tri[:, j], tri[:, i], gg, len(p))
         # normalise: the largest move is ``step``
         gi = G[sl]
         gb = G[bs]
@@ -441,7 +450,8 @@ def optimize_mesh(
     relax_iters: int | None = None,
     pass_iters: int | None = None,
     start: Mesh | None = None,
-    rebalance_rounds: int = 4,
+    rebalance_rounds: int = 0,
+    p_exp: float = 32.0,
 ) -> Mesh:
     """The most uniform mesh with exactly ``n`` Steiner points (see module docstring)."""
     from .quality import quality
@@ -479,7 +489,7 @@ def optimize_mesh(
         if mv == 0:
             break
         it_relax += _spring_relax(st, h, relax_iters)
-    _objective_pass(st, objective, h, pass_iters)
+    _objective_pass(st, objective, h, pass_iters, p_exp)
 
     res = insert(polygon, 0, sites=st.points[nV:])
     pts = np.array(res.mesh_points)

@@ -25,7 +25,7 @@ def steiner_count_for_size(polygon: Polygon, size: float) -> int:
     --------
     >>> from uniform2d import Polygon
     >>> steiner_count_for_size(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 0.1)
-    129
+    132
     """
     if not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
         raise ValueError(f"size must be a positive finite number, got {size!r}")
@@ -47,7 +47,7 @@ def uniform_mesh(polygon: Polygon, n: int | None = None, *, size: float | None =
     >>> from uniform2d import Polygon, uniform_mesh
     >>> mesh = uniform_mesh(Polygon([(0, 0), (2, 0), (2, 1), (0, 1)]), size=0.25)
     >>> mesh.n_steiner
-    48
+    46
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)

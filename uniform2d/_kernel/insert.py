@@ -17,7 +17,9 @@ candidate.  Weights only decrease as sites are added, so the first candidate
 served whose value survives re-evaluation is a global maximum W.
 
 Ties: the rule is "among candidates with weight >= W (1 - REL_TIE), the smallest
-x; among those within ``xtol`` of that x, the smallest y (then x)".  Doing that
+x; among those within ``xtol`` of that x, the smallest y; among those within
+``xtol`` of that y, the smallest x" -- tolerances on both coordinates, so that
+points tied by symmetry are ordered by geometry, not by rounding noise.  Doing that
 by popping the whole tied group every step is quadratic on symmetric polygons,
 where thousands of candidates tie.  So the tied group is kept between steps in a
 *pool*: slots (payload, weight, x, y) indexed by a value heap (to find W), and
@@ -62,7 +64,11 @@ def better(w1, x1, y1, w2, x2, y2, xtol):
         return True
     if x2 < x1 - xtol:
         return False
-    return y1 < y2 or (y1 == y2 and x1 < x2)
+    if y1 < y2 - xtol:
+        return True
+    if y2 < y1 - xtol:
+        return False
+    return x1 < x2
 
 
 @njit(cache=True)
@@ -274,7 +280,8 @@ def _current(m, a, b, xtol):
 # freed, so a heap entry (s, gen) is current while pgen[s] == gen; ploc[s] is 1 in
 # the x-window, 0 outside; free slots are stacked in pfree[:nfree].  ``bound`` is the
 # window bound B = x_min + xtol (-inf: no window).  Heaps: pv (value, all members),
-# lo ((x, y), members outside the window), wx ((x, y)) and wy ((y, x)) of the window.
+# lo ((x, y), members outside the window), wx ((x, y)) and wy ((y, x)) of the window;
+# sel is scratch for the y-window.
 
 
 @structref.register
@@ -291,7 +298,7 @@ structref.define_proxy(
     Pool,
     PoolType,
     ["pa", "pb", "pw", "px", "py", "pgen", "ploc", "pfree", "nslots", "nfree", "bound",
-     "pv", "lo", "wx", "wy"],
+     "pv", "lo", "wx", "wy", "sel"],
 )  # fmt: skip
 
 
@@ -314,6 +321,7 @@ def new_pool(capacity):
         heap.new_lheap(c),
         heap.new_lheap(c),
         heap.new_lheap(c),
+        np.empty(16, np.int32),
     )
 
 
@@ -482,15 +490,35 @@ def _choose(m, M, P, W, xtol):
             _to_window(P, s)
         if restart:
             continue
-        while P.wy.size > 0:  # the smallest y in the window
+        ymin = np.inf
+        nsel = 0
+        while P.wy.size > 0:  # window members with y <= y_min + xtol
             y, s, g = heap.ltop(P.wy)
             if P.pgen[s] != g or P.ploc[s] != 1:
                 heap.lpop(P.wy)
                 continue
+            if nsel > 0 and y > ymin + xtol:
+                break
             if not _revalidate(m, M, P, s, thr, xtol):
                 restart = True
                 break
-            return s
+            heap.lpop(P.wy)
+            if nsel == 0:
+                ymin = y
+            if nsel == P.sel.shape[0]:
+                P.sel = heap._grow_f(P.sel, 2 * nsel)
+            P.sel[nsel] = s
+            nsel += 1
+        best = -1
+        for i in range(nsel):  # put them back; the smallest x wins
+            s = P.sel[i]
+            heap.lpush(P.wy, P.py[s], P.px[s], s, P.pgen[s])
+            if best < 0 or P.px[s] < P.px[best]:
+                best = s
+        if restart:
+            continue
+        if best >= 0:
+            return best
         if not restart:
             _dump_window(P)
 

@@ -47,7 +47,7 @@ def switches(size: float) -> str:
     """Triangle's switch string for target edge length ``size``.
 
     >>> switches(0.1)
-    'pq20a0.004330127018922194Q'
+    'pq20a0.004330127018922193Q'
     """
     return f"pq{MIN_ANGLE}a{fixed_point(math.sqrt(3.0) / 4.0 * size * size)}Q"
 

@@ -59,17 +59,23 @@ def _input_info(inp) -> dict:
 
 
 def _write_mesh(out_dir: Path, case: dict, points, triangles) -> str:
-    rel = f"meshes/{case['id']}" + (".msh" if case["kind"] == "polygon" else ".obj")
+    rel = f"meshes/{case['id']}" + (".vtu" if case["kind"] == "polygon" else ".obj")
     path = out_dir / rel
     if case["kind"] == "polygon":
         from ..io import write_mesh
 
         write_mesh(path, points, triangles)
     else:
-        from surface import write_patch
-
-        write_patch(path, points, triangles)
+        write_obj(path, points, triangles)
     return rel
+
+
+def write_obj(path, vertices, faces) -> None:
+    """Write a triangle mesh as Wavefront OBJ with shortest round-trip floats (exact)."""
+    lines = ["# uniform2d report mesh"]
+    lines += [f"v {x!r} {y!r} {z!r}" for x, y, z in np.asarray(vertices, dtype=np.float64).tolist()]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in np.asarray(faces, dtype=np.int64).tolist()]
+    Path(path).write_text("\n".join(lines) + "\n")
 
 
 def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, scheduler=None,
@@ -83,7 +89,8 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         patches (``.obj``, ``.ply``, ``.stl``, ``.off``).
     out_dir : path
         Created if needed; receives ``index.html``, ``report.md``,
-        ``results.json`` and ``meshes/<case>.msh`` (planar) / ``.obj`` (surface).
+        ``results.json`` and ``meshes/<case>.vtu`` (planar; exact binary
+        floats) / ``.obj`` (surface; shortest round-trip floats).
     ns : sequence of int
         Steiner points for polygons; vertex counts for surface patches.
     peers : sequence of str, optional

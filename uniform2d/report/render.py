@@ -110,7 +110,15 @@ def mesh_figure(kind: str, items, *, title: str = "", dpi: int = 72) -> bytes:
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", metadata={"Software": None})
-    return buf.getvalue()
+    try:  # line art: a 64-colour palette keeps the self-contained page small
+        from PIL import Image
+
+        img = Image.open(io.BytesIO(buf.getvalue())).convert("RGB").quantize(colors=64)
+        small = io.BytesIO()
+        img.save(small, format="PNG", optimize=True)
+        return small.getvalue()
+    except ImportError:
+        return buf.getvalue()
 
 
 # -- summary -------------------------------------------------------------------

@@ -11,7 +11,7 @@ import multiprocessing
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from .cases import run_case
+from .cases import run_case, warm_up
 
 log = logging.getLogger(__name__)
 
@@ -25,6 +25,7 @@ def _bar(total: int, progress: bool):
 
 
 def _serial(cases, bar):
+    warm_up()
     out = []
     for case in cases:
         bar.set_postfix_str(case["id"], refresh=False)
@@ -37,7 +38,7 @@ def _pool(cases, jobs, bar):
     out = [None] * len(cases)
     # spawn: no fork of a process that may hold gmsh/numba/thread state
     ctx = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as ex:
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=warm_up) as ex:
         futures = {ex.submit(run_case, c): i for i, c in enumerate(cases)}
         for fut in as_completed(futures):
             out[futures[fut]] = fut.result()
@@ -52,6 +53,7 @@ def _dask(cases, scheduler, bar):
     own = not isinstance(scheduler, Client)
     client = Client(scheduler) if own else scheduler
     try:
+        client.run(warm_up)
         futures = client.map(run_case, cases, pure=False)
         index = {f.key: i for i, f in enumerate(futures)}
         out = [None] * len(cases)
