@@ -243,3 +243,13 @@ def test_subprocess(tmp_path):
     assert bad.returncode == 2
     assert bad.stderr.count("\n") == 1 and bad.stderr.startswith("uniform2d: error: ")
     assert not (tmp_path / "bad.vtu").exists()
+
+
+def test_main_leaves_logging_as_it_found_it(capsys):
+    import logging
+
+    root = logging.getLogger()
+    handlers, level = list(root.handlers), root.level
+    run(capsys, "-v", "info", SQUARE)
+    run(capsys, "info", SQUARE / "missing.json")
+    assert root.handlers == handlers and root.level == level

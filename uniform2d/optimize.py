@@ -478,9 +478,9 @@ def optimize_mesh(
     st = _State(polygon, bpts, beid, bt, ipts)
 
     if relax_iters is None:
-        relax_iters = 60
+        relax_iters = 60 if n < 5000 else 20
     if pass_iters is None:
-        pass_iters = 80
+        pass_iters = 80 if n < 5000 else 40
     it_relax = _spring_relax(st, h, relax_iters)
     moved = 0
     for _ in range(rebalance_rounds):

@@ -96,7 +96,7 @@ True
 import math
 
 import numpy as np
-from numba import float64, njit
+from numba import njit
 
 __all__ = [
     "orient2d",
@@ -648,11 +648,7 @@ def _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
 # public predicates: filter, then exact fallback
 # ----------------------------------------------------------------------------
 
-_SIG6 = float64(float64, float64, float64, float64, float64, float64)
-_SIG8 = float64(float64, float64, float64, float64, float64, float64, float64, float64)
-
-
-@njit(_SIG6, cache=True)
+@njit(cache=True)
 def orient2d(ax, ay, bx, by, cx, cy):
     """> 0 iff a, b, c counter-clockwise; 0 iff collinear (exact sign)."""
     detleft = (ax - cx) * (by - cy)
@@ -664,7 +660,7 @@ def orient2d(ax, ay, bx, by, cx, cy):
     return _orient2d_exact(ax, ay, bx, by, cx, cy)
 
 
-@njit(_SIG8, cache=True)
+@njit(cache=True)
 def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     """For CCW a, b, c: > 0 iff d strictly inside their circle; 0 iff cocircular."""
     adx = ax - dx
@@ -697,7 +693,7 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     return _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
 
 
-@njit(_SIG6, cache=True)
+@njit(cache=True)
 def dot2d(ax, ay, bx, by, cx, cy):
     """Sign of (a - c).(b - c): > 0 acute at c, 0 right angle, < 0 obtuse."""
     left = (ax - cx) * (bx - cx)

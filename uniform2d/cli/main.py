@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
 import sys
 
 __all__ = ["main", "COMMANDS", "build_parser", "error_message"]
@@ -93,29 +94,51 @@ def error_message(exc: BaseException) -> str:
     return " ".join(msg.split())
 
 
-def _setup_logging(quiet: bool, verbose: int) -> None:
+class _StderrHandler(logging.StreamHandler):
+    """Writes to whatever ``sys.stderr`` is at the time of the record."""
+
+    def __init__(self):
+        super().__init__(sys.stderr)
+
+    @property
+    def stream(self):
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, value):
+        pass
+
+
+def _setup_logging(quiet: bool, verbose: int):
+    """Route log records to stderr for this run; returns a function undoing it."""
     level = logging.ERROR if quiet else (
         logging.WARNING if verbose == 0 else logging.INFO if verbose == 1 else logging.DEBUG
     )
-    handler = logging.StreamHandler(sys.stderr)
+    handler = _StderrHandler()
     handler.setFormatter(logging.Formatter(f"{PROG}: %(levelname)s: %(message)s"))
     root = logging.getLogger()
-    for h in list(root.handlers):
-        if getattr(h, "_uniform2d_cli", False):
-            root.removeHandler(h)
-    handler._uniform2d_cli = True
+    saved = [(root, root.level)]
     root.addHandler(handler)
     root.setLevel(level)
-    # Third-party chatter (numba, matplotlib, trimesh) only with -vv.
-    for noisy in ("numba", "matplotlib", "PIL", "trimesh"):
-        logging.getLogger(noisy).setLevel(logging.DEBUG if verbose >= 3 else logging.WARNING)
+    # Third-party chatter (numba, matplotlib, trimesh) only with -vvv.
+    for name in ("numba", "matplotlib", "PIL", "trimesh"):
+        logger = logging.getLogger(name)
+        saved.append((logger, logger.level))
+        logger.setLevel(logging.DEBUG if verbose >= 3 else logging.WARNING)
+
+    def undo():
+        root.removeHandler(handler)
+        for logger, lvl in saved:
+            logger.setLevel(lvl)
+
+    return undo
 
 
 def main(argv=None) -> int:
     """Run the command line with ``argv`` (default ``sys.argv[1:]``); return the exit code.
 
     Exit codes: 0 success, 2 bad input or usage (one line on stderr, no
-    traceback, no output file), 130 interrupted.
+    traceback, no output file), 130 interrupted, 141 stdout closed early (a pipe).
     """
     from ..errors import Uniform2dError
 
@@ -124,16 +147,24 @@ def main(argv=None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version, usage errors
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
-    _setup_logging(args.quiet, args.verbose)
+    undo_logging = _setup_logging(args.quiet, args.verbose)
     try:
         return int(modules[args.command].run(args) or 0)
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # e.g. `uniform2d mesh ... --json | head`: stop quietly
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 141
     except (Uniform2dError, ValueError, OSError, ImportError) as exc:
         logging.getLogger(__name__).debug("error details", exc_info=True)
         print(f"{PROG}: error: {error_message(exc)}", file=sys.stderr)
         return 2
+    finally:
+        undo_logging()
 
 
 if __name__ == "__main__":
