@@ -109,7 +109,7 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9):
                 break
             q = points[nxt_v]
             t = float(np.dot(q - pa, d)) / (L * L)
-            off = abs(float(np.cross(d, q - pa))) / L
+            off = abs(float(d[0] * (q - pa)[1] - d[1] * (q - pa)[0])) / L
             assert off <= 1e-9 * L + 1e-12 * max(1.0, float(np.abs(V).max())), (
                 f"boundary vertex {nxt_v} is off polygon edge {int(a)}->{int(b)} by {off:g}"
             )

@@ -111,8 +111,7 @@ def test_mesh_json(capsys, tmp_path):
     assert code == 0, err
     doc = json.loads(out)
     assert doc["n_steiner"] == 60 and doc["n_points"] == 64
-    assert doc["info"]["k"] >= 0 and doc["info"]["d_n"] > 0
-    assert isinstance(doc["info"]["theorem_applies"], bool)
+    assert isinstance(doc["info"], dict) and doc["method"] == "uniform"
     q = doc["quality"]
     assert q["n_vertices"] == 64
     assert q["edge_ratio_bound"]["factor"] >= 1
@@ -122,6 +121,10 @@ def test_mesh_json(capsys, tmp_path):
     assert code == 0, err
     docs = json.loads(out)
     assert [Path(d["input"]).name for d in docs] == ["square.json", "truss_panel.json"]
+    for d in docs:  # T+ reports Theorem 2's quantities
+        assert d["info"]["k"] >= 0 and d["info"]["d_n"] > 0
+        assert isinstance(d["info"]["theorem_applies"], bool)
+        assert set(d["info"]["hypotheses"]) == {"d_n <= l(V,V)/2", "d_n <= A/(pi*B)", "n >= 2k"}
 
 
 def test_mesh_stats_and_plot(capsys, tmp_path):

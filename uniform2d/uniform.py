@@ -8,7 +8,6 @@ import numbers
 from .errors import InsufficientPointsError
 from .mesh import Mesh
 from .polygon import Polygon
-from .tplus import tplus
 
 __all__ = ["uniform_mesh", "steiner_count_for_size"]
 
@@ -35,12 +34,21 @@ def steiner_count_for_size(polygon: Polygon, size: float) -> int:
     return max(0, round(N) - len(polygon.vertices))
 
 
-def uniform_mesh(polygon: Polygon, n: int | None = None, *, size: float | None = None) -> Mesh:
+def uniform_mesh(
+    polygon: Polygon,
+    n: int | None = None,
+    *,
+    size: float | None = None,
+    objective: str = "balanced",
+) -> Mesh:
     """The most uniform mesh uniform2d makes, with exactly ``n`` Steiner points.
 
     Give exactly one of ``n`` (Steiner points, boundary and interior) and ``size``
     (a target edge length; n is derived by :func:`steiner_count_for_size`).
-    Currently this is the paper's T+ (:func:`uniform2d.tplus`).
+    The mesh is optimised (:func:`uniform2d.optimize.optimize_mesh`) for
+    ``objective``: ``"ratio"`` (longest / shortest edge), ``"max_edge"``,
+    ``"max_perimeter"`` or ``"balanced"`` (all three), and is never worse on it than
+    the paper's T+ (:func:`uniform2d.tplus`), which it falls back to otherwise.
 
     Examples
     --------
@@ -60,4 +68,6 @@ def uniform_mesh(polygon: Polygon, n: int | None = None, *, size: float | None =
                 f"size {size!r} is larger than the polygon needs: it asks for no Steiner "
                 "points; use a smaller size"
             )
-    return tplus(polygon, n)
+    from .optimize import optimize_mesh
+
+    return optimize_mesh(polygon, n, objective=objective)
