@@ -256,3 +256,14 @@ def test_main_leaves_logging_as_it_found_it(capsys):
     run(capsys, "-v", "info", SQUARE)
     run(capsys, "info", SQUARE / "missing.json")
     assert root.handlers == handlers and root.level == level
+
+
+def test_progress_bar_only_on_a_terminal(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    code, out, err = run(capsys, "mesh", SQUARE, PANEL, "-n", 40, "-o", tmp_path / "a")
+    assert code == 0 and "meshing" in err and "2/2" in err
+    code, out, err = run(capsys, "-q", "mesh", SQUARE, PANEL, "-n", 40, "-o", tmp_path / "b")
+    assert code == 0 and err == "" and out == ""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False, raising=False)
+    code, out, err = run(capsys, "mesh", SQUARE, PANEL, "-n", 40, "-o", tmp_path / "c")
+    assert code == 0 and err == ""

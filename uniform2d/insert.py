@@ -30,6 +30,7 @@ from ._kernel import cdt, heap
 from ._kernel import insert as kinsert
 from .errors import InsufficientPointsError, InvalidSitesError
 from .polygon import Polygon
+from .sizefield import SizeField
 
 __all__ = ["insert", "InsertResult"]
 
@@ -150,7 +151,7 @@ def _check_sites(polygon: Polygon, sites) -> np.ndarray:
     return s
 
 
-def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
+def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     """Run Algorithm INSERT: place ``n`` points, each farthest from all sites before it.
 
     Parameters
@@ -162,6 +163,11 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
     sites : array_like, shape (k, 2), optional
         Extra initial sites inside P or on its boundary (besides the polygon
         vertices), e.g. prescribed boundary points (T+ uses this).
+    size : SizeField or float, optional
+        A target-size field h: candidates are ranked by visible distance / h, so
+        points are denser where h is small (the surface layer uses this).  A number,
+        or a constant field, changes no comparison: the paper's algorithm exactly.
+        ``weights`` stay visible distances.
 
     Returns
     -------
@@ -192,8 +198,8 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
     n = int(n)
     sites = _check_sites(polygon, sites)
     centre, scale = _normaliser(polygon)
-    size = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
-    interior, boundary = _classify_sites(polygon, sites, BOUNDARY_TOL * size)
+    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
+    interior, boundary = _classify_sites(polygon, sites, BOUNDARY_TOL * extent)
 
     V = polygon.vertices
     nV = len(V)
@@ -218,7 +224,7 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
     nb0 = sum(len(r) for r in rings)
     t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
     tmax = t0 + 2 * (n_int + n) + 4
-    m, xy = cdt.allocate(nmax, tmax)
+    m, xy = cdt.allocate(nmax, tmax, _size_grid(size, centre, scale))
     xy[: len(allxy)] = allxy
     cdt.set_nv(m, len(allxy))
 
@@ -239,14 +245,14 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
 
     # points nearer the boundary than this go on it: SNAP of the size, or more if
     # rounding the result back to the caller's coordinates could move a point that far
-    snap = max(SNAP * size, 8 * np.finfo(float).eps * float(np.abs(V).max()))
+    snap = max(SNAP * extent, 8 * np.finfo(float).eps * float(np.abs(V).max()))
     M = heap.new_heap(tmax + 64)  # grows by doubling when needed
     kinsert.push_initial(m, M)
     P = kinsert.new_pool(64)
     out_xy = np.empty((n, 2), np.float64)
     out_w = np.empty(n, np.float64)
     out_b = np.zeros(n, np.bool_)
-    xtol = kinsert.REL_TIE * size / scale
+    xtol = kinsert.REL_TIE * extent / scale
     status = kinsert.run(m, M, P, n, out_xy, out_w, out_b, xtol, snap / scale)
     if status != n:
         j = -status // 100
@@ -262,6 +268,19 @@ def insert(polygon: Polygon, n: int, *, sites=None) -> InsertResult:
     for arr in (points, weights, out_b, mesh_points, triangles):
         arr.setflags(write=False)
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
+
+
+def _size_grid(size, centre, scale):
+    """The size field in the kernel's coordinates, or None for a constant one."""
+    if size is None or isinstance(size, numbers.Real):
+        if size is not None and not (np.isfinite(size) and size > 0):
+            raise ValueError(f"size must be a positive number or a SizeField, got {size!r}")
+        return None
+    if not isinstance(size, SizeField):
+        raise TypeError(f"size must be a SizeField or a number, got {type(size).__name__}")
+    if np.all(size.values == size.values.flat[0]):
+        return None
+    return ((size.x - centre[0]) / scale, (size.y - centre[1]) / scale, size.values / scale)
 
 
 def hilbert_order(points: np.ndarray, bits: int = 16) -> np.ndarray:

@@ -98,13 +98,21 @@ _FIELDS = [
     "nv",  # int64 number of vertices
     "nt",  # int64 number of triangles
     "tag",  # int64 last scratch tag handed out
+    "sgx",  # (nx,) float64 size-field grid abscissae (normalised)
+    "sgy",  # (ny,) float64 size-field grid ordinates
+    "sgv",  # (ny, nx) float64 size-field values
+    "hmin",  # float64 smallest size value (1.0 without a field)
+    "sized",  # int64 1 when a size field is in use
 ]
 structref.define_proxy(Tri, TriType, _FIELDS)
 
 
 @njit(cache=True)
-def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf):
-    return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf, 0, 0, 0)
+def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
+             sgx, sgy, sgv, sized):  # fmt: skip
+    hmin = sgv.min() if sized else 1.0
+    return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
+               0, 0, 0, sgx, sgy, sgv, hmin, sized)  # fmt: skip
 
 
 @njit(cache=True)
@@ -118,11 +126,19 @@ def set_nv(m, nv):
     m.nv = nv
 
 
-def allocate(nmax, tmax):
+def allocate(nmax, tmax, size_grid=None):
     """Preallocate a triangulation for at most ``nmax`` vertices and ``tmax`` triangles.
 
-    Returns ``(m, xy)``: the state and its coordinate array (shared, for filling).
+    ``size_grid`` is an optional ``(x (nx,), y (ny,), values (ny, nx))`` size field in
+    the kernel's coordinates.  Returns ``(m, xy)``: the state and its coordinate
+    array (shared, for filling).
     """
+    if size_grid is None:
+        size_grid = (np.array([0.0, 1.0]), np.array([0.0, 1.0]), np.ones((2, 2)))
+        sized = 0
+    else:
+        sized = 1
+    gx, gy, gv = (np.ascontiguousarray(a, dtype=np.float64) for a in size_grid)
     xy = np.zeros((nmax, 2), np.float64)
     m = _new_tri(
         xy,
@@ -138,6 +154,10 @@ def allocate(nmax, tmax):
         np.zeros(tmax + 8, np.int32),
         np.zeros(nmax + 8, np.int32),
         np.zeros(nmax + 8, np.int32),
+        gx,
+        gy,
+        gv,
+        sized,
     )
     return m, xy
 

@@ -72,6 +72,30 @@ def better(w1, x1, y1, w2, x2, y2, xtol):
 
 
 @njit(cache=True)
+def size_at(m, x, y):
+    """The size field h at (x, y): bilinear on its grid, clamped; 1 without a field.
+
+    Candidates are ranked by value = distance / h, so a field makes points denser
+    where h is small; without one every value is the plain distance.
+    """
+    if not m.sized:
+        return 1.0
+    gx, gy, gv = m.sgx, m.sgy, m.sgv
+    x = min(max(x, gx[0]), gx[-1])
+    y = min(max(y, gy[0]), gy[-1])
+    i = min(max(np.searchsorted(gx, x, side="right") - 1, 0), gx.shape[0] - 2)
+    j = min(max(np.searchsorted(gy, y, side="right") - 1, 0), gy.shape[0] - 2)
+    tx = (x - gx[i]) / (gx[i + 1] - gx[i])
+    ty = (y - gy[j]) / (gy[j + 1] - gy[j])
+    return (
+        gv[j, i] * (1 - tx) * (1 - ty)
+        + gv[j, i + 1] * tx * (1 - ty)
+        + gv[j + 1, i] * (1 - tx) * ty
+        + gv[j + 1, i + 1] * tx * ty
+    )
+
+
+@njit(cache=True)
 def triangle_key(m, t):
     """Circumradius of t if its circumcentre is a candidate (see module doc), else -1."""
     xy = m.xy
@@ -122,7 +146,8 @@ def _visible(m, ne, x, y, q):
 
 @njit(cache=True)
 def eval_segment(m, h, xtol):
-    """Largest visible distance on boundary subsegment h and where: (value, x, y).
+    """Largest visible distance on boundary subsegment h and where: (value, x, y),
+    value = distance / size field (the distance itself without a field).
 
     If the apex of the triangle on h is outside the open diametral disk of h, no
     visible site is inside that disk and the midpoint wins with |h|/2.
@@ -142,7 +167,8 @@ def eval_segment(m, h, xtol):
     dx, dy = bx - ax, by - ay
     half = 0.5 * np.sqrt(dx * dx + dy * dy)
     if dot2d(ax, ay, bx, by, xy[c, 0], xy[c, 1]) >= 0.0:
-        return half, ax + 0.5 * dx, ay + 0.5 * dy
+        mx, my = ax + 0.5 * dx, ay + 0.5 * dy
+        return half / size_at(m, mx, my), mx, my
     # -- slow path: the subsegment is encroached
     mx, my = ax + 0.5 * dx, ay + 0.5 * dy
     r2 = half * half * (1.0 + DISK_SLACK)
@@ -212,11 +238,11 @@ def eval_segment(m, h, xtol):
                 d2 = (xy[z, 0] - x) ** 2 + (xy[z, 1] - y) ** 2
                 if d2 < wmin and (k < 2 or _visible(m, ne, x, y, z)):
                     wmin = d2
-            val = np.sqrt(wmin)
+            val = np.sqrt(wmin) / size_at(m, x, y)
             if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol):
                 bv, bx_, by_ = val, x, y
     if bv < 0.0:
-        return half, mx, my
+        return half / size_at(m, mx, my), mx, my
     return bv, bx_, by_
 
 
@@ -224,6 +250,9 @@ def eval_segment(m, h, xtol):
 def _push_triangle(m, M, t):
     r = triangle_key(m, t)
     if r > 0.0:
+        if m.sized:
+            cx, cy, r = circumcircle(m.xy, m.tv[3 * t], m.tv[3 * t + 1], m.tv[3 * t + 2])
+            r = r / size_at(m, cx, cy)
         heap.push(M, r, t, m.tstamp[t])
 
 
@@ -233,7 +262,7 @@ def _push_segment(m, M, h):
     v = m.tv[nxt(h)]
     ddx = m.xy[v, 0] - m.xy[u, 0]
     ddy = m.xy[v, 1] - m.xy[u, 1]
-    heap.push(M, 0.5 * np.sqrt(ddx * ddx + ddy * ddy), -(u + 1), v)
+    heap.push(M, 0.5 * np.sqrt(ddx * ddx + ddy * ddy) / m.hmin, -(u + 1), v)
 
 
 @njit(cache=True)
@@ -267,7 +296,7 @@ def _current(m, a, b, xtol):
         if m.tstamp[a] != b:
             return False, 0.0, 0.0, 0.0
         cx, cy, r = circumcircle(m.xy, m.tv[3 * a], m.tv[3 * a + 1], m.tv[3 * a + 2])
-        return True, r, cx, cy
+        return True, r / size_at(m, cx, cy), cx, cy
     h = m.vseg[-a - 1]
     if h < 0 or m.tv[nxt(h)] != b:
         return False, 0.0, 0.0, 0.0
@@ -559,7 +588,7 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
             t0 = hsplit // 3
         out_xy[j, 0] = x
         out_xy[j, 1] = y
-        out_w[j] = w
+        out_w[j] = w * size_at(m, x, y)  # the distance (w is distance / size)
         out_b[j] = hsplit >= 0
         k = insert_point(m, x, y, t0, hsplit)
         if k < 0:
