@@ -74,7 +74,7 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, smooth_iterations=SMOO
     """Mesh a polygon with exactly ``len(polygon.vertices) + n_interior`` points.
 
     The one swappable 2-D meshing step.  Now: Algorithm INSERT of the planar
-    core (graded by ``size_field`` when the core supports ``size=``), then the
+    core (graded by ``size_field``), then the
     TEMPORARY smoothing of :mod:`surface._smooth2d` until the issue-5 optimiser
     exists.
 
@@ -93,22 +93,10 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, smooth_iterations=SMOO
     mesher : str
         What produced the mesh (goes into the report).
     """
-    import importlib
+    from uniform2d import insert
 
-    insert = importlib.import_module("uniform2d.insert").insert
-    kwargs = {} if size_field is None else {"size": size_field}
-    desc = "uniform2d.insert"
-    try:
-        res = insert(polygon, n_interior, **kwargs)
-    except TypeError as exc:
-        if "size" not in str(exc) or not kwargs:
-            raise
-        log.warning("uniform2d.insert has no size= yet: INSERT ran ungraded")
-        desc += " (size field NOT applied: core lacks size=)"
-        res = insert(polygon, n_interior)
-    else:
-        if kwargs:
-            desc += " with size field"
+    res = insert(polygon, n_interior, size=size_field)
+    desc = "uniform2d.insert" + ("" if size_field is None else " with size field")
     P = np.asarray(res.mesh_points, dtype=np.float64)
     T = np.asarray(res.triangles, dtype=np.int64)
     K = len(polygon.vertices)

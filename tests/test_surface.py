@@ -429,14 +429,6 @@ def test_planar_patch_and_write(tmp_path):
     assert q.n_vertices == 200 and len(q.boundary_loops) == 2
 
 
-def _core_has_size():
-    import importlib
-
-    ins = importlib.import_module("uniform2d.insert").insert
-    return "size" in inspect.signature(ins).parameters
-
-
-@pytest.mark.skipif(not _core_has_size(), reason="the planar core has no insert(size=) yet")
 def test_compensation_reduces_size_gradient(results):
     on = results["cap60"].report
     off = surface.remesh(patch_path("cap60"), N_TEST, compensate=False, check=False,
