@@ -9,6 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import uniform2d
+
 pytest.importorskip("igl")
 pytest.importorskip("pymeshlab")
 trimesh = pytest.importorskip("trimesh")
@@ -490,11 +492,11 @@ def test_points_on_polygon_edges_are_lifted_onto_the_boundary(monkeypatch):
 
 
 def test_polygon_and_corner_threshold():
-    import triangle
 
     L = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]], float)
-    seg = np.array([[i, (i + 1) % 6] for i in range(6)])
-    t = triangle.triangulate({"vertices": L, "segments": seg}, "pq30a0.02Q")
+    # a planar L-shaped patch meshed by our own core (Triangle is only a comparison peer)
+    t = uniform2d.uniform_mesh(uniform2d.Polygon(L), size=0.1)
+    t = {"vertices": t.points, "triangles": t.triangles}
     r = surface.remesh((t["vertices"], t["triangles"]), 250, check=False, hausdorff=False)
     assert r.report.n_corners == 6  # five convex corners and the reflex one
     assert r.report.edges["angle_min"] > 20
