@@ -67,6 +67,10 @@ from .predicates import dot2d, incircle, orient2d
 
 __all__ = ["Tri", "allocate", "legalize_all", "insert_point", "locate", "circumcircle"]
 
+#: Initial size of the scratch buffers; cavities and searches are small in practice,
+#: and the buffers double when one is not.
+SCRATCH = 256
+
 # Status codes returned by insert_point (>= 0 means success: number of new triangles).
 ERR_ORIENT = -1  # a new triangle would not be strictly counter-clockwise
 
@@ -90,11 +94,11 @@ _FIELDS = [
     "tmark",  # (tmax,) int32 scratch tags (cavity / search membership)
     "vmark",  # (nmax,) int32 scratch tags on vertices
     "vmap",  # (nmax,) int32 scratch map vertex -> local index
-    "stack",  # (tmax + 8,) int32 scratch stack of triangles
-    "cav",  # (tmax + 8,) int32 cavity triangles / new triangle slots
-    "bh",  # (tmax + 8,) int32 cavity boundary half-edges
-    "vbuf",  # (nmax + 8,) int32 collected vertices (subsegment search)
-    "ebuf",  # (nmax + 8,) int32 collected constrained half-edges
+    "stack",  # int32 scratch stack of triangles (grows on demand)
+    "cav",  # int32 cavity triangles / new triangle slots (grows on demand)
+    "bh",  # int32 cavity boundary half-edges (grows on demand)
+    "vbuf",  # int32 collected vertices (subsegment search; grows on demand)
+    "ebuf",  # int32 collected constrained half-edges (grows on demand)
     "nv",  # int64 number of vertices
     "nt",  # int64 number of triangles
     "tag",  # int64 last scratch tag handed out
@@ -149,17 +153,38 @@ def allocate(nmax, tmax, size_grid=None):
         np.zeros(tmax, np.int32),
         np.zeros(nmax, np.int32),
         np.zeros(nmax, np.int32),
-        np.zeros(tmax + 8, np.int32),
-        np.zeros(tmax + 8, np.int32),
-        np.zeros(tmax + 8, np.int32),
-        np.zeros(nmax + 8, np.int32),
-        np.zeros(nmax + 8, np.int32),
+        np.zeros(SCRATCH, np.int32),
+        np.zeros(SCRATCH, np.int32),
+        np.zeros(SCRATCH, np.int32),
+        np.zeros(SCRATCH, np.int32),
+        np.zeros(SCRATCH, np.int32),
         gx,
         gy,
         gv,
         sized,
     )
     return m, xy
+
+
+@njit(cache=True)
+def grown(a, need):
+    """``a`` itself if it holds ``need`` entries, else a copy with at least twice the room."""
+    if need <= a.shape[0]:
+        return a
+    out = np.empty(max(need, 2 * a.shape[0]), a.dtype)
+    out[: a.shape[0]] = a
+    return out
+
+
+@njit(cache=True)
+def reserve(m, k):
+    """Room for k entries in every scratch buffer."""
+    if k > m.stack.shape[0]:
+        m.stack = grown(m.stack, k)
+        m.cav = grown(m.cav, k)
+        m.bh = grown(m.bh, k)
+        m.vbuf = grown(m.vbuf, k)
+        m.ebuf = grown(m.ebuf, k)
 
 
 @njit(cache=True, inline="always")
@@ -412,6 +437,7 @@ def insert_point(m, x, y, t0, hs):
                 continue
             w = tv[prv(g)]
             if incircle(xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1], xy[w, 0], xy[w, 1], x, y) > 0.0:
+                reserve(m, ncav + 3)
                 m.tmark[n] = tag
                 m.cav[ncav] = n
                 ncav += 1

@@ -44,7 +44,7 @@ from numba import njit, types
 from numba.experimental import structref
 
 from . import heap
-from .cdt import circumcircle, insert_point, locate, new_tag, nxt, prv
+from .cdt import circumcircle, insert_point, locate, new_tag, nxt, prv, reserve
 from .predicates import dot2d, orient2d
 
 REL_TIE = 1e-9
@@ -182,6 +182,7 @@ def eval_segment(m, h, xtol):
     m.vmark[a] = tag
     m.vmark[b] = tag
     while sp > 0:
+        reserve(m, max(sp, nv, ne) + 4)
         sp -= 1
         t = m.stack[sp]
         for i in range(3):
