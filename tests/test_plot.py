@@ -111,3 +111,20 @@ def test_hundred_thousand_edges_in_reasonable_time(tmp_path):
     assert len(edge_collection(fig).get_segments()) == n_edges
     assert (tmp_path / "big.png").stat().st_size > 10_000
     assert elapsed < 60, f"plotting {n_edges} edges took {elapsed:.1f} s"
+
+
+def test_failed_save_leaves_no_partial_file(tmp_path, monkeypatch):
+    pts, tri = random_mesh(50)
+    out = tmp_path / "mesh.png"
+    out.write_bytes(b"previous")
+
+    def boom(self, fname, **kw):
+        with open(fname, "wb") as f:
+            f.write(b"half a PNG")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(Figure, "savefig", boom)
+    with pytest.raises(OSError, match="disk full"):
+        plot_mesh(pts, tri, out)
+    assert out.read_bytes() == b"previous"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mesh.png"]

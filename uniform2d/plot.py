@@ -9,6 +9,8 @@ from __future__ import annotations
 import logging
 import os
 
+from pathlib import Path
+
 import numpy as np
 from matplotlib.collections import LineCollection
 from matplotlib.colors import FuncNorm
@@ -213,6 +215,9 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     fig.suptitle(title, fontsize=12)
 
     if path is not None:
-        fig.savefig(path, dpi=150)
+        from .io.atomic import atomic_write
+
+        ext = Path(path).suffix
+        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
         log.info("wrote %s", path)
     return fig

@@ -33,9 +33,13 @@ Other ``spacing=(lo, hi)``.  The edges get m = max(1, ⌈L/(hi·d_n)⌉) pieces,
 gaps are ≤ hi·d_n, and ≥ hi·d_n/2 on split edges.  Redoing the proofs with hi:
 the gaps must stay ≥ d_n, so hi ≥ 2; Lemma 5's circles get radius hi/2·d_n and
 its area count gives w(p'_n) ≤ hi·d_n once n ≥ c·k with c = hi²/(hi² − 4)
-(the paper rounds c = 9/5 up to 2 for hi = 3; we use c = max(2, hi²/(hi² − 4)));
-then every edge is ≤ 2·hi·d_n, every edge ≥ d_n/2, and the ratio bound is
-2·hi (``info["edge_ratio_bound"]``).  For hi ≤ 2 no bound follows.  ``lo`` is
+(the paper rounds c = 9/5 up to 2 for hi = 3; we use c = max(2, hi²/(hi² − 4))).
+Theorem 2's two cases then become: if w(p'_n) < d_n, every edge lies in
+[d_n/2, hi·d_n] (interior edges ≥ w(p'_n) ≥ d_n*/2 ≥ d_n/2; non-critical ones
+≤ 2 w(p'_n) < 2 d_n; critical ones ≤ the longest boundary gap, hi·d_n); otherwise
+every edge lies in [d_n, 2·hi·d_n].  Either way the edge ratio is at most 2·hi
+(``info["edge_ratio_bound"]``; 6 for hi = 3) -- note that edges shorter than d_n do
+occur, in the first case.  For hi ≤ 2 no bound follows.  ``lo`` is
 only reported: whether every gap is ≥ lo·d_n (``info["gaps_within_spacing"]``).
 """
 
