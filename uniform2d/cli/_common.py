@@ -6,7 +6,7 @@ import json
 import math
 import sys
 
-import numpy as np
+from .._jsonable import jsonable
 
 
 def positive_int(text: str) -> int:
@@ -31,25 +31,6 @@ def positive_float(text: str) -> float:
     return value
 
 
-def jsonable(obj):
-    """Plain JSON types: tuples -> lists, numpy scalars -> Python, NaN/inf -> None."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return jsonable(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    if obj is None or isinstance(obj, str):
-        return obj
-    return str(obj)
-
-
 def print_json(obj) -> None:
     json.dump(jsonable(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
@@ -62,3 +43,4 @@ def progress(iterable, *, total: int, quiet: bool, desc: str):
     from tqdm import tqdm
 
     return tqdm(iterable, total=total, desc=desc, unit="file", file=sys.stderr)
+

@@ -4,38 +4,21 @@ from __future__ import annotations
 
 import json
 import logging
-import math
 from pathlib import Path
 
 import numpy as np
 
+from .._jsonable import jsonable
 from .cases import load_inputs, plan
 from .render import groups, mesh_figure, render_html, render_markdown
 from .runners import run_cases
 
 log = logging.getLogger(__name__)
 
-__all__ = ["make_report", "strip_timings", "jsonable"]
+__all__ = ["make_report", "strip_timings"]
 
 #: Version of the layout of results.json.
 RESULTS_FORMAT = 1
-
-
-def jsonable(obj):
-    """Plain JSON types: tuples -> lists, numpy scalars -> Python, NaN/inf -> None."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return jsonable(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    return obj
 
 
 def strip_timings(results: dict) -> dict:
