@@ -8,6 +8,8 @@ they are sites of the construction like any other vertex.
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 import shapely
 from scipy.spatial import cKDTree
@@ -24,6 +26,14 @@ def _fmt(p) -> str:
 def _signed_area(ring: np.ndarray) -> float:
     x, y = ring[:, 0], ring[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def _collinear(ring: np.ndarray) -> bool:
+    """Are all vertices on one line?  Decided exactly (rational arithmetic)."""
+    p = [(Fraction(float(x)), Fraction(float(y))) for x, y in ring]
+    far = max(p, key=lambda q: abs(q[0] - p[0][0]) + abs(q[1] - p[0][1]))
+    ux, uy = far[0] - p[0][0], far[1] - p[0][1]
+    return all((x - p[0][0]) * uy == (y - p[0][1]) * ux for x, y in p)
 
 
 def _as_ring(coords, name: str) -> np.ndarray:
@@ -60,8 +70,8 @@ def _as_ring(coords, name: str) -> np.ndarray:
             f"{name}: vertices {i} and {j} are the same point {_fmt(ring[i])}; "
             "remove the repeated vertex"
         )
-    if _signed_area(ring) == 0.0:
-        raise InvalidPolygonError(f"{name}: the ring has zero area (all vertices collinear?)")
+    if _signed_area(ring) == 0.0 and _collinear(ring):
+        raise InvalidPolygonError(f"{name}: the ring has zero area (all vertices are collinear)")
     lr = shapely.LinearRing(ring)
     if not lr.is_simple:
         reason = shapely.is_valid_reason(shapely.Polygon(ring))
