@@ -103,34 +103,45 @@ def _normaliser(polygon: Polygon):
 
 
 def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
-    """Split sites into interior ones and boundary ones (edge index, parameter)."""
+    """Split sites into interior ones and boundary ones (edge index, parameter).
+
+    Vectorised: one GEOS distance and one point-in-polygon query per site; only the
+    few sites within ``tol`` of the boundary are matched to their edge.
+    """
+    if len(sites) == 0:
+        return [], []
+    shape = polygon.to_shapely()
+    dist = shapely.distance(shape.boundary, shapely.points(sites))
+    near = np.flatnonzero(dist <= tol)
+    inside = shapely.contains_xy(shape, sites[:, 0], sites[:, 1])
+    outside = np.flatnonzero((dist > tol) & ~inside)
+    if len(outside):
+        i = int(outside[0])
+        raise InvalidSitesError(
+            f"site {i} {tuple(sites[i])} lies outside the polygon; sites must be inside P "
+            "or on its boundary"
+        )
     V = polygon.vertices
     edges = polygon.edges
     a = V[edges[:, 0]]
     d = V[edges[:, 1]] - a
     L2 = (d * d).sum(axis=1)
-    shape = polygon.to_shapely()
-    interior, boundary = [], []
-    for i, s in enumerate(sites):
+    boundary = []
+    for i in near:
+        s = sites[i]
         rel = s - a
         t = np.clip((rel * d).sum(axis=1) / L2, 0.0, 1.0)
-        dist = np.hypot(*(rel - t[:, None] * d).T)
-        e = int(np.argmin(dist))
-        if dist[e] <= tol:
-            if t[e] * np.sqrt(L2[e]) <= tol or (1 - t[e]) * np.sqrt(L2[e]) <= tol:
-                k = edges[e, 0] if t[e] < 0.5 else edges[e, 1]
-                raise InvalidSitesError(
-                    f"site {i} {tuple(s)} coincides with polygon vertex {int(k)}; "
-                    "polygon vertices are sites already, remove it"
-                )
-            boundary.append((i, e, float(t[e])))
-        elif shapely.contains_xy(shape, s[0], s[1]):
-            interior.append(i)
-        else:
+        e = int(np.argmin(np.hypot(*(rel - t[:, None] * d).T)))
+        if t[e] * np.sqrt(L2[e]) <= tol or (1 - t[e]) * np.sqrt(L2[e]) <= tol:
+            k = edges[e, 0] if t[e] < 0.5 else edges[e, 1]
             raise InvalidSitesError(
-                f"site {i} {tuple(s)} lies outside the polygon; sites must be inside P "
-                "or on its boundary"
+                f"site {int(i)} {tuple(s)} coincides with polygon vertex {int(k)}; "
+                "polygon vertices are sites already, remove it"
             )
+        boundary.append((int(i), e, float(t[e])))
+    near_set = np.zeros(len(sites), bool)
+    near_set[near] = True
+    interior = np.flatnonzero(~near_set).tolist()
     return interior, boundary
 
 

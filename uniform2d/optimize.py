@@ -12,7 +12,7 @@ Pipeline (:func:`optimize_mesh`):
    margin inside P number n − k (the last few are removed near the boundary /
    added in the largest triangles, deterministically).
 4. **Relaxation.**  Spring smoothing (linear springs of rest length ℓ0 on the
-   edges of the Delaunay triangulation of the current points restricted to P,
+   edges of the constrained Delaunay triangulation of the current points,
    rebuilt every step), polygon vertices and boundary points fixed, interior
    points that would leave P stay where they were.
 5. **Objective pass.**  Gradient descent on a p-norm of the chosen objective
@@ -24,11 +24,10 @@ Pipeline (:func:`optimize_mesh`):
    final points (:func:`uniform2d.insert`); its quality is compared with the
    starting T+ on the objective, and the better mesh is returned.
 
-Steps 4–5 use ``scipy.spatial.Delaunay`` of all points (vertices of P, boundary
-and interior points) with the triangles whose centroid lies outside P dropped:
-as long as the boundary is sampled at about the same spacing as the interior
-this is the constrained Delaunay triangulation; it is only used to steer the
-points, never returned.  The returned triangles always come from step 6.
+Every triangulation (steps 3–6) is the exact constrained Delaunay triangulation
+of the current points, from :func:`uniform2d.insert` with the points as sites
+(Hilbert-ordered bulk insertion: faster than ``scipy.spatial.Delaunay`` here, and
+it respects holes and concave corners exactly).
 """
 
 from __future__ import annotations
@@ -39,7 +38,7 @@ import numbers
 
 import numpy as np
 import shapely
-from scipy.spatial import Delaunay, cKDTree
+from scipy.spatial import cKDTree
 
 from .errors import InsufficientPointsError
 from .insert import insert
@@ -158,7 +157,7 @@ def _seed_interior(polygon: Polygon, count: int, h: float, bpts: np.ndarray) -> 
         P = P[np.sort(order[len(P) - count :])]
     while len(P) < count:  # add centroids of the largest triangles
         allp = np.concatenate([polygon.vertices, bpts, P])
-        tri = _restricted_delaunay(allp, shp)
+        tri = _cdt(polygon, allp)
         q = allp[tri]
         area = 0.5 * np.abs(_cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]))
         need = count - len(P)
@@ -168,14 +167,11 @@ def _seed_interior(polygon: Polygon, count: int, h: float, bpts: np.ndarray) -> 
 
 
 # ----------------------------------------------------------------------------- triangulation
-def _restricted_delaunay(points: np.ndarray, shp) -> np.ndarray:
-    tri = Delaunay(points).simplices.astype(np.int64)
-    c = points[tri].mean(axis=1)
-    tri = tri[shapely.contains_xy(shp, c[:, 0], c[:, 1])]
-    q = points[tri]
-    cr = _cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
-    tri[cr < 0] = tri[cr < 0][:, [0, 2, 1]]
-    return tri
+def _cdt(polygon: Polygon, points: np.ndarray) -> np.ndarray:
+    """The exact constrained Delaunay triangulation of ``points`` (the polygon's
+    vertices first, then boundary and interior points), CCW, restricted to P."""
+    nV = len(polygon.vertices)
+    return np.asarray(insert(polygon, 0, sites=points[nV:]).triangles)
 
 
 def _cross(u, v):
@@ -253,7 +249,7 @@ class _State:
         return slice(self.nV, self.nV + self.nb)
 
     def triangulate(self):
-        return _restricted_delaunay(self.points, self.shp)
+        return _cdt(self.polygon, self.points)
 
     def move_interior(self, disp, clearance):
         """Apply ``disp`` to the interior points; a point whose new place is outside P
@@ -353,7 +349,7 @@ def _rebalance_boundary(st: "_State", h: float, hysteresis: float = 0.6) -> int:
 
 
 def _spring_relax(st: _State, h: float, iters: int, tol: float = 1e-4):
-    """Linear springs of rest length h on the restricted Delaunay edges."""
+    """Linear springs of rest length h on the constrained Delaunay edges."""
     sl = st.interior
     ni = sl.stop - sl.start
     if ni == 0:
