@@ -110,6 +110,25 @@ def _default_mode(path: Path) -> int:
         return 0o666 & ~mask
 
 
+def _write_exact_text(fh, ext: str, V: np.ndarray, F: np.ndarray) -> None:
+    """OBJ or OFF with every coordinate in shortest round-trip form (%.17g).
+
+    trimesh's ``digits`` counts decimal places, not significant digits, so small
+    coordinates would lose precision; these two formats are simple enough to write.
+    """
+    import io
+
+    buf = io.StringIO()
+    if ext == "off":
+        buf.write(f"OFF\n{len(V)} {len(F)} 0\n")
+        np.savetxt(buf, V, fmt="%.17g")
+        np.savetxt(buf, np.c_[np.full(len(F), 3), F], fmt="%d")
+    else:
+        np.savetxt(buf, V, fmt="v %.17g %.17g %.17g")
+        np.savetxt(buf, F + 1, fmt="f %d %d %d")
+    fh.write(buf.getvalue().encode("ascii"))
+
+
 def write_patch(path, vertices, faces) -> Path:
     """Write a triangle mesh atomically.
 
@@ -149,9 +168,11 @@ def write_patch(path, vertices, faces) -> Path:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".{ext}", dir=directory)
     try:
         os.chmod(tmp, _default_mode(path))
-        kwargs = {"digits": 17} if ext in ("obj", "off") else {}  # round-trip exact
         with os.fdopen(fd, "wb") as fh:
-            mesh.export(fh, file_type=ext, **kwargs)
+            if ext in ("obj", "off"):
+                _write_exact_text(fh, ext, V, F)
+            else:
+                mesh.export(fh, file_type=ext)
         os.replace(tmp, path)
     except BaseException:
         try:

@@ -503,3 +503,11 @@ def test_polygon_and_corner_threshold():
     r = surface.remesh((t["vertices"], t["triangles"]), 250, corner_angle=100.0,
                        check=False, hausdorff=False)
     assert r.report.n_corners == 0
+
+
+@pytest.mark.parametrize("ext", ["obj", "off"])
+def test_write_patch_round_trips_small_coordinates_exactly(tmp_path, ext):
+    V = np.array([[1e-9, 2.5e-12, 0.1], [1 + 1e-15, 0.0, 3e-300], [0.0, 1.0, 7.123456789012345e-8]])
+    F = np.array([[0, 1, 2]])
+    q = surface.read_patch(surface.write_patch(tmp_path / f"t.{ext}", V, F))
+    assert np.array_equal(q.vertices, V) and q.faces.tolist() == [[0, 1, 2]]
