@@ -115,7 +115,7 @@ def main(outdir="docs/img", n=1000):
     for ax, (label, res) in zip(axes[1:], panels):
         lc = _edges2d(ax, res.uv, res.faces, _len3d(res))
         ax.set_title(
-            f"UV mesh, compensation {label}: 3-D size trend {res.report.size_trend:+.2f}"
+            f"UV mesh, compensation {label}\n3-D size trend {res.report.size_trend:+.2f}"
         )
     fig.colorbar(lc, ax=list(axes[1:]), shrink=0.7, label="3-D edge length / target")
     fig.savefig(out / "surface_cap60_uv.png", dpi=130, bbox_inches="tight")
