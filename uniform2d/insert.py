@@ -272,10 +272,14 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
             f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
         )
 
-    points = out_xy * scale + centre
+    del M, P  # the queues are done: release them before the outputs are built
+    triangles = cdt.triangle_list(m)
+    del m, xy
+    out_xy *= scale
+    out_xy += centre
+    points = out_xy
     weights = out_w * scale
     mesh_points = np.concatenate([V, sites, points], axis=0)
-    triangles = cdt.triangle_list(m)
     for arr in (points, weights, out_b, mesh_points, triangles):
         arr.setflags(write=False)
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
