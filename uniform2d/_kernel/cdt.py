@@ -63,9 +63,13 @@ import numpy as np
 from numba import njit, types
 from numba.experimental import structref
 
-from .predicates import dot2d, incircle, orient2d
+from .heap import grown
+from .predicates import incircle, orient2d
 
-__all__ = ["Tri", "allocate", "legalize_all", "insert_point", "locate", "circumcircle"]
+__all__ = [
+    "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "insert_point",
+    "insert_sites", "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
+]  # fmt: skip
 
 #: Initial size of the scratch buffers; cavities and searches are small in practice,
 #: and the buffers double when one is not.
@@ -164,16 +168,6 @@ def allocate(nmax, tmax, size_grid=None):
         sized,
     )
     return m, xy
-
-
-@njit(cache=True)
-def grown(a, need):
-    """``a`` itself if it holds ``need`` entries, else a copy with at least twice the room."""
-    if need <= a.shape[0]:
-        return a
-    out = np.empty(max(need, 2 * a.shape[0]), a.dtype)
-    out[: a.shape[0]] = a
-    return out
 
 
 @njit(cache=True)
@@ -537,9 +531,3 @@ def triangle_list(m):
         out[t, 1] = m.tv[3 * t + 1]
         out[t, 2] = m.tv[3 * t + 2]
     return out
-
-
-@njit(cache=True)
-def angle_ok(xy, a, b, c):
-    """Sign of the angle test at c for edge (a, b): (a - c).(b - c) (exact)."""
-    return dot2d(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])

@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit, types
 from numba.experimental import structref
 
-__all__ = ["new_heap", "push", "pop", "top_key", "new_lheap", "lpush", "lpop", "ltop"]
+__all__ = ["grown", "new_heap", "push", "pop", "top_key", "new_lheap", "lpush", "lpop", "ltop"]
 
 
 @structref.register
@@ -67,8 +67,11 @@ def new_lheap(capacity):
 
 
 @njit(cache=True)
-def _grow_f(a, cap):
-    out = np.empty(cap, a.dtype)
+def grown(a, need):
+    """``a`` itself if it holds ``need`` entries, else a copy with at least twice the room."""
+    if need <= a.shape[0]:
+        return a
+    out = np.empty(max(need, 2 * a.shape[0]), a.dtype)
     out[: a.shape[0]] = a
     return out
 
@@ -79,9 +82,9 @@ def push(H, key, a, b):
     """Add ``(key; a, b)``."""
     n = H.size
     if n == H.keys.shape[0]:
-        H.keys = _grow_f(H.keys, 2 * n)
-        H.pa = _grow_f(H.pa, 2 * n)
-        H.pb = _grow_f(H.pb, 2 * n)
+        H.keys = grown(H.keys, 2 * n)
+        H.pa = grown(H.pa, 2 * n)
+        H.pb = grown(H.pb, 2 * n)
     K, PA, PB = H.keys, H.pa, H.pb
     i = n
     while i > 0:
@@ -145,10 +148,10 @@ def lpush(L, k1, k2, a, b):
     """Add ``(k1, k2; a, b)``."""
     n = L.size
     if n == L.k1.shape[0]:
-        L.k1 = _grow_f(L.k1, 2 * n)
-        L.k2 = _grow_f(L.k2, 2 * n)
-        L.pa = _grow_f(L.pa, 2 * n)
-        L.pb = _grow_f(L.pb, 2 * n)
+        L.k1 = grown(L.k1, 2 * n)
+        L.k2 = grown(L.k2, 2 * n)
+        L.pa = grown(L.pa, 2 * n)
+        L.pb = grown(L.pb, 2 * n)
     K1, K2, PA, PB = L.k1, L.k2, L.pa, L.pb
     i = n
     while i > 0:

@@ -97,7 +97,8 @@ def size_at(m, x, y):
 
 @njit(cache=True)
 def triangle_key(m, t):
-    """Circumradius of t if its circumcentre is a candidate (see module doc), else -1."""
+    """Its value (circumradius / size there) if t's circumcentre is a candidate (see
+    the module doc), else -1."""
     xy = m.xy
     for i in range(3):
         h = 3 * t + i
@@ -109,7 +110,7 @@ def triangle_key(m, t):
         if s < 0.0 or (s == 0.0 and m.tw[h] < 0):
             return -1.0
     cx, cy, r = circumcircle(xy, m.tv[3 * t], m.tv[3 * t + 1], m.tv[3 * t + 2])
-    return r
+    return r / size_at(m, cx, cy)
 
 
 @njit(cache=True)
@@ -251,9 +252,6 @@ def eval_segment(m, h, xtol):
 def _push_triangle(m, M, t):
     r = triangle_key(m, t)
     if r > 0.0:
-        if m.sized:
-            cx, cy, r = circumcircle(m.xy, m.tv[3 * t], m.tv[3 * t + 1], m.tv[3 * t + 2])
-            r = r / size_at(m, cx, cy)
         heap.push(M, r, t, m.tstamp[t])
 
 
@@ -381,20 +379,15 @@ def _dump_window(P):
 
 @njit(cache=True)
 def _grow_pool(P):
-    s = P.nslots
-    c = 2 * s
-    P.pa = heap._grow_f(P.pa, c)
-    P.pb = heap._grow_f(P.pb, c)
-    P.pw = heap._grow_f(P.pw, c)
-    P.px = heap._grow_f(P.px, c)
-    P.py = heap._grow_f(P.py, c)
-    g2 = np.zeros(c, np.int32)
-    g2[:s] = P.pgen
-    P.pgen = g2
-    l2 = np.zeros(c, np.int8)
-    l2[:s] = P.ploc
-    P.ploc = l2
-    P.pfree = heap._grow_f(P.pfree, c)
+    c = 2 * P.nslots
+    P.pa = heap.grown(P.pa, c)
+    P.pb = heap.grown(P.pb, c)
+    P.pw = heap.grown(P.pw, c)
+    P.px = heap.grown(P.px, c)
+    P.py = heap.grown(P.py, c)
+    P.pgen = heap.grown(P.pgen, c)  # a new slot's generation may start anywhere
+    P.ploc = heap.grown(P.ploc, c)  # set when the slot is filed
+    P.pfree = heap.grown(P.pfree, c)
 
 
 @njit(cache=True)
@@ -536,7 +529,7 @@ def _choose(m, M, P, W, xtol):
             if nsel == 0:
                 ymin = y
             if nsel == P.sel.shape[0]:
-                P.sel = heap._grow_f(P.sel, 2 * nsel)
+                P.sel = heap.grown(P.sel, 2 * nsel)
             P.sel[nsel] = s
             nsel += 1
         best = -1
