@@ -40,8 +40,10 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from ._kernel import cdt, relax
+from ._kernel.distance import to_segments
 from .errors import InsufficientPointsError
-from .insert import insert
+from .insert import _normaliser, _size_grid, insert
 from .mesh import Mesh
 from .polygon import Polygon
 
@@ -126,26 +128,26 @@ def _seed_interior(polygon: Polygon, count: int, h: float, bpts: np.ndarray) -> 
     origin = a[e] + nrm * h * math.sqrt(3) / 2 + d[e] / L[e] * (h / 2)
     shp = polygon.to_shapely()
     shapely.prepare(shp)
-    bnd = shp.boundary
-    shapely.prepare(bnd)
+    sa, sd, _ = _edge_geometry(polygon)
+    sb = sa + sd
 
     def cand(sp):
         P = _hex_lattice(polygon, sp, angle, origin)
         inside = shapely.contains_xy(shp, P[:, 0], P[:, 1])
         P = P[inside]
-        dist = shapely.distance(bnd, shapely.points(P))
+        dist = to_segments(P, sa, sb)
         return P[dist >= 0.5 * sp], dist[dist >= 0.5 * sp]
 
     lo, hi = 0.5 * h, 1.5 * h  # count(sp) decreases with sp
     best = None
-    for _ in range(40):
+    for _ in range(30):
         mid = 0.5 * (lo + hi)
         P, dist = cand(mid)
         if best is None or abs(len(P) - count) < abs(len(best[0]) - count) or (
             abs(len(P) - count) == abs(len(best[0]) - count) and len(P) >= count
         ):
             best = (P, dist)
-        if len(P) == count:
+        if abs(len(P) - count) <= count // 500:  # close: the fix-up below is exact
             break
         if len(P) > count:
             lo = mid
@@ -178,37 +180,7 @@ def _cross(u, v):
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
-def _edges(tri: np.ndarray) -> np.ndarray:
-    e = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    e.sort(axis=1)
-    n = int(e.max()) + 1 if len(e) else 1
-    key = np.unique(e[:, 0] * n + e[:, 1])
-    return np.stack([key // n, key % n], axis=1)
-
-
-def _scatter(idx_pos, idx_neg, vec, n):
-    """G[i] = Σ vec over edges with idx_pos == i minus Σ over idx_neg == i (bincount, fast)."""
-    G = np.empty((n, 2))
-    for c in (0, 1):
-        G[:, c] = np.bincount(idx_pos, vec[:, c], minlength=n) - np.bincount(idx_neg, vec[:, c], minlength=n)
-    return G
-
-
 # ----------------------------------------------------------------------------- objectives
-def _measures(points, tri, edges=None):
-    if edges is None:
-        edges = _edges(tri)
-    dv = points[edges[:, 1]] - points[edges[:, 0]]
-    L = np.hypot(dv[:, 0], dv[:, 1])
-    q = points[tri]
-    s = (
-        np.hypot(*(q[:, 1] - q[:, 0]).T)
-        + np.hypot(*(q[:, 2] - q[:, 1]).T)
-        + np.hypot(*(q[:, 0] - q[:, 2]).T)
-    )
-    return L.max(), L.min(), s.max()
-
-
 def objective_value(objective: str, longest: float, shortest: float, perimeter: float, h: float):
     """Scalar the objective pass minimises (lower is better); h makes it scale-free."""
     if objective == "ratio":
@@ -225,216 +197,144 @@ def _quality_objective(objective, q, h):
     return objective_value(objective, q.longest_edge, q.shortest_edge, q.max_perimeter, h)
 
 
-# ----------------------------------------------------------------------------- relaxation
-class _State:
-    """Points: polygon vertices (fixed), boundary points (edge id, parameter), interior points."""
-
-    def __init__(self, polygon, bpts, beid, bt, ipts):
-        self.polygon = polygon
-        self.nV = len(polygon.vertices)
-        self.a, self.d, self.L = _edge_geometry(polygon)
-        self.beid, self.bt = beid, bt
-        self.nb = len(bpts)
-        self.points = np.concatenate([polygon.vertices, bpts, ipts]).astype(np.float64)
-        self.shp = polygon.to_shapely()
-        shapely.prepare(self.shp)
-        self.bnd = self.shp.boundary
-
-    @property
-    def interior(self):
-        return slice(self.nV + self.nb, len(self.points))
-
-    @property
-    def bslice(self):
-        return slice(self.nV, self.nV + self.nb)
-
-    def triangulate(self):
-        return _cdt(self.polygon, self.points)
-
-    def move_interior(self, disp, clearance):
-        """Apply ``disp`` to the interior points; a point whose new place is outside P
-        or closer than ``clearance`` to the boundary keeps its place."""
-        sl = self.interior
-        old = self.points[sl]
-        new = old + disp
-        ok = shapely.contains_xy(self.shp, new[:, 0], new[:, 1])
-        if clearance > 0:
-            idx = np.flatnonzero(ok)
-            near = shapely.distance(self.bnd, shapely.points(new[idx])) < clearance
-            ok[idx[near]] = False
-        self.points[sl] = np.where(ok[:, None], new, old)
-
-    def slide_boundary(self, g):
-        """Move boundary points along their edges by the tangential part of ``g``,
-        keeping their order and a minimum relative gap on each edge."""
-        if self.nb == 0:
-            return
-        e = self.beid
-        tang = self.d[e] / self.L[e][:, None]
-        dt = (g * tang).sum(axis=1) / self.L[e]
-        t = self.bt + dt
-        # keep order: clip each to the open interval between neighbours (old positions)
-        out = np.empty_like(t)
-        for edge in np.unique(e):
-            idx = np.flatnonzero(e == edge)  # stored in increasing t
-            told = self.bt[idx]
-            lo = np.concatenate([[0.0], told[:-1]])
-            hi = np.concatenate([told[1:], [1.0]])
-            gap = 0.25 * np.minimum(np.diff(np.concatenate([[0.0], told])), np.diff(np.concatenate([told, [1.0]])))
-            out[idx] = np.clip(t[idx], lo + gap, hi - gap)
-            out[idx] = np.clip(out[idx], told - gap, told + gap)
-        self.bt = out
-        self.points[self.bslice] = self.a[e] + self.d[e] * out[:, None]
 
 
-def _rebalance_boundary(st: "_State", h: float, hysteresis: float = 0.6) -> int:
-    """Move points between the interior and the polygon edges so that each edge's
-    gap matches the length of the mesh edges next to it; returns the number of moves."""
-    tri = st.triangulate()
-    E = _edges(tri)
-    p = st.points
-    nV, nb = st.nV, st.nb
-    L = np.hypot(*(p[E[:, 1]] - p[E[:, 0]]).T)
-    isb = np.zeros(len(p), bool)
-    isb[: nV + nb] = True
-    # polygon edge of each boundary vertex (vertices of P belong to two edges: skip them)
-    pe = np.full(len(p), -1, np.int64)
-    pe[nV : nV + nb] = st.beid
-    inner = ~(isb[E[:, 0]] & isb[E[:, 1]])  # edges touching the interior
-    m = np.bincount(st.beid, minlength=len(st.L)) + 1
-    new_m = m.copy()
-    add_pts = []
-    take = []
-    ipos = np.arange(nV + nb, len(p))
-    for e in range(len(st.L)):
-        sel = inner & ((pe[E[:, 0]] == e) | (pe[E[:, 1]] == e))
-        if not sel.any():
-            continue
-        ell = L[sel].mean()
-        mstar = st.L[e] / ell
-        if mstar - m[e] > hysteresis and len(ipos):
-            # nearest interior point to the edge, projecting inside it
-            q = p[ipos] - st.a[e]
-            t = (q @ st.d[e]) / st.L[e] ** 2
-            dist = np.abs(_cross(st.d[e], q)) / st.L[e]
-            cand = np.flatnonzero((t > 0.05) & (t < 0.95) & (dist < 1.2 * h))
-            cand = [c for c in cand if ipos[c] not in take]
-            if cand:
-                c = min(cand, key=lambda c: (dist[c], c))
-                take.append(int(ipos[c]))
-                new_m[e] += 1
-        elif m[e] - mstar > hysteresis and m[e] > 1:
-            new_m[e] -= 1
-            nrm = np.array([-st.d[e, 1], st.d[e, 0]]) / st.L[e]
-            mid = st.a[e] + 0.5 * st.d[e]
-            for sgn in (1.0, -1.0):
-                c = mid + sgn * nrm * 0.6 * h
-                if shapely.contains_xy(st.shp, c[0], c[1]):
-                    add_pts.append(c)
-                    break
-            else:
-                new_m[e] += 1
-    moves = int(np.abs(new_m - m).sum())
-    if moves == 0:
-        return 0
-    keep = np.setdiff1d(ipos, np.array(take, dtype=np.int64))
-    ipts = p[keep]
-    if add_pts:
-        ipts = np.concatenate([ipts, np.array(add_pts)])
-    bpts, beid, bt = _boundary_points(st.a, st.d, new_m)
-    assert len(bpts) + len(ipts) == nb + len(ipos)
-    st.beid, st.bt, st.nb = beid, bt, len(bpts)
-    st.points = np.concatenate([st.polygon.vertices, bpts, ipts]).astype(np.float64)
-    return moves
+# ----------------------------------------------------------------------------- moving points
+#: Spring rounds, then descent sweeps at each exponent of the continuation.
+SPRING_ROUNDS = 60
+SWEEPS = 40
+EXPONENTS = (8.0, 16.0, 32.0)
 
 
-def _spring_relax(st: _State, h: float, iters: int, tol: float = 1e-4):
-    """Linear springs of rest length h on the constrained Delaunay edges."""
-    sl = st.interior
-    ni = sl.stop - sl.start
-    if ni == 0:
-        return 0
-    it = 0
-    for it in range(1, iters + 1):
-        tri = st.triangulate()
-        E = _edges(tri)
-        p = st.points
-        dv = p[E[:, 1]] - p[E[:, 0]]
-        L = np.hypot(dv[:, 0], dv[:, 1])
-        # rest length: keep the mean edge ≈ its present value, slightly pushed outward
-        L0 = 1.02 * math.sqrt((L * L).mean())
-        f = ((L0 - L) / L)[:, None] * dv  # positive: repel
-        F = _scatter(E[:, 1], E[:, 0], f, len(p))
-        disp = 0.2 * F[sl]
-        step = np.hypot(disp[:, 0], disp[:, 1])
-        lim = 0.3 * h
-        big = step > lim
-        disp[big] *= (lim / step[big])[:, None]
-        st.move_interior(disp, 0.2 * h)
-        if step.max() < tol * h:
-            break
-    return it
+def improve(
+    polygon: Polygon,
+    sites,
+    *,
+    size=None,
+    objective: str = "balanced",
+    href: float | None = None,
+    spring_rounds: int = SPRING_ROUNDS,
+    sweeps: int = SWEEPS,
+    exponents=EXPONENTS,
+):
+    """Move the Steiner points of a mesh of P to make it more uniform, exactly n kept.
 
+    The mesh is the constrained Delaunay triangulation of P with ``sites``; the
+    polygon's vertices stay, sites on its boundary slide along their edges,
+    interior sites move freely, and the triangulation is kept valid and
+    constrained Delaunay throughout (exact predicates; see
+    :mod:`uniform2d._kernel.relax`).  First spring rounds towards equal
+    (size-normalised) edge lengths, then descent on the p-norm energy of
+    ``objective`` for each exponent in ``exponents``, keeping the best state.
 
-def _objective_pass(st: _State, objective: str, h: float, iters: int, p_exp: float = 8.0):
-    """Gradient descent on a p-norm surrogate of the objective; keeps the best iterate."""
-    best_pts = st.points.copy()
-    best_bt = st.bt.copy()
-    tri = st.triangulate()
-    best_val = objective_value(objective, *_measures(st.points, tri), h)
-    step = 0.02 * h
-    sl, bs = st.interior, st.bslice
-    for _ in range(iters):
-        p = st.points
-        E = _edges(tri)
-        dv = p[E[:, 1]] - p[E[:, 0]]
-        L = np.hypot(dv[:, 0], dv[:, 1])
-        u = dv / L[:, None]
-        Lmean = L.mean()
-        x = L / Lmean
-        w = np.zeros_like(L)
-        if objective in ("max_edge", "ratio", "balanced"):
-            w += x ** (p_exp - 1)  # d/dL of sum x^p / p  (penalises long edges)
-        if objective in ("ratio", "balanced"):
-            w -= x ** (-p_exp - 1)  # penalises short edges
-        g = w[:, None] * u
-        G = _scatter(E[:, 1], E[:, 0], g, len(p))
-        if objective in ("max_perimeter", "balanced"):
-            q = p[tri]
-            per = np.zeros(len(tri))
-            us = []
-            for i, j in ((0, 1), (1, 2), (2, 0)):
-                dd = q[:, j] - q[:, i]
-                ll = np.hypot(dd[:, 0], dd[:, 1])
-                per += ll
-                us.append((i, j, dd / ll[:, None]))
-            wt = (per / per.mean()) ** (p_exp - 1)
-            for i, j, uu in us:
-                gg = wt[:, None] * uu
-                G += _scatter(tri[:, j], tri[:, i], gg, len(p))
-        # normalise: the largest move is ``step``
-        gi = G[sl]
-        gb = G[bs]
-        mag = max(np.abs(gi).max() if len(gi) else 0.0, np.abs(gb).max() if len(gb) else 0.0)
-        if mag == 0:
-            break
-        scale = step / mag
-        st.move_interior(-scale * gi, 0.2 * h)
-        st.slide_boundary(-scale * gb)
-        tri = st.triangulate()
-        val = objective_value(objective, *_measures(st.points, tri), h)
-        if val < best_val:
-            best_val = val
-            best_pts = st.points.copy()
-            best_bt = st.bt.copy()
-            step *= 1.1
-        else:
-            step *= 0.7
-            if step < 1e-4 * h:
-                break
-    st.points = best_pts
-    st.bt = best_bt
-    return best_val
+    Parameters
+    ----------
+    polygon : Polygon
+    sites : array_like, shape (k, 2)
+        Steiner points inside P or on its boundary.  Not modified.
+    size : SizeField, optional
+        Target sizes (relative: the overall scale follows the point count).
+        None for a uniform mesh.
+    objective : {"balanced", "ratio", "max_edge", "max_perimeter"}
+    href : float, optional
+        The uniform target edge length (default: from the point count, as
+        :func:`target_size`); ignored with a ``size`` field.
+    spring_rounds, sweeps : int
+        Iteration limits (spring rounds; descent sweeps per exponent).
+    exponents : sequence of float
+        The p of each descent stage.
+
+    Returns
+    -------
+    points : ndarray, shape (|V| + k, 2)
+        The polygon's vertices exactly, then the moved sites (same order).
+    triangles : ndarray, shape (M, 3), int64
+        The exact constrained Delaunay triangulation of ``points`` (CCW).
+    info : dict
+        Spring rounds and sweeps made, the objective value reached.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.optimize import improve
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> pts, tri, info = improve(sq, [(0.3, 0.4), (0.5, 0.0), (0.6, 0.7)])
+    >>> pts.shape, np.allclose(pts[5, 1], 0.0)   # the boundary site stayed on y = 0
+    ((7, 2), True)
+    """
+    from .insert import BOUNDARY_TOL, _classify_sites
+
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    if objective not in OBJECTIVES:
+        raise ValueError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
+    res = insert(polygon, 0, sites=sites)
+    V = polygon.vertices
+    nV = len(V)
+    P0 = np.array(res.mesh_points, dtype=np.float64)
+    T0 = np.array(res.triangles, dtype=np.int32)
+    N = len(P0)
+    if N == nV:
+        return P0, np.asarray(T0, np.int64), {"spring_rounds": 0, "sweeps": 0}
+    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
+    _, boundary = _classify_sites(polygon, P0[nV:], BOUNDARY_TOL * extent)
+    a, d, _ = _edge_geometry(polygon)
+    centre, scale = _normaliser(polygon)
+
+    role = np.full(N, relax.FREE, np.int8)
+    role[:nV] = relax.FIXED
+    eid = np.full(N, -1, np.int64)
+    t = np.zeros(N)
+    for i, e, ti in boundary:
+        role[nV + i] = relax.SLIDE
+        eid[nV + i] = e
+        t[nV + i] = ti
+
+    m, xy = cdt.allocate(N, len(T0), _size_grid(size, centre, scale))
+    xy[:] = (P0 - centre) / scale
+    cdt.set_nv(m, N)
+    cdt.build_adjacency(m, T0)
+    cdt.legalize_all(m)
+    ea = (a - centre) / scale
+    ed = d / scale
+    hv = np.ones(N)
+    relax.refresh_sizes(m, hv)
+    if size is not None and _size_grid(size, centre, scale) is not None:
+        E = np.concatenate([T0[:, [0, 1]], T0[:, [1, 2]], T0[:, [2, 0]]])
+        Ls = np.hypot(*(xy[E[:, 1]] - xy[E[:, 0]]).T)
+        hs = 0.5 * (hv[E[:, 0]] + hv[E[:, 1]])
+        href_n = float(np.sqrt((Ls**2).mean() / (hs**2).mean()))
+    else:
+        if href is None:
+            href = target_size(polygon, N - nV)
+        href_n = href / scale
+    obj = OBJECTIVES.index(objective)
+
+    rounds = relax.spring(m, role, eid, t, ea, ed, hv, href_n, spring_rounds, 0.2, 1.02, 1e-4, 0.3)
+    done = 0
+    value = None
+    for p in exponents:
+        best_xy = xy.copy()
+        best_t = t.copy()
+        best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
+        k, value = relax.descend(
+            m, role, eid, t, ea, ed, hv, href_n, obj, sweeps, p, 0.05, best_xy, best_t, best_tv, 0.05
+        )
+        done += k
+        # continue from the best state of this stage
+        xy[:] = best_xy
+        t[:] = best_t
+        cdt.build_adjacency(m, best_tv.reshape(-1, 3))
+        cdt.legalize_all(m)
+
+    out = xy * scale + centre
+    out[:nV] = V
+    sl = role == relax.SLIDE
+    out[sl] = a[eid[sl]] + t[sl, None] * d[eid[sl]]
+    fin = insert(polygon, 0, sites=out[nV:])
+    info = {"spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value}
+    return np.array(fin.mesh_points), np.array(fin.triangles), info
 
 
 # ----------------------------------------------------------------------------- driver
@@ -443,13 +343,14 @@ def optimize_mesh(
     n: int,
     *,
     objective: str = "balanced",
-    relax_iters: int | None = None,
-    pass_iters: int | None = None,
     start: Mesh | None = None,
-    rebalance_rounds: int = 0,
-    p_exp: float = 32.0,
+    **options,
 ) -> Mesh:
-    """The most uniform mesh with exactly ``n`` Steiner points (see module docstring)."""
+    """The most uniform mesh with exactly ``n`` Steiner points (see module docstring).
+
+    ``start`` is the T+ mesh to beat (computed if not given); ``options`` go to
+    :func:`improve`.
+    """
     from .quality import quality
     from .tplus import tplus
 
@@ -469,27 +370,11 @@ def optimize_mesh(
     h = target_size(polygon, n)
     a, d, L = _edge_geometry(polygon)
     m = _boundary_counts(L, h, n)
-    bpts, beid, bt = _boundary_points(a, d, m)
+    bpts, _, _ = _boundary_points(a, d, m)
     ipts = _seed_interior(polygon, n - len(bpts), h, bpts)
-    st = _State(polygon, bpts, beid, bt, ipts)
-
-    if relax_iters is None:
-        relax_iters = 60 if n < 5000 else 20
-    if pass_iters is None:
-        pass_iters = 80 if n < 5000 else 40
-    it_relax = _spring_relax(st, h, relax_iters)
-    moved = 0
-    for _ in range(rebalance_rounds):
-        mv = _rebalance_boundary(st, h)
-        moved += mv
-        if mv == 0:
-            break
-        it_relax += _spring_relax(st, h, relax_iters)
-    _objective_pass(st, objective, h, pass_iters, p_exp)
-
-    res = insert(polygon, 0, sites=st.points[nV:])
-    pts = np.array(res.mesh_points)
-    tri = np.array(res.triangles)
+    pts, tri, run = improve(
+        polygon, np.concatenate([bpts, ipts]), objective=objective, href=h, **options
+    )
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = _quality_objective(objective, q_new, h)
     v_tp = _quality_objective(objective, q_tp, h)
@@ -509,8 +394,8 @@ def optimize_mesh(
         "d_n": d_n,
         "h": h,
         "k": int(len(bpts)),
-        "relax_iterations": it_relax,
-        "boundary_moves": moved,
+        "relax_iterations": run["spring_rounds"],
+        "sweeps": run["sweeps"],
         "start": {"method": tp.info.get("method"), **summary(q_tp), "objective": v_tp},
         "before": summary(q_tp),
         "after": summary(q_new),

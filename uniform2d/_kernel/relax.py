@@ -1,0 +1,467 @@
+"""Moving the vertices of a constrained Delaunay triangulation, in place.
+
+The optimiser (:mod:`uniform2d.optimize`) improves a mesh by moving its points;
+this module does the moving on a :class:`~uniform2d._kernel.cdt.Tri` (flat
+half-edge arrays, see ``cdt``) without ever rebuilding it.
+
+Vertex roles (``role[v]``)
+--------------------------
+``FIXED``  never moves (the polygon's vertices).
+``FREE``   an interior point; moves in the plane.
+``SLIDE``  a boundary point on polygon edge ``eid[v]``: its place is
+           ``ea[e] + t[v] * ed[e]`` and it moves by changing ``t[v]``, never past
+           its neighbours along the ring (so the boundary chain keeps its order).
+
+Every move keeps the mesh valid, exactly
+----------------------------------------
+A move is only made if every triangle around the moved vertex stays strictly
+counter-clockwise (exact ``orient2d``).  With the boundary chain in order that
+means the triangles still tile P, so nothing has to be located again.  After a
+round of moves, :func:`cdt.legalize_all` makes every unconstrained edge locally
+Delaunay with the exact ``incircle`` (Lawson flips never touch a constrained,
+i.e. boundary, edge), so after every round the mesh is again the constrained
+Delaunay triangulation of its points.
+
+Targets
+-------
+``hv[v]`` is the target size at vertex v relative to ``href`` (1 everywhere for
+a uniform mesh; the size field for a graded one), refreshed from the Tri's size
+grid after each round.  An edge's target is ``href * (hv[a] + hv[b]) / 2``, its
+normalised length ``l = L / target``; a triangle's normalised perimeter is its
+perimeter over the sum of its three edge targets.
+
+Two ways to move
+----------------
+:func:`spring`   Jacobi rounds of linear springs whose rest lengths are the
+                 targets scaled so that their root mean square equals the
+                 edges' (times ``pressure``): a least-squares pull towards equal
+                 normalised lengths (small spread, the edge CV).
+:func:`descend`  Gauss-Seidel sweeps over the vertices, each moved by a
+                 backtracking line search on its share of the energy
+                 ``sum l**p + l**-p`` over edges (and ``sum pi**p`` over
+                 perimeters): with large p that is the max/min of the
+                 objective, decreased one vertex at a time (a decrease of a
+                 vertex's share is a decrease of the total).  The best state
+                 by the true objective is kept.
+
+Around a vertex v the kernel turns counter-clockwise with ``h -> tw[prv(h)]``
+starting from an outgoing half-edge (``vseg[v]`` on the boundary, where the turn
+ends at -1)::
+
+            c
+           / \\         h = v->b, prv(h) = c->v, tw[prv(h)] = v->c: the next
+          /   \\        outgoing half-edge, counter-clockwise around v
+         v --h-> b
+"""
+
+import numpy as np
+from numba import njit
+
+from .cdt import legalize_all, nxt, prv
+from .insert import size_at
+from .predicates import orient2d
+
+__all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "measure", "refresh_sizes"]
+
+FIXED, FREE, SLIDE = 0, 1, 2
+#: Objectives, in the order of :data:`uniform2d.optimize.OBJECTIVES`.
+BALANCED, RATIO, MAX_EDGE, MAX_PERIMETER = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def refresh_sizes(m, hv):
+    """hv[v] = the size field at vertex v (1 without a field)."""
+    for v in range(m.nv):
+        hv[v] = size_at(m, m.xy[v, 0], m.xy[v, 1])
+
+
+@njit(cache=True)
+def measure(m, hv, href):
+    """(longest, shortest, largest perimeter), all normalised by their targets."""
+    xy, tv = m.xy, m.tv
+    lmax = 0.0
+    lmin = np.inf
+    pmax = 0.0
+    for t in range(m.nt):
+        per = 0.0
+        tgt = 0.0
+        for i in range(3):
+            a = tv[3 * t + i]
+            b = tv[3 * t + (i + 1) % 3]
+            L = np.hypot(xy[b, 0] - xy[a, 0], xy[b, 1] - xy[a, 1])
+            s = 0.5 * (hv[a] + hv[b]) * href
+            per += L
+            tgt += s
+            ell = L / s
+            lmax = max(lmax, ell)
+            lmin = min(lmin, ell)
+        pmax = max(pmax, per / tgt)
+    return lmax, lmin, pmax
+
+
+@njit(cache=True)
+def objective_of(objective, lmax, lmin, pmax):
+    """The scalar minimised (as :func:`uniform2d.optimize.objective_value` with h = 1)."""
+    if objective == RATIO:
+        return lmax / lmin
+    if objective == MAX_EDGE:
+        return lmax
+    if objective == MAX_PERIMETER:
+        return pmax
+    return (lmax / lmin * lmax * pmax) ** (1.0 / 3.0)
+
+
+@njit(cache=True)
+def _ring_neighbours(m, role):
+    """Previous and next vertex along the boundary ring of every SLIDE vertex."""
+    n = m.nv
+    prevb = np.full(n, -1, np.int64)
+    nextb = np.full(n, -1, np.int64)
+    for v in range(n):
+        h = m.vseg[v]
+        if h >= 0:
+            w = m.tv[nxt(h)]
+            nextb[v] = w
+            prevb[w] = v
+    return prevb, nextb
+
+
+@njit(cache=True)
+def _t_of(role, t, u, at_start):
+    """Parameter of ring neighbour u on the edge of a SLIDE vertex (0/1 at its ends)."""
+    if role[u] == SLIDE:
+        return t[u]
+    return 0.0 if at_start else 1.0
+
+
+@njit(cache=True)
+def _outgoing(m):
+    """One outgoing half-edge per vertex: the boundary one for boundary vertices."""
+    vh = np.full(m.nv, -1, np.int64)
+    for h in range(3 * m.nt):
+        v = m.tv[h]
+        if vh[v] < 0:
+            vh[v] = h
+    for v in range(m.nv):
+        if m.vseg[v] >= 0:
+            vh[v] = m.vseg[v]
+    return vh
+
+
+@njit(cache=True)
+def _star_ok(m, v, x, y, h0, floor):
+    """Whether every triangle around v stays strictly CCW with v at (x, y), and
+    no flatter than twice its area >= ``floor`` (a quality guard, not a predicate)."""
+    xy, tv, tw = m.xy, m.tv, m.tw
+    h = h0
+    while True:
+        b = tv[nxt(h)]
+        c = tv[prv(h)]
+        det = orient2d(x, y, xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])
+        if det <= 0.0 or det < floor:
+            return False
+        h = tw[prv(h)]
+        if h < 0 or h == h0:
+            return True
+
+
+# ----------------------------------------------------------------------------- springs
+@njit(cache=True)
+def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap):
+    """Jacobi spring rounds (see the module docstring); returns the rounds made.
+
+    A vertex moves by ``dt`` times its spring force, at most ``cap * href * hv[v]``;
+    a SLIDE vertex by the tangential part, at most a quarter of its gap to either
+    ring neighbour.  Moves that would invert a triangle are undone (its three
+    vertices stay), then the mesh is legalised.  Stops when the largest move is
+    below ``tol * href``.
+    """
+    n = m.nv
+    xy, tv, tw = m.xy, m.tv, m.tw
+    prevb, nextb = _ring_neighbours(m, role)
+    F = np.zeros((n, 2))
+    new = np.empty((n, 2))
+    newt = t.copy()
+    moved = np.zeros(n, np.bool_)
+    it = 0
+    for it in range(1, iters + 1):
+        if m.sized:
+            refresh_sizes(m, hv)
+        # rest-length scale c: sum (c * target)^2 = pressure^2 * sum L^2
+        sL = 0.0
+        sT = 0.0
+        for h in range(3 * m.nt):
+            g = tw[h]
+            if g >= 0 and g < h:
+                continue
+            a = tv[h]
+            b = tv[nxt(h)]
+            L2 = (xy[b, 0] - xy[a, 0]) ** 2 + (xy[b, 1] - xy[a, 1]) ** 2
+            s = 0.5 * (hv[a] + hv[b])
+            sL += L2
+            sT += s * s
+        c = pressure * np.sqrt(sL / sT)
+        F[:, :] = 0.0
+        for h in range(3 * m.nt):
+            g = tw[h]
+            if g >= 0 and g < h:
+                continue
+            a = tv[h]
+            b = tv[nxt(h)]
+            dx = xy[b, 0] - xy[a, 0]
+            dy = xy[b, 1] - xy[a, 1]
+            L = np.hypot(dx, dy)
+            f = (c * 0.5 * (hv[a] + hv[b]) - L) / L
+            F[b, 0] += f * dx
+            F[b, 1] += f * dy
+            F[a, 0] -= f * dx
+            F[a, 1] -= f * dy
+        biggest = _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved)
+        _commit(m, role, t, new, newt, moved)
+        legalize_all(m)
+        if biggest < tol * href:
+            break
+    return it
+
+
+@njit(cache=True)
+def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved):
+    """Trial places ``new``/``newt`` of all movable vertices; returns the largest move."""
+    xy = m.xy
+    biggest = 0.0
+    for v in range(m.nv):
+        moved[v] = False
+        if role[v] == FIXED:
+            continue
+        dx = dt * F[v, 0]
+        dy = dt * F[v, 1]
+        lim = cap * href * hv[v]
+        if role[v] == FREE:
+            step = np.hypot(dx, dy)
+            if step > lim:
+                dx *= lim / step
+                dy *= lim / step
+                step = lim
+            if step == 0.0:
+                continue
+            new[v, 0] = xy[v, 0] + dx
+            new[v, 1] = xy[v, 1] + dy
+            moved[v] = True
+            biggest = max(biggest, step)
+        else:
+            e = eid[v]
+            ex, ey = ed[e, 0], ed[e, 1]
+            L2 = ex * ex + ey * ey
+            dtv = (dx * ex + dy * ey) / L2
+            tp = _t_of(role, t, prevb[v], True)
+            tn = _t_of(role, t, nextb[v], False)
+            gap = 0.25 * min(t[v] - tp, tn - t[v])
+            gap = min(gap, lim / np.sqrt(L2))
+            dtv = min(max(dtv, -gap), gap)
+            if dtv == 0.0:
+                continue
+            newt[v] = t[v] + dtv
+            new[v, 0] = ea[e, 0] + newt[v] * ex
+            new[v, 1] = ea[e, 1] + newt[v] * ey
+            moved[v] = True
+            biggest = max(biggest, abs(dtv) * np.sqrt(L2))
+    return biggest
+
+
+@njit(cache=True)
+def _commit(m, role, t, new, newt, moved):
+    """Apply the trial places, undoing those that would invert a triangle (exact)."""
+    xy, tv = m.xy, m.tv
+    changed = True
+    while changed:
+        changed = False
+        for tt in range(m.nt):
+            a = tv[3 * tt]
+            b = tv[3 * tt + 1]
+            c = tv[3 * tt + 2]
+            if not (moved[a] or moved[b] or moved[c]):
+                continue
+            ax, ay = (new[a, 0], new[a, 1]) if moved[a] else (xy[a, 0], xy[a, 1])
+            bx, by = (new[b, 0], new[b, 1]) if moved[b] else (xy[b, 0], xy[b, 1])
+            cx, cy = (new[c, 0], new[c, 1]) if moved[c] else (xy[c, 0], xy[c, 1])
+            if orient2d(ax, ay, bx, by, cx, cy) <= 0.0:
+                moved[a] = False
+                moved[b] = False
+                moved[c] = False
+                changed = True
+    for v in range(m.nv):
+        if moved[v]:
+            xy[v, 0] = new[v, 0]
+            xy[v, 1] = new[v, 1]
+            if role[v] == SLIDE:
+                t[v] = newt[v]
+
+
+# ----------------------------------------------------------------------------- descent
+@njit(cache=True)
+def _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, grad):
+    """Vertex v's share of the energy with v at (x, y); its gradient into ``grad``."""
+    xy, tv, tw = m.xy, m.tv, m.tw
+    E = 0.0
+    gx = 0.0
+    gy = 0.0
+    h = h0
+    while True:
+        b = tv[nxt(h)]
+        c = tv[prv(h)]
+        # edge v-b (each edge around v is the first edge of exactly one triangle,
+        # except the incoming boundary edge c-v of the last triangle, added below)
+        sb = 0.5 * (hv[v] + hv[b]) * href
+        dbx = x - xy[b, 0]
+        dby = y - xy[b, 1]
+        Lb = np.hypot(dbx, dby)
+        sc = 0.5 * (hv[v] + hv[c]) * href
+        dcx = x - xy[c, 0]
+        dcy = y - xy[c, 1]
+        Lc = np.hypot(dcx, dcy)
+        lb = Lb / sb
+        if w_len > 0.0:
+            E += w_len * lb**p
+            d = w_len * p * lb ** (p - 1) / sb
+            gx += d * dbx / Lb
+            gy += d * dby / Lb
+        if w_short > 0.0:
+            E += w_short * lb**-p
+            d = -w_short * p * lb ** (-p - 1) / sb
+            gx += d * dbx / Lb
+            gy += d * dby / Lb
+        if w_per > 0.0:
+            Lbc = np.hypot(xy[c, 0] - xy[b, 0], xy[c, 1] - xy[b, 1])
+            tgt = sb + sc + 0.5 * (hv[b] + hv[c]) * href
+            pi = (Lb + Lc + Lbc) / tgt
+            E += w_per * pi**p
+            d = w_per * p * pi ** (p - 1) / tgt
+            gx += d * (dbx / Lb + dcx / Lc)
+            gy += d * (dby / Lb + dcy / Lc)
+        g = tw[prv(h)]
+        if g < 0:  # boundary: the last edge c-v
+            lc = Lc / sc
+            if w_len > 0.0:
+                E += w_len * lc**p
+                d = w_len * p * lc ** (p - 1) / sc
+                gx += d * dcx / Lc
+                gy += d * dcy / Lc
+            if w_short > 0.0:
+                E += w_short * lc**-p
+                d = -w_short * p * lc ** (-p - 1) / sc
+                gx += d * dcx / Lc
+                gy += d * dcy / Lc
+            break
+        h = g
+        if h == h0:
+            break
+    grad[0] = gx
+    grad[1] = gy
+    return E
+
+
+@njit(cache=True)
+def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best_xy, best_t,
+            best_tv, flat):  # fmt: skip
+    """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``.
+
+    After each sweep the mesh is legalised and measured; the best state by the
+    true objective is written to ``best_*`` (which must hold the starting state)
+    and its value returned with the number of sweeps made.  Each vertex keeps its
+    own step, starting at ``step0 * href * hv[v]``: grown 1.5x after an accepted
+    move, halved after a refused one.  A move may not make a triangle around the
+    vertex flatter than twice its area = ``flat * (href * hv[v])**2``.
+    """
+    w_len = 1.0 if objective != MAX_PERIMETER else 0.0
+    w_short = 1.0 if objective in (BALANCED, RATIO) else 0.0
+    w_per = 1.0 if objective in (BALANCED, MAX_PERIMETER) else 0.0
+    n = m.nv
+    xy = m.xy
+    prevb, nextb = _ring_neighbours(m, role)
+    lmax, lmin, pmax = measure(m, hv, href)
+    best = objective_of(objective, lmax, lmin, pmax)
+    step = np.empty(n)
+    for v in range(n):
+        step[v] = step0 * href * hv[v]
+    grad = np.zeros(2)
+    g2 = np.zeros(2)
+    done = 0
+    for sweep in range(sweeps):
+        if m.sized:
+            refresh_sizes(m, hv)
+        vh = _outgoing(m)
+        moves = 0
+        for v in range(n):
+            if role[v] == FIXED or vh[v] < 0:
+                continue
+            h0 = vh[v]
+            x0 = xy[v, 0]
+            y0 = xy[v, 1]
+            E0 = _local(m, v, x0, y0, h0, hv, href, p, w_len, w_short, w_per, grad)
+            if role[v] == SLIDE:
+                e = eid[v]
+                ex, ey = ed[e, 0], ed[e, 1]
+                L = np.hypot(ex, ey)
+                gt = -(grad[0] * ex + grad[1] * ey) / L  # descent along the edge, per unit length
+                if gt == 0.0:
+                    continue
+                tp = _t_of(role, t, prevb[v], True)
+                tn = _t_of(role, t, nextb[v], False)
+                sgn = 1.0 if gt > 0 else -1.0
+                room = (tn - t[v]) if sgn > 0 else (t[v] - tp)
+                s = min(step[v] / L, 0.45 * room)
+                ok = False
+                for _k in range(8):
+                    tt = t[v] + sgn * s
+                    x = ea[e, 0] + tt * ex
+                    y = ea[e, 1] + tt * ey
+                    if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
+                        E1 = _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, g2)
+                        if E1 < E0:
+                            ok = True
+                            break
+                    s *= 0.5
+                if ok:
+                    xy[v, 0] = x
+                    xy[v, 1] = y
+                    t[v] = tt
+                    step[v] = min(1.5 * s * L, 0.3 * href * hv[v])
+                    moves += 1
+                else:
+                    step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
+            else:
+                gn = np.hypot(grad[0], grad[1])
+                if gn == 0.0:
+                    continue
+                ux = -grad[0] / gn
+                uy = -grad[1] / gn
+                s = step[v]
+                ok = False
+                for _k in range(8):
+                    x = x0 + s * ux
+                    y = y0 + s * uy
+                    if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
+                        E1 = _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, g2)
+                        if E1 < E0:
+                            ok = True
+                            break
+                    s *= 0.5
+                if ok:
+                    xy[v, 0] = x
+                    xy[v, 1] = y
+                    step[v] = min(1.5 * s, 0.3 * href * hv[v])
+                    moves += 1
+                else:
+                    step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
+        legalize_all(m)
+        done = sweep + 1
+        lmax, lmin, pmax = measure(m, hv, href)
+        val = objective_of(objective, lmax, lmin, pmax)
+        if val < best:
+            best = val
+            best_xy[:, :] = xy[: best_xy.shape[0]]
+            best_t[:] = t
+            best_tv[:] = m.tv[: best_tv.shape[0]]
+        if moves == 0:
+            break
+    return done, best
