@@ -101,7 +101,7 @@ def gmean(v):
 
 def main(argv=None):
     ap = argparse.ArgumentParser()
-    ap.add_argument("--n", type=int, nargs="+", default=[200, 1000, 10000])
+    ap.add_argument("--n", type=int, nargs="*", default=[200, 1000, 10000], help="Steiner counts (none: speed test only)")
     ap.add_argument("--speed", type=int, default=100000, help="vertex count for the speed test (0: skip)")
     ap.add_argument("--objective", default="balanced")
     ap.add_argument("--no-gmsh", action="store_true")

@@ -200,10 +200,13 @@ def _quality_objective(objective, q, h):
 
 
 # ----------------------------------------------------------------------------- moving points
-#: Spring rounds, then descent sweeps at each exponent of the continuation.
-SPRING_ROUNDS = 60
-SWEEPS = 40
-EXPONENTS = (8.0, 16.0, 32.0)
+#: (spring rounds, descent sweeps per stage, stage exponents k with p = 2**k) for
+#: meshes up to LARGE points, and above it (where the work is kept near linear).
+SCHEDULE = (60, 40, (2, 3, 4, 5, 6))
+SCHEDULE_LARGE = (30, 25, (4, 5))
+LARGE = 20000
+#: Lattice seed points farther than BAND target sizes from the boundary stay put.
+BAND = 8.0
 
 
 def improve(
@@ -213,9 +216,10 @@ def improve(
     size=None,
     objective: str = "balanced",
     href: float | None = None,
-    spring_rounds: int = SPRING_ROUNDS,
-    sweeps: int = SWEEPS,
-    exponents=EXPONENTS,
+    frozen=None,
+    spring_rounds: int | None = None,
+    sweeps: int | None = None,
+    exponents=None,
 ):
     """Move the Steiner points of a mesh of P to make it more uniform, exactly n kept.
 
@@ -239,10 +243,15 @@ def improve(
     href : float, optional
         The uniform target edge length (default: from the point count, as
         :func:`target_size`); ignored with a ``size`` field.
-    spring_rounds, sweeps : int
-        Iteration limits (spring rounds; descent sweeps per exponent).
-    exponents : sequence of float
-        The p of each descent stage.
+    frozen : array_like of bool, shape (k,), optional
+        Sites that must not move (e.g. the deep interior of a lattice that is
+        already uniform: the work then scales with the boundary band).
+    spring_rounds, sweeps : int, optional
+        Iteration limits (spring rounds; descent sweeps per stage).
+    exponents : sequence of int, optional
+        Descent stage k minimises the p-norm energy with p = 2**k.  The three
+        defaults come from :data:`SCHEDULE` (or :data:`SCHEDULE_LARGE` above
+        :data:`LARGE` points).
 
     Returns
     -------
@@ -286,6 +295,8 @@ def improve(
     role[:nV] = relax.FIXED
     eid = np.full(N, -1, np.int64)
     t = np.zeros(N)
+    if frozen is not None:
+        role[nV:][np.asarray(frozen, dtype=bool)] = relax.FIXED
     for i, e, ti in boundary:
         role[nV + i] = relax.SLIDE
         eid[nV + i] = e
@@ -310,16 +321,20 @@ def improve(
             href = target_size(polygon, N - nV)
         href_n = href / scale
     obj = OBJECTIVES.index(objective)
+    sched = SCHEDULE if N <= LARGE else SCHEDULE_LARGE
+    spring_rounds = sched[0] if spring_rounds is None else spring_rounds
+    sweeps = sched[1] if sweeps is None else sweeps
+    exponents = sched[2] if exponents is None else exponents
 
     rounds = relax.spring(m, role, eid, t, ea, ed, hv, href_n, spring_rounds, 0.2, 1.02, 1e-4, 0.3)
     done = 0
     value = None
-    for p in exponents:
+    for k in exponents:
         best_xy = xy.copy()
         best_t = t.copy()
         best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
         k, value = relax.descend(
-            m, role, eid, t, ea, ed, hv, href_n, obj, sweeps, p, 0.05, best_xy, best_t, best_tv, 0.05
+            m, role, eid, t, ea, ed, hv, href_n, obj, sweeps, int(k), 0.05, best_xy, best_t, best_tv, 0.05
         )
         done += k
         # continue from the best state of this stage
@@ -372,6 +387,11 @@ def optimize_mesh(
     m = _boundary_counts(L, h, n)
     bpts, _, _ = _boundary_points(a, d, m)
     ipts = _seed_interior(polygon, n - len(bpts), h, bpts)
+    # the lattice deeper than BAND sizes inside P is uniform already: it stays
+    sa, sd, _ = _edge_geometry(polygon)
+    deep = to_segments(ipts, sa, sa + sd) > BAND * h
+    frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
+    options.setdefault("frozen", frozen)
     pts, tri, run = improve(
         polygon, np.concatenate([bpts, ipts]), objective=objective, href=h, **options
     )

@@ -67,7 +67,8 @@ from .heap import grown
 from .predicates import incircle, orient2d
 
 __all__ = [
-    "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "insert_point",
+    "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
+    "insert_point",
     "insert_sites", "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
 ]  # fmt: skip
 
@@ -287,6 +288,13 @@ def legalize_all(m):
         if m.tw[h] > h:
             todo[sp] = h
             sp += 1
+    return legalize_stack(m, todo, sp)
+
+
+@njit(cache=True)
+def legalize_stack(m, todo, sp):
+    """Lawson flips starting from the half-edges ``todo[:sp]`` (each edge that
+    becomes suspect is pushed); returns the flip count.  ``todo`` grows as needed."""
     flips = 0
     while sp > 0:
         sp -= 1
@@ -297,10 +305,7 @@ def legalize_all(m):
         u = m.tw[h] // 3
         flip(m, h)
         flips += 1
-        if sp + 4 > todo.shape[0]:
-            grown = np.empty(2 * todo.shape[0], np.int32)
-            grown[:sp] = todo[:sp]
-            todo = grown
+        todo = grown(todo, sp + 4)
         # the four outer edges of the new pair
         todo[sp] = 3 * t
         todo[sp + 1] = 3 * t + 1

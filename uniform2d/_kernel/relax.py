@@ -17,7 +17,8 @@ Every move keeps the mesh valid, exactly
 A move is only made if every triangle around the moved vertex stays strictly
 counter-clockwise (exact ``orient2d``).  With the boundary chain in order that
 means the triangles still tile P, so nothing has to be located again.  After a
-round of moves, :func:`cdt.legalize_all` makes every unconstrained edge locally
+round of moves, :func:`cdt.legalize_stack` (started from the edges around the
+moved vertices) makes every unconstrained edge locally
 Delaunay with the exact ``incircle`` (Lawson flips never touch a constrained,
 i.e. boundary, edge), so after every round the mesh is again the constrained
 Delaunay triangulation of its points.
@@ -57,13 +58,18 @@ ends at -1)::
 import numpy as np
 from numba import njit
 
-from .cdt import legalize_all, nxt, prv
+from .cdt import legalize_stack, nxt, prv
 from .insert import size_at
+from .heap import grown
 from .predicates import orient2d
 
 __all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "measure", "refresh_sizes"]
 
 FIXED, FREE, SLIDE = 0, 1, 2
+#: A vertex whose energy share is below this fraction of the worst element's term rests.
+RELEVANT = 1e-2
+#: A descent stage ends after this many sweeps without a better objective.
+PATIENCE = 6
 #: Objectives, in the order of :data:`uniform2d.optimize.OBJECTIVES`.
 BALANCED, RATIO, MAX_EDGE, MAX_PERIMETER = 0, 1, 2, 3
 
@@ -183,6 +189,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap):
     new = np.empty((n, 2))
     newt = t.copy()
     moved = np.zeros(n, np.bool_)
+    todo = np.empty(64, np.int32)
     it = 0
     for it in range(1, iters + 1):
         if m.sized:
@@ -218,7 +225,16 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap):
             F[a, 1] -= f * dy
         biggest = _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved)
         _commit(m, role, t, new, newt, moved)
-        legalize_all(m)
+        # suspects: the edges of the triangles with a moved vertex
+        sp = 0
+        for tt in range(m.nt):
+            if moved[tv[3 * tt]] or moved[tv[3 * tt + 1]] or moved[tv[3 * tt + 2]]:
+                todo = grown(todo, sp + 3)
+                todo[sp] = 3 * tt
+                todo[sp + 1] = 3 * tt + 1
+                todo[sp + 2] = 3 * tt + 2
+                sp += 3
+        legalize_stack(m, todo, sp)
         if biggest < tol * href:
             break
     return it
@@ -298,10 +314,19 @@ def _commit(m, role, t, new, newt, moved):
 
 
 # ----------------------------------------------------------------------------- descent
+@njit(cache=True, inline="always")
+def _pw(x, k):
+    """x ** (2 ** k), by k squarings (the exponents are powers of two: fast, exact enough)."""
+    for _ in range(k):
+        x = x * x
+    return x
+
+
 @njit(cache=True)
-def _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, grad):
+def _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, grad):
     """Vertex v's share of the energy with v at (x, y); its gradient into ``grad``."""
     xy, tv, tw = m.xy, m.tv, m.tw
+    p = 2.0**k
     E = 0.0
     gx = 0.0
     gy = 0.0
@@ -320,35 +345,38 @@ def _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, grad):
         dcy = y - xy[c, 1]
         Lc = np.hypot(dcx, dcy)
         lb = Lb / sb
+        q = _pw(lb, k)
         if w_len > 0.0:
-            E += w_len * lb**p
-            d = w_len * p * lb ** (p - 1) / sb
+            E += w_len * q
+            d = w_len * p * q / (lb * sb)
             gx += d * dbx / Lb
             gy += d * dby / Lb
         if w_short > 0.0:
-            E += w_short * lb**-p
-            d = -w_short * p * lb ** (-p - 1) / sb
+            E += w_short / q
+            d = -w_short * p / (q * lb * sb)
             gx += d * dbx / Lb
             gy += d * dby / Lb
         if w_per > 0.0:
             Lbc = np.hypot(xy[c, 0] - xy[b, 0], xy[c, 1] - xy[b, 1])
             tgt = sb + sc + 0.5 * (hv[b] + hv[c]) * href
             pi = (Lb + Lc + Lbc) / tgt
-            E += w_per * pi**p
-            d = w_per * p * pi ** (p - 1) / tgt
+            q = _pw(pi, k)
+            E += w_per * q
+            d = w_per * p * q / (pi * tgt)
             gx += d * (dbx / Lb + dcx / Lc)
             gy += d * (dby / Lb + dcy / Lc)
         g = tw[prv(h)]
         if g < 0:  # boundary: the last edge c-v
             lc = Lc / sc
+            q = _pw(lc, k)
             if w_len > 0.0:
-                E += w_len * lc**p
-                d = w_len * p * lc ** (p - 1) / sc
+                E += w_len * q
+                d = w_len * p * q / (lc * sc)
                 gx += d * dcx / Lc
                 gy += d * dcy / Lc
             if w_short > 0.0:
-                E += w_short * lc**-p
-                d = -w_short * p * lc ** (-p - 1) / sc
+                E += w_short / q
+                d = -w_short * p / (q * lc * sc)
                 gx += d * dcx / Lc
                 gy += d * dcy / Lc
             break
@@ -361,15 +389,36 @@ def _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, grad):
 
 
 @njit(cache=True)
-def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best_xy, best_t,
+def _wake(m, h0, active, todo, sp):
+    """Mark the vertex of outgoing half-edge h0 and all its neighbours active, and
+    push the edges of its star (suspects for the next legalisation)."""
+    tv, tw = m.tv, m.tw
+    active[tv[h0]] = True
+    h = h0
+    while True:
+        active[tv[nxt(h)]] = True
+        active[tv[prv(h)]] = True
+        todo = grown(todo, sp + 3)
+        todo[sp] = h
+        todo[sp + 1] = nxt(h)
+        todo[sp + 2] = prv(h)
+        sp += 3
+        h = tw[prv(h)]
+        if h < 0 or h == h0:
+            return todo, sp
+
+
+@njit(cache=True)
+def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best_xy, best_t,
             best_tv, flat):  # fmt: skip
-    """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``.
+    """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``, p = 2**k.
 
     After each sweep the mesh is legalised and measured; the best state by the
     true objective is written to ``best_*`` (which must hold the starting state)
     and its value returned with the number of sweeps made.  Each vertex keeps its
     own step, starting at ``step0 * href * hv[v]``: grown 1.5x after an accepted
-    move, halved after a refused one.  A move may not make a triangle around the
+    move, halved after a refused one.  A vertex whose line search fails rests
+    until a neighbour moves (an active set: converged regions cost nothing).  A move may not make a triangle around the
     vertex flatter than twice its area = ``flat * (href * hv[v])**2``.
     """
     w_len = 1.0 if objective != MAX_PERIMETER else 0.0
@@ -385,19 +434,29 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best
         step[v] = step0 * href * hv[v]
     grad = np.zeros(2)
     g2 = np.zeros(2)
+    active = np.ones(n, np.bool_)
+    todo = np.empty(64, np.int32)
     done = 0
+    stale = 0
     for sweep in range(sweeps):
         if m.sized:
             refresh_sizes(m, hv)
         vh = _outgoing(m)
+        # a vertex whose share is below RELEVANT times the worst element's term
+        # cannot change the objective's extremes: skip it
+        floor = RELEVANT * (w_len * _pw(lmax, k) + w_short / _pw(lmin, k) + w_per * _pw(pmax, k))
         moves = 0
+        sp = 0
         for v in range(n):
-            if role[v] == FIXED or vh[v] < 0:
+            if role[v] == FIXED or vh[v] < 0 or not active[v]:
                 continue
             h0 = vh[v]
             x0 = xy[v, 0]
             y0 = xy[v, 1]
-            E0 = _local(m, v, x0, y0, h0, hv, href, p, w_len, w_short, w_per, grad)
+            E0 = _local(m, v, x0, y0, h0, hv, href, k, w_len, w_short, w_per, grad)
+            if E0 < floor:
+                active[v] = False
+                continue
             if role[v] == SLIDE:
                 e = eid[v]
                 ex, ey = ed[e, 0], ed[e, 1]
@@ -416,7 +475,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best
                     x = ea[e, 0] + tt * ex
                     y = ea[e, 1] + tt * ey
                     if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
-                        E1 = _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, g2)
+                        E1 = _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, g2)
                         if E1 < E0:
                             ok = True
                             break
@@ -427,8 +486,10 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best
                     t[v] = tt
                     step[v] = min(1.5 * s * L, 0.3 * href * hv[v])
                     moves += 1
+                    todo, sp = _wake(m, h0, active, todo, sp)
                 else:
                     step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
+                    active[v] = False
             else:
                 gn = np.hypot(grad[0], grad[1])
                 if gn == 0.0:
@@ -441,7 +502,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best
                     x = x0 + s * ux
                     y = y0 + s * uy
                     if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
-                        E1 = _local(m, v, x, y, h0, hv, href, p, w_len, w_short, w_per, g2)
+                        E1 = _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, g2)
                         if E1 < E0:
                             ok = True
                             break
@@ -451,9 +512,11 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best
                     xy[v, 1] = y
                     step[v] = min(1.5 * s, 0.3 * href * hv[v])
                     moves += 1
+                    todo, sp = _wake(m, h0, active, todo, sp)
                 else:
                     step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
-        legalize_all(m)
+                    active[v] = False
+        legalize_stack(m, todo, sp)
         done = sweep + 1
         lmax, lmin, pmax = measure(m, hv, href)
         val = objective_of(objective, lmax, lmin, pmax)
@@ -462,6 +525,9 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, p, step0, best
             best_xy[:, :] = xy[: best_xy.shape[0]]
             best_t[:] = t
             best_tv[:] = m.tv[: best_tv.shape[0]]
-        if moves == 0:
+            stale = 0
+        else:
+            stale += 1
+        if moves == 0 or stale >= PATIENCE:
             break
     return done, best
