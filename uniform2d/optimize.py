@@ -116,12 +116,15 @@ def _hex_lattice(polygon: Polygon, spacing: float, angle: float, origin) -> np.n
     return np.stack([x[keep], y[keep]], axis=1)
 
 
-def _seed_interior(polygon: Polygon, count: int, h: float, bpts: np.ndarray) -> np.ndarray:
-    """``count`` interior points on a hexagonal lattice, deterministic."""
+def _seed_interior(
+    polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None
+) -> np.ndarray:
+    """``count`` interior points on a hexagonal lattice aligned with polygon edge
+    ``edge`` (default: the longest), deterministic."""
     if count <= 0:
         return np.empty((0, 2))
     a, d, L = _edge_geometry(polygon)
-    e = int(np.argmax(L))
+    e = int(np.argmax(L)) if edge is None else int(edge)
     angle = math.atan2(d[e, 1], d[e, 0])
     # anchor a lattice row at distance h·√3/2 inside the longest edge
     nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: inside for the CCW outer ring
@@ -193,6 +196,30 @@ def objective_value(objective: str, longest: float, shortest: float, perimeter: 
     return ((longest / shortest) * (longest / h) * (perimeter / (3 * h))) ** (1.0 / 3.0)
 
 
+def _extremes(points, tri):
+    """(longest edge, shortest edge, largest perimeter) of a triangle mesh."""
+    q = points[tri]
+    L = np.linalg.norm(q - q[:, [1, 2, 0]], axis=2)
+    return L.max(), L.min(), L.sum(axis=1).max()
+
+
+def _variants(polygon: Polygon, n: int):
+    """The starts tried: (boundary spacing / h, lattice edge).  Boundary counts and
+    lattice orientation decide the mesh's structure, which the point moves cannot
+    change, and the best choice depends on the polygon, so small meshes try a few
+    (the longest edge and the longest one at another angle, modulo 60 degrees);
+    large ones, where a start costs more, only the first."""
+    _, d, L = _edge_geometry(polygon)
+    first = int(np.argmax(L))
+    if n + len(polygon.vertices) > LARGE:
+        return [(1.0, first)]
+    ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+    off = np.abs((ang - ang[first] + 30.0) % 60.0 - 30.0)
+    other = [e for e in np.lexsort((np.arange(len(L)), -L)) if off[e] > 5.0]
+    edges = [first] + ([int(other[0])] if other else [])
+    return [(c, e) for e in edges for c in SPACINGS]
+
+
 def _quality_objective(objective, q, h):
     return objective_value(objective, q.longest_edge, q.shortest_edge, q.max_perimeter, h)
 
@@ -205,6 +232,8 @@ def _quality_objective(objective, q, h):
 SCHEDULE = (60, 40, (2, 3, 4, 5, 6))
 SCHEDULE_LARGE = (30, 25, (4, 5))
 LARGE = 20000
+#: Boundary spacings (relative to h) tried for small meshes (see :func:`_variants`).
+SPACINGS = (1.0, 0.95, 1.05, 1.1)
 #: Lattice seed points farther than BAND target sizes from the boundary stay put.
 BAND = 8.0
 
@@ -384,17 +413,22 @@ def optimize_mesh(
 
     h = target_size(polygon, n)
     a, d, L = _edge_geometry(polygon)
-    m = _boundary_counts(L, h, n)
-    bpts, _, _ = _boundary_points(a, d, m)
-    ipts = _seed_interior(polygon, n - len(bpts), h, bpts)
-    # the lattice deeper than BAND sizes inside P is uniform already: it stays
-    sa, sd, _ = _edge_geometry(polygon)
-    deep = to_segments(ipts, sa, sa + sd) > BAND * h
-    frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
-    options.setdefault("frozen", frozen)
-    pts, tri, run = improve(
-        polygon, np.concatenate([bpts, ipts]), objective=objective, href=h, **options
-    )
+    best = None
+    for spacing, edge in _variants(polygon, n):
+        m = _boundary_counts(L, spacing * h, n)
+        bpts, _, _ = _boundary_points(a, d, m)
+        ipts = _seed_interior(polygon, n - len(bpts), h, bpts, edge)
+        # the lattice deeper than BAND sizes inside P is uniform already: it stays
+        deep = to_segments(ipts, a, a + d) > BAND * h
+        frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
+        pts, tri, run = improve(
+            polygon, np.concatenate([bpts, ipts]), objective=objective, href=h,
+            frozen=frozen, **options,
+        )  # fmt: skip
+        val = objective_value(objective, *_extremes(pts, tri), h)
+        if best is None or val < best[0]:
+            best = (val, pts, tri, run, len(bpts), spacing, edge)
+    _, pts, tri, run, k, spacing, edge = best
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = _quality_objective(objective, q_new, h)
     v_tp = _quality_objective(objective, q_tp, h)
@@ -413,7 +447,9 @@ def optimize_mesh(
         "objective": objective,
         "d_n": d_n,
         "h": h,
-        "k": int(len(bpts)),
+        "k": int(k),
+        "boundary_spacing": spacing,
+        "lattice_edge": edge,
         "relax_iterations": run["spring_rounds"],
         "sweeps": run["sweeps"],
         "start": {"method": tp.info.get("method"), **summary(q_tp), "objective": v_tp},
