@@ -207,8 +207,9 @@ def _variants(polygon: Polygon, n: int):
     """The starts tried: (boundary spacing / h, lattice edge).  Boundary counts and
     lattice orientation decide the mesh's structure, which the point moves cannot
     change, and the best choice depends on the polygon, so small meshes try a few
-    (the longest edge and the longest one at another angle, modulo 60 degrees);
-    large ones, where a start costs more, only the first."""
+    (the longest edge and the longest one at another angle, modulo 60 degrees,
+    each with the :data:`SPACINGS`); up to LARGE points only the two
+    orientations; beyond, where a start costs most, only the first."""
     _, d, L = _edge_geometry(polygon)
     first = int(np.argmax(L))
     if n + len(polygon.vertices) > LARGE:
@@ -217,7 +218,8 @@ def _variants(polygon: Polygon, n: int):
     off = np.abs((ang - ang[first] + 30.0) % 60.0 - 30.0)
     other = [e for e in np.lexsort((np.arange(len(L)), -L)) if off[e] > 5.0]
     edges = [first] + ([int(other[0])] if other else [])
-    return [(c, e) for e in edges for c in SPACINGS]
+    spacings = SPACINGS if n + len(polygon.vertices) <= SMALL else SPACINGS[:1]
+    return [(c, e) for e in edges for c in spacings]
 
 
 def _quality_objective(objective, q, h):
@@ -232,8 +234,11 @@ def _quality_objective(objective, q, h):
 SCHEDULE = (60, 40, (2, 3, 4, 5, 6))
 SCHEDULE_LARGE = (30, 25, (4, 5))
 LARGE = 20000
+SMALL = 5000
 #: Boundary spacings (relative to h) tried for small meshes (see :func:`_variants`).
 SPACINGS = (1.0, 0.95, 1.05, 1.1)
+#: The short schedule that ranks the starts (the best one then gets the full one).
+TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5)}
 #: Lattice seed points farther than BAND target sizes from the boundary stay put.
 BAND = 8.0
 
@@ -413,22 +418,25 @@ def optimize_mesh(
 
     h = target_size(polygon, n)
     a, d, L = _edge_geometry(polygon)
+    variants = _variants(polygon, n)
     best = None
-    for spacing, edge in _variants(polygon, n):
+    for spacing, edge in variants:
         m = _boundary_counts(L, spacing * h, n)
         bpts, _, _ = _boundary_points(a, d, m)
         ipts = _seed_interior(polygon, n - len(bpts), h, bpts, edge)
         # the lattice deeper than BAND sizes inside P is uniform already: it stays
         deep = to_segments(ipts, a, a + d) > BAND * h
         frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
-        pts, tri, run = improve(
-            polygon, np.concatenate([bpts, ipts]), objective=objective, href=h,
-            frozen=frozen, **options,
-        )  # fmt: skip
-        val = objective_value(objective, *_extremes(pts, tri), h)
+        sites = np.concatenate([bpts, ipts])
+        if len(variants) > 1:  # a short trial run ranks the starts
+            trial = {**options, **TRIAL}
+            pts, tri, _ = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **trial)
+            sites = pts[nV:]
+        val = objective_value(objective, *_extremes(pts, tri), h) if len(variants) > 1 else 0.0
         if best is None or val < best[0]:
-            best = (val, pts, tri, run, len(bpts), spacing, edge)
-    _, pts, tri, run, k, spacing, edge = best
+            best = (val, sites, frozen, len(bpts), spacing, edge)
+    _, sites, frozen, k, spacing, edge = best
+    pts, tri, run = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **options)
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = _quality_objective(objective, q_new, h)
     v_tp = _quality_objective(objective, q_tp, h)
