@@ -33,9 +33,6 @@ __all__ = ["RemeshResult", "remesh", "isotropic_remesh"]
 
 log = logging.getLogger(__name__)
 
-#: Iterations of the TEMPORARY planar smoothing (0 disables it); see surface._smooth2d.
-SMOOTH_ITERATIONS = 40
-
 
 @dataclasses.dataclass(frozen=True)
 class RemeshResult:
@@ -70,19 +67,26 @@ class RemeshResult:
         return write_patch(path, self.vertices, self.faces)
 
 
-def _mesh_domain(polygon, n_interior: int, size_field, *, smooth_iterations=SMOOTH_ITERATIONS):
+def _mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
     """Mesh a polygon with exactly ``len(polygon.vertices) + n_interior`` points.
 
-    The one swappable 2-D meshing step.  Now: Algorithm INSERT of the planar
-    core (graded by ``size_field``), then the
-    TEMPORARY smoothing of :mod:`surface._smooth2d` until the issue-5 optimiser
-    exists.
+    The one 2-D meshing step.  Default: a hexagonal lattice
+    (:func:`uniform2d.optimize.lattice_seed`) that
+    :func:`uniform2d.optimize.improve` moves, in the metric of ``size_field``,
+    towards equal size-normalised edges, keeping the mesh constrained Delaunay
+    and the count exact.  With ``optimize=False``: the paper's Algorithm INSERT,
+    graded by ``size_field`` (its candidates ranked by distance / size).
+    Relaxing INSERT's points ends less uniform (3-D edge CV about 0.12 against
+    0.04-0.06 from the lattice, at 2000 vertices on the benchmark patches): the
+    lattice gives the structure that point moves alone cannot.
 
     Parameters
     ----------
     polygon : uniform2d.Polygon
     n_interior : int
     size_field : uniform2d.SizeField or None
+    optimize : bool
+        Move the points (default) or keep INSERT's.
 
     Returns
     -------
@@ -94,27 +98,22 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, smooth_iterations=SMOO
         What produced the mesh (goes into the report).
     """
     from uniform2d import insert
+    from uniform2d.optimize import improve, lattice_seed
 
-    res = insert(polygon, n_interior, size=size_field)
-    desc = "uniform2d.insert" + ("" if size_field is None else " with size field")
-    P = np.asarray(res.mesh_points, dtype=np.float64)
-    T = np.asarray(res.triangles, dtype=np.int64)
+    graded = "" if size_field is None else " with size field"
+    if optimize and n_interior:
+        P, T, _ = improve(polygon, lattice_seed(polygon, n_interior), size=size_field)
+        desc = "lattice + uniform2d.optimize.improve" + graded
+    else:
+        res = insert(polygon, n_interior, size=size_field)
+        P = np.asarray(res.mesh_points, dtype=np.float64)
+        T = np.asarray(res.triangles, dtype=np.int64)
+        desc = "uniform2d.insert" + graded
     K = len(polygon.vertices)
     if len(P) != K + n_interior or not np.array_equal(P[:K], polygon.vertices):
         raise RuntimeError(
             f"planar mesher broke its contract: {len(P)} points for {K} + {n_interior}"
         )
-    if smooth_iterations:
-        from ._smooth2d import smooth
-
-        E = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]])
-        E = np.sort(E, axis=1)
-        _, inv, cnt = np.unique(E, axis=0, return_inverse=True, return_counts=True)
-        fixed = np.zeros(len(P), dtype=bool)
-        fixed[:K] = True
-        fixed[E[cnt[inv.ravel()] == 1].ravel()] = True
-        P, T = smooth(P, T, fixed, size_field, iterations=smooth_iterations)
-        desc += f" + TEMPORARY spring smoothing ({smooth_iterations} it.)"
     return P, T, desc
 
 
@@ -162,7 +161,7 @@ def remesh(
     corner_angle: float = CORNER_ANGLE,
     check: bool = True,
     hausdorff: bool = True,
-    smooth_iterations: int = SMOOTH_ITERATIONS,
+    optimize: bool = True,
 ) -> RemeshResult:
     """Remesh a disk-like surface patch with near-equal 3-D edges.
 
@@ -188,8 +187,10 @@ def remesh(
         Run the pymeshlab cross-check (raises CrossCheckError on disagreement).
     hausdorff : bool
         Measure the Hausdorff distances to the input with pymeshlab.
-    smooth_iterations : int
-        TEMPORARY planar smoothing iterations (until the issue-5 optimiser lands).
+    optimize : bool
+        Mesh the domain with a lattice relaxed by :func:`uniform2d.optimize.improve`
+        in the compensation metric (default), or, with False, with the paper's
+        Algorithm INSERT alone (graded by the same field).
 
     Returns
     -------
@@ -266,7 +267,7 @@ def remesh(
 
     t = time.perf_counter()
     pts, tris, mesher = _mesh_domain(
-        domain.polygon, n_int, field if compensate else None, smooth_iterations=smooth_iterations
+        domain.polygon, n_int, field if compensate else None, optimize=optimize
     )
     times["mesh_2d"] = time.perf_counter() - t
 

@@ -156,16 +156,21 @@ def _outgoing(m):
 
 @njit(cache=True)
 def _star_ok(m, v, x, y, h0, floor):
-    """Whether every triangle around v stays strictly CCW with v at (x, y), and
-    no flatter than twice its area >= ``floor`` (a quality guard, not a predicate)."""
+    """Whether every triangle around v stays strictly CCW with v at (x, y) (exact),
+    and none that is flatter than twice its area = ``floor`` gets flatter (a
+    quality guard, not a predicate: slivers may not form, but may heal)."""
     xy, tv, tw = m.xy, m.tv, m.tw
     h = h0
     while True:
         b = tv[nxt(h)]
         c = tv[prv(h)]
         det = orient2d(x, y, xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])
-        if det <= 0.0 or det < floor:
+        if det <= 0.0:
             return False
+        if det < floor:
+            old = orient2d(xy[v, 0], xy[v, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])
+            if det < old:
+                return False
         h = tw[prv(h)]
         if h < 0 or h == h0:
             return True
@@ -173,13 +178,14 @@ def _star_ok(m, v, x, y, h0, floor):
 
 # ----------------------------------------------------------------------------- springs
 @njit(cache=True)
-def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap):
+def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, flat):
     """Jacobi spring rounds (see the module docstring); returns the rounds made.
 
     A vertex moves by ``dt`` times its spring force, at most ``cap * href * hv[v]``;
     a SLIDE vertex by the tangential part, at most a quarter of its gap to either
-    ring neighbour.  Moves that would invert a triangle are undone (its three
-    vertices stay), then the mesh is legalised.  Stops when the largest move is
+    ring neighbour.  Moves that would invert a triangle, or make one flatter
+    than twice its area = ``flat * (href * mean hv)**2`` and flatter than it was,
+    are undone (its three vertices stay), then the mesh is legalised.  Stops when the largest move is
     below ``tol * href``.
     """
     n = m.nv
@@ -224,7 +230,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap):
             F[a, 0] -= f * dx
             F[a, 1] -= f * dy
         biggest = _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved)
-        _commit(m, role, t, new, newt, moved)
+        _commit(m, role, t, new, newt, moved, hv, flat * href * href)
         # suspects: the edges of the triangles with a moved vertex
         sp = 0
         for tt in range(m.nt):
@@ -285,8 +291,9 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
 
 
 @njit(cache=True)
-def _commit(m, role, t, new, newt, moved):
-    """Apply the trial places, undoing those that would invert a triangle (exact)."""
+def _commit(m, role, t, new, newt, moved, hv, flat2):
+    """Apply the trial places, undoing those that would invert a triangle (exact)
+    or flatten one below ``flat2 * mean(hv)**2`` (see :func:`spring`)."""
     xy, tv = m.xy, m.tv
     changed = True
     while changed:
@@ -300,7 +307,14 @@ def _commit(m, role, t, new, newt, moved):
             ax, ay = (new[a, 0], new[a, 1]) if moved[a] else (xy[a, 0], xy[a, 1])
             bx, by = (new[b, 0], new[b, 1]) if moved[b] else (xy[b, 0], xy[b, 1])
             cx, cy = (new[c, 0], new[c, 1]) if moved[c] else (xy[c, 0], xy[c, 1])
-            if orient2d(ax, ay, bx, by, cx, cy) <= 0.0:
+            det = orient2d(ax, ay, bx, by, cx, cy)
+            bad = det <= 0.0
+            if not bad:
+                hm = (hv[a] + hv[b] + hv[c]) / 3.0
+                if det < flat2 * hm * hm:
+                    old = orient2d(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])
+                    bad = det < old
+            if bad:
                 moved[a] = False
                 moved[b] = False
                 moved[c] = False
