@@ -74,3 +74,33 @@ def test_info_and_certificates():
 def test_bad_objective():
     with pytest.raises(ValueError):
         optimize_mesh(BENCH["square"], 50, objective="nope")
+
+
+def _transformed(p, s, off=(0.0, 0.0)):
+    rings = [np.asarray(r) * s + np.asarray(off) for r in p.rings]
+    return uniform2d.Polygon(rings[0], rings[1:])
+
+
+@pytest.mark.parametrize("k", [-20, 20])
+def test_power_of_two_scaling_gives_the_scaled_mesh_exactly(k):
+    p = BENCH["square2holes"]
+    a = optimize_mesh(p, 150)
+    b = optimize_mesh(_transformed(p, 2.0**k), 150)
+    assert np.array_equal(b.points, a.points * 2.0**k)
+    assert np.array_equal(b.triangles, a.triangles)
+
+
+@pytest.mark.parametrize("s, off", [(1e-6, (0, 0)), (1e6, (0, 0)), (1.0, (1e6, -1e6))])
+def test_scale_and_offset_keep_the_quality(s, off):
+    p = BENCH["star10"]
+    a = optimize_mesh(p, 150)
+    q = _transformed(p, s, off)
+    b = optimize_mesh(q, 150)
+    assert b.n_steiner == 150 and b.info["fallback"] is None
+    check_mesh(b.points, b.triangles, q)
+    qa, qb = a.quality(), b.quality()
+    # not bit-identical (the normalised coordinates differ by rounding, and the
+    # moves amplify that), but the same mesh quality
+    assert qb.edge_ratio == pytest.approx(qa.edge_ratio, rel=0.05)
+    assert qb.cv_edge == pytest.approx(qa.cv_edge, rel=0.2)
+    assert qb.min_angle == pytest.approx(qa.min_angle, rel=0.1)

@@ -35,6 +35,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
+from typing import NamedTuple
 
 import numpy as np
 import shapely
@@ -339,20 +340,68 @@ def improve(
     >>> pts.shape, np.allclose(pts[5, 1], 0.0)   # the boundary site stayed on y = 0
     ((7, 2), True)
     """
-    from .insert import BOUNDARY_TOL, _classify_sites
-
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     if objective not in OBJECTIVES:
         raise ValueError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
     res = insert(polygon, 0, sites=sites)
-    V = polygon.vertices
-    nV = len(V)
+    nV = len(polygon.vertices)
+    if len(res.mesh_points) == nV:
+        return np.array(res.mesh_points), np.array(res.triangles), {"spring_rounds": 0, "sweeps": 0}
+    st = _load(polygon, res, size, href, frozen)
+    N = len(st.xy)
+    sched = SCHEDULE if N <= LARGE else SCHEDULE_LARGE
+    spring_rounds = sched[0] if spring_rounds is None else spring_rounds
+    sweeps = sched[1] if sweeps is None else sweeps
+    exponents = sched[2] if exponents is None else exponents
+    obj = OBJECTIVES.index(objective)
+    m, xy, t = st.m, st.xy, st.t
+    args = (m, st.role, st.eid, t, st.ea, st.ed, st.hv, st.href)
+
+    rounds = relax.spring(*args, spring_rounds, 0.2, 1.02, 1e-4, 0.3, FLAT)
+    done = 0
+    value = None
+    for k in exponents:
+        best_xy = xy.copy()
+        best_t = t.copy()
+        best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
+        made, value = relax.descend(*args, obj, sweeps, int(k), 0.05, best_xy, best_t, best_tv, FLAT)
+        done += made
+        # continue from the best state of this stage
+        xy[:] = best_xy
+        t[:] = best_t
+        cdt.build_adjacency(m, best_tv.reshape(-1, 3))
+        cdt.legalize_all(m)
+
+    fin = insert(polygon, 0, sites=_unload(polygon, st)[nV:])
+    info = {"spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value}
+    return np.array(fin.mesh_points), np.array(fin.triangles), info
+
+
+class _Loaded(NamedTuple):
+    """A mesh loaded into the kernel (normalised coordinates; see :func:`_load`)."""
+
+    m: object  # cdt.Tri
+    xy: np.ndarray  # (N, 2) its coordinate array
+    role: np.ndarray  # (N,) int8 relax.FIXED / FREE / SLIDE
+    eid: np.ndarray  # (N,) polygon edge of each SLIDE vertex
+    t: np.ndarray  # (N,) its parameter on that edge
+    ea: np.ndarray  # (E, 2) polygon edge starts, normalised
+    ed: np.ndarray  # (E, 2) polygon edge vectors, normalised
+    hv: np.ndarray  # (N,) size at each vertex (1 without a field)
+    href: float  # target length (uniform) or field scale (graded), normalised
+    centre: np.ndarray
+    scale: float
+
+
+def _load(polygon: Polygon, res, size, href, frozen) -> _Loaded:
+    """Load an :class:`~uniform2d.insert.InsertResult` (polygon + sites) into a Tri."""
+    from .insert import BOUNDARY_TOL, _classify_sites
+
+    nV = len(polygon.vertices)
     P0 = np.array(res.mesh_points, dtype=np.float64)
     T0 = np.array(res.triangles, dtype=np.int32)
     N = len(P0)
-    if N == nV:
-        return P0, np.asarray(T0, np.int64), {"spring_rounds": 0, "sweeps": 0}
     extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
     _, boundary = _classify_sites(polygon, P0[nV:], BOUNDARY_TOL * extent)
     a, d, _ = _edge_geometry(polygon)
@@ -369,56 +418,34 @@ def improve(
         eid[nV + i] = e
         t[nV + i] = ti
 
-    m, xy = cdt.allocate(N, len(T0), _size_grid(size, centre, scale))
+    grid = _size_grid(size, centre, scale)
+    m, xy = cdt.allocate(N, len(T0), grid)
     xy[:] = (P0 - centre) / scale
     cdt.set_nv(m, N)
     cdt.build_adjacency(m, T0)
     cdt.legalize_all(m)
-    ea = (a - centre) / scale
-    ed = d / scale
     hv = np.ones(N)
     relax.refresh_sizes(m, hv)
-    if size is not None and _size_grid(size, centre, scale) is not None:
+    if grid is not None:  # the field's shape, scaled to the edges present
         E = np.concatenate([T0[:, [0, 1]], T0[:, [1, 2]], T0[:, [2, 0]]])
         Ls = np.hypot(*(xy[E[:, 1]] - xy[E[:, 0]]).T)
         hs = 0.5 * (hv[E[:, 0]] + hv[E[:, 1]])
         href_n = float(np.sqrt((Ls**2).mean() / (hs**2).mean()))
     else:
-        if href is None:
-            href = target_size(polygon, N - nV)
-        href_n = href / scale
-    obj = OBJECTIVES.index(objective)
-    sched = SCHEDULE if N <= LARGE else SCHEDULE_LARGE
-    spring_rounds = sched[0] if spring_rounds is None else spring_rounds
-    sweeps = sched[1] if sweeps is None else sweeps
-    exponents = sched[2] if exponents is None else exponents
+        href_n = (target_size(polygon, N - nV) if href is None else href) / scale
+    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale)
 
-    rounds = relax.spring(
-        m, role, eid, t, ea, ed, hv, href_n, spring_rounds, 0.2, 1.02, 1e-4, 0.3, FLAT
-    )
-    done = 0
-    value = None
-    for k in exponents:
-        best_xy = xy.copy()
-        best_t = t.copy()
-        best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
-        k, value = relax.descend(
-            m, role, eid, t, ea, ed, hv, href_n, obj, sweeps, int(k), 0.05, best_xy, best_t, best_tv, FLAT
-        )
-        done += k
-        # continue from the best state of this stage
-        xy[:] = best_xy
-        t[:] = best_t
-        cdt.build_adjacency(m, best_tv.reshape(-1, 3))
-        cdt.legalize_all(m)
 
-    out = xy * scale + centre
-    out[:nV] = V
-    sl = role == relax.SLIDE
-    out[sl] = a[eid[sl]] + t[sl, None] * d[eid[sl]]
-    fin = insert(polygon, 0, sites=out[nV:])
-    info = {"spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value}
-    return np.array(fin.mesh_points), np.array(fin.triangles), info
+def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:
+    """The kernel's points in the caller's coordinates: polygon vertices exactly,
+    boundary points recomputed on their polygon edge."""
+    a, d, _ = _edge_geometry(polygon)
+    nV = len(polygon.vertices)
+    out = st.xy * st.scale + st.centre
+    out[:nV] = polygon.vertices
+    sl = st.role == relax.SLIDE
+    out[sl] = a[st.eid[sl]] + st.t[sl, None] * d[st.eid[sl]]
+    return out
 
 
 # ----------------------------------------------------------------------------- driver

@@ -66,7 +66,7 @@ from .predicates import orient2d
 __all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "measure", "refresh_sizes"]
 
 FIXED, FREE, SLIDE = 0, 1, 2
-#: A vertex whose energy share is below this fraction of the worst element's term rests.
+#: A vertex whose energy share is below this fraction of the largest share rests.
 RELEVANT = 1e-2
 #: A descent stage ends after this many sweeps without a better objective.
 PATIENCE = 6
@@ -452,13 +452,15 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     todo = np.empty(64, np.int32)
     done = 0
     stale = 0
+    emax = 0.0
     for sweep in range(sweeps):
         if m.sized:
             refresh_sizes(m, hv)
         vh = _outgoing(m)
-        # a vertex whose share is below RELEVANT times the worst element's term
-        # cannot change the objective's extremes: skip it
-        floor = RELEVANT * (w_len * _pw(lmax, k) + w_short / _pw(lmin, k) + w_per * _pw(pmax, k))
+        # a vertex whose share is below RELEVANT times the largest share of the
+        # previous sweep cannot change the objective's extremes: skip it
+        floor = RELEVANT * emax
+        emax = 0.0
         moves = 0
         sp = 0
         for v in range(n):
@@ -468,6 +470,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
             x0 = xy[v, 0]
             y0 = xy[v, 1]
             E0 = _local(m, v, x0, y0, h0, hv, href, k, w_len, w_short, w_per, grad)
+            emax = max(emax, E0)
             if E0 < floor:
                 active[v] = False
                 continue

@@ -1,0 +1,154 @@
+"""The point-moving kernel (uniform2d._kernel.relax) and optimize.improve / lattice_seed.
+
+The kernel keeps its own triangulation up to date by flips while points move; the
+independent reference here is a fresh exact CDT of the same points
+(:func:`uniform2d.insert` with the points as sites), which must be the same set of
+triangles, and the full invariant checker on both.
+"""
+
+import numpy as np
+import pytest
+
+import uniform2d
+from uniform2d import Polygon, SizeField
+from uniform2d._kernel import cdt, relax
+from uniform2d.optimize import FLAT, _load, _unload, improve, lattice_seed, target_size
+
+from invariants import check_mesh
+from polygen import benchmark_polygons, convex, star, with_holes
+
+BENCH = benchmark_polygons()
+
+
+def _triangle_set(tri):
+    out = set()
+    for a, b, c in np.asarray(tri):
+        k = int(np.argmin((a, b, c)))
+        r = (a, b, c)[k:] + (a, b, c)[:k]
+        out.add(tuple(int(x) for x in r))
+    return out
+
+
+def _polygons():
+    rng = np.random.default_rng(7)
+    ps = [BENCH["square2holes"], BENCH["star10"], BENCH["lshape"]]
+    ps += [convex(rng), star(rng), with_holes(rng)]
+    return ps
+
+
+@pytest.mark.parametrize("k", range(6))
+@pytest.mark.parametrize("stage", ["spring", "descend"])
+def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage):
+    p = _polygons()[k]
+    n = 120
+    sites = uniform2d.insert(p, n).points  # scattered start: many moves and flips
+    res = uniform2d.insert(p, 0, sites=sites)
+    st = _load(p, res, None, None, None)
+    before = st.xy.copy()
+    args = (st.m, st.role, st.eid, st.t, st.ea, st.ed, st.hv, st.href)
+    if stage == "spring":
+        made = relax.spring(*args, 30, 0.2, 1.02, 1e-4, 0.3, FLAT)
+    else:
+        bx, bt = st.xy.copy(), st.t.copy()
+        btv = cdt.triangle_list(st.m).astype(np.int32).ravel()
+        made, _ = relax.descend(*args, 0, 10, 4, 0.05, bx, bt, btv, FLAT)
+    assert made >= 1
+    nV = len(p.vertices)
+    moved = np.abs(st.xy - before).max(axis=1) > 0
+    assert moved[nV:].any() and not moved[:nV].any()  # polygon vertices are FIXED
+    # the kernel's triangulation (normalised coordinates) vs a fresh exact CDT
+    pts = _unload(p, st)
+    fresh = uniform2d.insert(p, 0, sites=pts[nV:])
+    assert np.array_equal(fresh.mesh_points, pts)
+    kern = cdt.triangle_list(st.m)
+    assert _triangle_set(kern) == _triangle_set(fresh.triangles)
+    check_mesh(pts, kern, p)
+
+
+@pytest.mark.parametrize("k", range(6))
+def test_boundary_points_slide_on_their_own_edge_in_order(k):
+    p = _polygons()[k]
+    res0 = uniform2d.insert(p, 150)
+    sites = res0.points
+    pts, tri, info = improve(p, sites)
+    nV = len(p.vertices)
+    assert pts.shape == (nV + len(sites), 2)
+    assert np.array_equal(pts[:nV], p.vertices)
+    check_mesh(pts, tri, p)
+    a = p.vertices[p.edges[:, 0]]
+    d = p.vertices[p.edges[:, 1]] - a
+    ext = max(np.ptp(p.vertices[:, 0]), np.ptp(p.vertices[:, 1]))
+
+    def edge_of(q):
+        s = np.clip(((q - a) * d).sum(1) / (d * d).sum(1), 0, 1)
+        dist = np.linalg.norm(a + s[:, None] * d - q, axis=1)
+        e = int(np.argmin(dist))
+        return e, s[e], dist[e]
+
+    for i in np.flatnonzero(res0.on_boundary):
+        e0, _, _ = edge_of(sites[i])
+        e1, s1, dist1 = edge_of(pts[nV + i])
+        assert e1 == e0 and dist1 <= 1e-12 * ext and 0 < s1 < 1
+    # order along each edge is kept
+    for e in range(len(a)):
+        idx = [i for i in np.flatnonzero(res0.on_boundary) if edge_of(sites[i])[0] == e]
+        s0 = [edge_of(sites[i])[1] for i in idx]
+        s1 = [edge_of(pts[nV + i])[1] for i in idx]
+        assert np.array_equal(np.argsort(s0), np.argsort(s1))
+
+
+def test_improve_does_not_mutate_and_is_deterministic():
+    p = BENCH["hexagon"]
+    sites = np.array(uniform2d.insert(p, 80).points)
+    keep = sites.copy()
+    a = improve(p, sites)
+    b = improve(p, sites)
+    assert np.array_equal(sites, keep)
+    assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+
+
+def test_improve_makes_a_scattered_start_more_uniform():
+    p = BENCH["square"]
+    sites = uniform2d.insert(p, 300).points
+    start = uniform2d.insert(p, 0, sites=sites)
+    before = uniform2d.quality(start.mesh_points, start.triangles, p)
+    pts, tri, _ = improve(p, sites, objective="ratio")
+    after = uniform2d.quality(pts, tri, p)
+    assert after.edge_ratio < 0.8 * before.edge_ratio  # INSERT on a square: 2.0
+    assert after.cv_edge < before.cv_edge
+
+
+def test_graded_field_grades_the_mesh():
+    """h = 1 + 2x on the unit square: edges near x = 1 come out about 3x those near 0."""
+    p = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    x = np.linspace(0, 1, 5)
+    field = SizeField(x, x, np.tile(1 + 2 * x, (5, 1)))
+    n = 400
+    res = uniform2d.insert(p, n, size=field)
+    pts, tri, _ = improve(p, res.points, size=field)
+    check_mesh(pts, tri, p)
+    q = pts[tri]
+    L = np.linalg.norm(q - q[:, [1, 2, 0]], axis=2).mean(axis=1)
+    cx = q[:, :, 0].mean(axis=1)
+    lo, hi = L[cx < 0.2].mean(), L[cx > 0.8].mean()
+    assert 2.0 < hi / lo < 4.0
+    # against the field, edges are near-uniform: normalised spread well below the raw one
+    hmid = 1 + 2 * cx
+    assert (L / hmid).std() / (L / hmid).mean() < 0.5 * L.std() / L.mean()
+
+
+@pytest.mark.parametrize("name", sorted(BENCH))
+@pytest.mark.parametrize("count", [1, 37, 500])
+def test_lattice_seed_count_inside_and_clear_of_the_boundary(name, count):
+    p = BENCH[name]
+    s = lattice_seed(p, count)
+    assert s.shape == (count, 2)
+    shp = p.to_shapely()
+    import shapely
+
+    assert shapely.contains_xy(shp, s[:, 0], s[:, 1]).all()
+    assert len(np.unique(s, axis=0)) == count
+    assert np.array_equal(s, lattice_seed(p, count))
+    if count >= 37:
+        d = shapely.distance(shp.boundary, shapely.points(s))
+        assert d.min() > 0.2 * target_size(p, count)
