@@ -4,30 +4,32 @@ Pipeline (:func:`optimize_mesh`):
 
 1. **Target size.**  h solves "an equilateral mesh of side h has |V| + n vertices"
    (the count of :func:`uniform2d.uniform.steiner_count_for_size`, inverted).
-2. **Boundary.**  Every polygon edge of length L gets m = max(1, round(L/h)) equal
-   pieces (all rings); k = Σ(m − 1) boundary Steiner points, evenly spaced.
-   If k would exceed n the counts are reduced on the longest pieces first.
-3. **Interior seed.**  n − k points of a hexagonal lattice, aligned with the
-   longest polygon edge, spacing bisected so the lattice points at least a
-   margin inside P number n − k (the last few are removed near the boundary /
-   added in the largest triangles, deterministically).
-4. **Relaxation.**  Spring smoothing (linear springs of rest length ℓ0 on the
-   edges of the constrained Delaunay triangulation of the current points,
-   rebuilt every step), polygon vertices and boundary points fixed, interior
-   points that would leave P stay where they were.
-5. **Objective pass.**  Gradient descent on a p-norm of the chosen objective
-   (edge lengths for "max_edge", longest and shortest for "ratio", triangle
-   perimeters for "max_perimeter", all three for "balanced"), boundary points
-   sliding along their edges in order; the best iterate by the true objective
-   is kept.
-6. **Certification.**  The exact constrained Delaunay triangulation of P with the
-   final points (:func:`uniform2d.insert`); its quality is compared with the
-   starting T+ on the objective, and the better mesh is returned.
+2. **Starts.**  Boundary: every polygon edge of length L gets
+   m = max(1, round(L / (c h))) equal pieces (k = sum(m - 1) boundary points; fewer
+   if k would exceed n).  Interior: n - k points of a hexagonal lattice aligned
+   with one polygon edge, at least half a spacing inside P
+   (:func:`lattice_seed`).  Boundary counts and lattice orientation fix the
+   mesh's structure, which moving points cannot change, and the best choice
+   depends on the polygon: small meshes try c in :data:`SPACINGS` and two
+   orientations (:func:`_variants`), rank them by a short :data:`TRIAL` run and
+   give the best the full schedule.  Lattice points deeper than :data:`BAND`
+   sizes inside P are uniform already and stay put.
+3. **Moving points** (:func:`improve`, kernel :mod:`uniform2d._kernel.relax`).
+   The constrained Delaunay triangulation of the points is built once and kept
+   valid and Delaunay by exact predicates and flips while the points move:
+   polygon vertices fixed, boundary points sliding along their edges in order,
+   interior points free.  First spring rounds (least squares towards equal
+   edges), then Gauss-Seidel descent on the p-norm energy of the objective for
+   p = 4 ... 64 (``"ratio"``: sum l^p + l^-p; ``"max_edge"``: sum l^p;
+   ``"max_perimeter"``: sum over triangles of perimeter^p; ``"balanced"``: all),
+   keeping the best state by the true objective.
+4. **Certification.**  The final points are triangulated afresh by
+   :func:`uniform2d.insert` (exact CDT); the quality is compared with the paper's
+   T+ on the objective and the better mesh is returned, with its certificates.
 
-Every triangulation (steps 3–6) is the exact constrained Delaunay triangulation
-of the current points, from :func:`uniform2d.insert` with the points as sites
-(Hilbert-ordered bulk insertion: faster than ``scipy.spatial.Delaunay`` here, and
-it respects holes and concave corners exactly).
+With a size field (:func:`improve` ``size=``, used by the surface layer) every
+length is measured against the local target size, so the same moves make a
+graded mesh uniform in the field's metric.
 """
 
 from __future__ import annotations
