@@ -241,8 +241,9 @@ def _variants(polygon: Polygon, n: int):
     lattice orientation decide the mesh's structure, which the point moves cannot
     change, and the best choice depends on the polygon, so small meshes try a few
     (the longest edge and the longest one at another angle, modulo 60 degrees,
-    each with the :data:`SPACINGS`); up to LARGE points only the two
-    orientations; beyond, where a start costs most, only the first."""
+    each with the :data:`SPACINGS`, or above SMALL points the
+    :data:`SPACINGS_MEDIUM`); above LARGE points, where a start costs most,
+    only the first."""
     _, d, L = _edge_geometry(polygon)
     first = int(np.argmax(L))
     if n + len(polygon.vertices) > LARGE:
@@ -251,7 +252,7 @@ def _variants(polygon: Polygon, n: int):
     off = np.abs((ang - ang[first] + 30.0) % 60.0 - 30.0)
     other = [e for e in np.lexsort((np.arange(len(L)), -L)) if off[e] > 5.0]
     edges = [first] + ([int(other[0])] if other else [])
-    spacings = SPACINGS if n + len(polygon.vertices) <= SMALL else SPACINGS[:1]
+    spacings = SPACINGS if n + len(polygon.vertices) <= SMALL else SPACINGS_MEDIUM
     return [(c, e) for e in edges for c in spacings]
 
 
@@ -273,6 +274,7 @@ SMALL = 5000
 FLAT = 0.1
 #: Boundary spacings (relative to h) tried for small meshes (see :func:`_variants`).
 SPACINGS = (1.0, 0.95, 1.05, 1.1)
+SPACINGS_MEDIUM = (1.0, 1.05)
 #: The short schedule that ranks the starts (the best one then gets the full one).
 TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5)}
 #: Lattice seed points farther than BAND target sizes from the boundary stay put.
