@@ -22,7 +22,8 @@ Pipeline (:func:`optimize_mesh`):
    edges), then Gauss-Seidel descent on the p-norm energy of the objective for
    p = 4 ... 64 (``"ratio"``: sum l^p + l^-p; ``"max_edge"``: sum l^p;
    ``"max_perimeter"``: sum over triangles of perimeter^p; ``"balanced"``: all),
-   keeping the best state by the true objective.
+   keeping the best state by the true objective; last, sweeps that lower the
+   spread of the edge lengths (the CV) with the objective's extremes held.
 4. **Certification.**  The final points are triangulated afresh by
    :func:`uniform2d.insert` (exact CDT); the quality is compared with the paper's
    T+ on the objective and the better mesh is returned, with its certificates.
@@ -263,10 +264,11 @@ def _quality_objective(objective, q, h):
 
 
 # ----------------------------------------------------------------------------- moving points
-#: (spring rounds, descent sweeps per stage, stage exponents k with p = 2**k) for
-#: meshes up to LARGE points, and above it (where the work is kept near linear).
-SCHEDULE = (60, 40, (2, 3, 4, 5, 6))
-SCHEDULE_LARGE = (30, 25, (4, 5))
+#: (spring rounds, descent sweeps per stage, stage exponents k with p = 2**k,
+#: spread sweeps) for meshes up to LARGE points, and above it (where the work is
+#: kept near linear).
+SCHEDULE = (60, 40, (2, 3, 4, 5, 6), 20)
+SCHEDULE_LARGE = (30, 25, (4, 5), 5)
 LARGE = 20000
 SMALL = 5000
 #: Quality guard of the moves: no triangle may get flatter than twice its area =
@@ -276,7 +278,7 @@ FLAT = 0.1
 SPACINGS = (1.0, 0.95, 1.05, 1.1)
 SPACINGS_MEDIUM = (1.0, 1.05)
 #: The short schedule that ranks the starts (the best one then gets the full one).
-TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5)}
+TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5), "spread_sweeps": 0}
 #: Lattice seed points farther than BAND target sizes from the boundary stay put.
 BAND = 8.0
 
@@ -292,6 +294,7 @@ def improve(
     spring_rounds: int | None = None,
     sweeps: int | None = None,
     exponents=None,
+    spread_sweeps: int | None = None,
 ):
     """Move the Steiner points of a mesh of P to make it more uniform, exactly n kept.
 
@@ -321,9 +324,13 @@ def improve(
     spring_rounds, sweeps : int, optional
         Iteration limits (spring rounds; descent sweeps per stage).
     exponents : sequence of int, optional
-        Descent stage k minimises the p-norm energy with p = 2**k.  The three
+        Descent stage k minimises the p-norm energy with p = 2**k.  The four
         defaults come from :data:`SCHEDULE` (or :data:`SCHEDULE_LARGE` above
         :data:`LARGE` points).
+    spread_sweeps : int, optional
+        Sweeps of the final stage that lowers the spread of the (normalised) edge
+        lengths while the objective's extremes are held
+        (:func:`uniform2d._kernel.relax.spread`).
 
     Returns
     -------
@@ -358,6 +365,7 @@ def improve(
     spring_rounds = sched[0] if spring_rounds is None else spring_rounds
     sweeps = sched[1] if sweeps is None else sweeps
     exponents = sched[2] if exponents is None else exponents
+    spread_sweeps = sched[3] if spread_sweeps is None else spread_sweeps
     obj = OBJECTIVES.index(objective)
     m, xy, t = st.m, st.xy, st.t
     args = (m, st.role, st.eid, t, st.ea, st.ed, st.hv, st.href)
@@ -376,6 +384,14 @@ def improve(
         t[:] = best_t
         cdt.build_adjacency(m, best_tv.reshape(-1, 3))
         cdt.legalize_all(m)
+
+    if spread_sweeps:
+        best_xy = xy.copy()
+        best_t = t.copy()
+        best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
+        relax.spread(*args, obj, spread_sweeps, 0.05, best_xy, best_t, best_tv, FLAT)
+        xy[:] = best_xy
+        t[:] = best_t
 
     fin = insert(polygon, 0, sites=_unload(polygon, st)[nV:])
     info = {"spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value}

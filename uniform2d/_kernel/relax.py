@@ -548,3 +548,178 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
         if moves == 0 or stale >= PATIENCE:
             break
     return done, best
+
+
+# ----------------------------------------------------------------------------- spread
+@njit(cache=True)
+def _mean_length(m, hv, href):
+    """Mean normalised length over the edges."""
+    tv, tw, xy = m.tv, m.tw, m.xy
+    s = 0.0
+    k = 0
+    for h in range(3 * m.nt):
+        g = tw[h]
+        if g >= 0 and g < h:
+            continue
+        a = tv[h]
+        b = tv[nxt(h)]
+        s += np.hypot(xy[b, 0] - xy[a, 0], xy[b, 1] - xy[a, 1]) / (0.5 * (hv[a] + hv[b]) * href)
+        k += 1
+    return s / k
+
+
+@njit(cache=True)
+def _local_spread(m, v, x, y, h0, hv, href, cbar, grad, ext):
+    """Sum (l - cbar)^2 over v's edges with v at (x, y), its gradient into ``grad``,
+    and the star's longest and shortest normalised edge and largest normalised
+    perimeter into ``ext``."""
+    xy, tv, tw = m.xy, m.tv, m.tw
+    E = 0.0
+    gx = 0.0
+    gy = 0.0
+    lmax = 0.0
+    lmin = np.inf
+    pmax = 0.0
+    h = h0
+    while True:
+        b = tv[nxt(h)]
+        c = tv[prv(h)]
+        sb = 0.5 * (hv[v] + hv[b]) * href
+        sc = 0.5 * (hv[v] + hv[c]) * href
+        sbc = 0.5 * (hv[b] + hv[c]) * href
+        dbx = x - xy[b, 0]
+        dby = y - xy[b, 1]
+        Lb = np.hypot(dbx, dby)
+        dcx = x - xy[c, 0]
+        dcy = y - xy[c, 1]
+        Lc = np.hypot(dcx, dcy)
+        lb = Lb / sb
+        E += (lb - cbar) ** 2
+        d = 2.0 * (lb - cbar) / sb
+        gx += d * dbx / Lb
+        gy += d * dby / Lb
+        lc = Lc / sc
+        lmax = max(lmax, lb, lc)
+        lmin = min(lmin, lb, lc)
+        Lbc = np.hypot(xy[c, 0] - xy[b, 0], xy[c, 1] - xy[b, 1])
+        pmax = max(pmax, (Lb + Lc + Lbc) / (sb + sc + sbc))
+        g = tw[prv(h)]
+        if g < 0:  # boundary: the last edge c-v
+            E += (lc - cbar) ** 2
+            d = 2.0 * (lc - cbar) / sc
+            gx += d * dcx / Lc
+            gy += d * dcy / Lc
+            break
+        h = g
+        if h == h0:
+            break
+    grad[0] = gx
+    grad[1] = gy
+    ext[0] = lmax
+    ext[1] = lmin
+    ext[2] = pmax
+    return E
+
+
+@njit(cache=True)
+def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy, best_t,
+           best_tv, flat):  # fmt: skip
+    """Gauss-Seidel sweeps on the spread ``sum (l - mean l)**2`` that cannot make
+    ``objective`` worse.
+
+    A move must lower the vertex's share of the spread and keep its star's
+    longest and shortest edge and largest perimeter within the mesh's present
+    extremes, so the objective can only change through the flips of the
+    legalisation; a sweep after which it is worse than at the start ends the
+    run, and ``best_*`` (which must hold the starting state) keep the last state
+    that was not.  Returns the number of sweeps kept.
+    """
+    n = m.nv
+    xy = m.xy
+    prevb, nextb = _ring_neighbours(m, role)
+    lmax, lmin, pmax = measure(m, hv, href)
+    start = objective_of(objective, lmax, lmin, pmax)
+    step = np.empty(n)
+    for v in range(n):
+        step[v] = step0 * href * hv[v]
+    grad = np.zeros(2)
+    g2 = np.zeros(2)
+    ext = np.zeros(3)
+    awake = np.zeros(n, np.bool_)  # unused here: spread sweeps visit every vertex
+    todo = np.empty(64, np.int32)
+    kept = 0
+    for sweep in range(sweeps):
+        if m.sized:
+            refresh_sizes(m, hv)
+        vh = _outgoing(m)
+        cbar = _mean_length(m, hv, href)
+        moves = 0
+        sp = 0
+        for v in range(n):
+            if role[v] == FIXED or vh[v] < 0:
+                continue
+            h0 = vh[v]
+            x0 = xy[v, 0]
+            y0 = xy[v, 1]
+            E0 = _local_spread(m, v, x0, y0, h0, hv, href, cbar, grad, ext)
+            if role[v] == SLIDE:
+                e = eid[v]
+                ex, ey = ed[e, 0], ed[e, 1]
+                L = np.hypot(ex, ey)
+                gt = -(grad[0] * ex + grad[1] * ey) / L
+                if gt == 0.0:
+                    continue
+                tp = _t_of(role, t, prevb[v], True)
+                tn = _t_of(role, t, nextb[v], False)
+                sgn = 1.0 if gt > 0 else -1.0
+                room = (tn - t[v]) if sgn > 0 else (t[v] - tp)
+                s = min(step[v] / L, 0.45 * room)
+                ux = sgn * ex / L
+                uy = sgn * ey / L
+                s *= L  # in length units along the edge
+            else:
+                gn = np.hypot(grad[0], grad[1])
+                if gn == 0.0:
+                    continue
+                ux = -grad[0] / gn
+                uy = -grad[1] / gn
+                s = step[v]
+            ok = False
+            x = x0
+            y = y0
+            for _k in range(6):
+                if role[v] == SLIDE:
+                    tt = t[v] + (s / L) * sgn
+                    x = ea[e, 0] + tt * ex
+                    y = ea[e, 1] + tt * ey
+                else:
+                    x = x0 + s * ux
+                    y = y0 + s * uy
+                if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
+                    E1 = _local_spread(m, v, x, y, h0, hv, href, cbar, g2, ext)
+                    if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:
+                        ok = True
+                        break
+                s *= 0.5
+            if ok:
+                xy[v, 0] = x
+                xy[v, 1] = y
+                if role[v] == SLIDE:
+                    t[v] = tt
+                step[v] = min(1.5 * s, 0.3 * href * hv[v])
+                moves += 1
+                todo, sp = _wake(m, h0, awake, todo, sp)  # push the star's edges
+            else:
+                step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
+        legalize_stack(m, todo, sp)
+        a, b, c = measure(m, hv, href)
+        if objective_of(objective, a, b, c) > start:
+            break  # a flip made it worse: keep the state before this sweep
+        lmax, lmin, pmax = a, b, c
+        kept = sweep + 1
+        best_xy[:, :] = xy[: best_xy.shape[0]]
+        best_t[:] = t
+        best_tv[:] = m.tv[: best_tv.shape[0]]
+        if moves == 0:
+            break
+    return kept
