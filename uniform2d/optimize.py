@@ -60,7 +60,9 @@ OBJECTIVES = ("balanced", "ratio", "max_edge", "max_perimeter")
 
 # ----------------------------------------------------------------------------- sizes
 def target_size(polygon: Polygon, n: int) -> float:
-    """Side h of an equilateral mesh of P with |V| + n vertices (inverse of steiner_count_for_size)."""
+    """Side h of an equilateral mesh of P with |V| + n vertices.
+
+    The inverse of :func:`uniform2d.uniform.steiner_count_for_size`."""
     A, B, H = polygon.area, polygon.perimeter, polygon.n_holes
     N = n + len(polygon.vertices)
     a = 4.0 * A / math.sqrt(3.0)
@@ -82,8 +84,7 @@ def _boundary_counts(L: np.ndarray, h: float, n: int) -> np.ndarray:
     """Pieces per polygon edge: round(L/h), at least 1, at most n extra points in total."""
     m = np.maximum(1, np.rint(L / h)).astype(np.int64)
     while (m - 1).sum() > n:
-        e = int(np.argmax(np.where(m > 1, L / m, -1.0)))  # least harmful: merge on longest... shortest piece
-        e = int(np.argmin(np.where(m > 1, L / m, np.inf)))
+        e = int(np.argmin(np.where(m > 1, L / m, np.inf)))  # merge on the shortest pieces
         m[e] -= 1
     return m
 
@@ -261,18 +262,18 @@ def _quality_objective(objective, q, h):
     return objective_value(objective, q.longest_edge, q.shortest_edge, q.max_perimeter, h)
 
 
-
-
 # ----------------------------------------------------------------------------- moving points
 #: (spring rounds, descent sweeps per stage, stage exponents k with p = 2**k,
 #: spread sweeps) for meshes up to LARGE points, and above it (where the work is
 #: kept near linear).
 SCHEDULE = (60, 40, (2, 3, 4, 5, 6), 20)
 SCHEDULE_LARGE = (30, 25, (4, 5), 5)
+#: Point counts (|V| + n) above which fewer starts are tried (:func:`_variants`)
+#: and SCHEDULE_LARGE is used.
 LARGE = 20000
 SMALL = 5000
-#: Quality guard of the moves: no triangle may get flatter than twice its area =
-#: FLAT * target**2 (an equilateral one has 0.87 * target**2).
+#: Quality guard of the moves: a triangle whose doubled area is below
+#: FLAT * target**2 may not get flatter (an equilateral one has 0.87 * target**2).
 FLAT = 0.1
 #: Boundary spacings (relative to h) tried for small meshes (see :func:`_variants`).
 SPACINGS = (1.0, 0.95, 1.05, 1.1)
@@ -377,7 +378,9 @@ def improve(
         best_xy = xy.copy()
         best_t = t.copy()
         best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
-        made, value = relax.descend(*args, obj, sweeps, int(k), 0.05, best_xy, best_t, best_tv, FLAT)
+        made, value = relax.descend(
+            *args, obj, sweeps, int(k), 0.05, best_xy, best_t, best_tv, FLAT
+        )
         done += made
         # continue from the best state of this stage
         xy[:] = best_xy
@@ -512,7 +515,9 @@ def optimize_mesh(
         sites = np.concatenate([bpts, ipts])
         if len(variants) > 1:  # a short trial run ranks the starts
             trial = {**options, **TRIAL}
-            pts, tri, _ = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **trial)
+            pts, tri, _ = improve(
+                polygon, sites, objective=objective, href=h, frozen=frozen, **trial
+            )
             sites = pts[nV:]
         val = objective_value(objective, *_extremes(pts, tri), h) if len(variants) > 1 else 0.0
         if best is None or val < best[0]:

@@ -31,8 +31,8 @@ grid after each round.  An edge's target is ``href * (hv[a] + hv[b]) / 2``, its
 normalised length ``l = L / target``; a triangle's normalised perimeter is its
 perimeter over the sum of its three edge targets.
 
-Two ways to move
-----------------
+Three ways to move
+------------------
 :func:`spring`   Jacobi rounds of linear springs whose rest lengths are the
                  targets scaled so that their root mean square equals the
                  edges' (times ``pressure``): a least-squares pull towards equal
@@ -44,6 +44,14 @@ Two ways to move
                  objective, decreased one vertex at a time (a decrease of a
                  vertex's share is a decrease of the total).  The best state
                  by the true objective is kept.
+:func:`spread`   Gauss-Seidel sweeps on ``sum (l - mean l)**2`` (the spread, the
+                 edge CV), a move accepted only if the star's longest and
+                 shortest edge and largest perimeter stay within the mesh's
+                 extremes, so the objective is held while the spread drops.
+
+Besides validity, moves obey a quality guard (a float test, not a predicate): no
+triangle around the moved vertex may become flatter than ``flat * target**2``
+(twice its area) unless it was flatter before, so slivers cannot form but can heal.
 
 Around a vertex v the kernel turns counter-clockwise with ``h -> tw[prv(h)]``
 starting from an outgoing half-edge (``vseg[v]`` on the boundary, where the turn
@@ -59,11 +67,11 @@ import numpy as np
 from numba import njit
 
 from .cdt import legalize_stack, nxt, prv
-from .insert import size_at
 from .heap import grown
+from .insert import size_at
 from .predicates import orient2d
 
-__all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "measure", "refresh_sizes"]
+__all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "spread", "measure", "refresh_sizes"]
 
 FIXED, FREE, SLIDE = 0, 1, 2
 #: A vertex whose energy share is below this fraction of the largest share rests.
@@ -157,7 +165,7 @@ def _outgoing(m):
 @njit(cache=True)
 def _star_ok(m, v, x, y, h0, floor):
     """Whether every triangle around v stays strictly CCW with v at (x, y) (exact),
-    and none that is flatter than twice its area = ``floor`` gets flatter (a
+    and none whose doubled area is below ``floor`` gets flatter (a
     quality guard, not a predicate: slivers may not form, but may heal)."""
     xy, tv, tw = m.xy, m.tv, m.tw
     h = h0
@@ -183,10 +191,10 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
 
     A vertex moves by ``dt`` times its spring force, at most ``cap * href * hv[v]``;
     a SLIDE vertex by the tangential part, at most a quarter of its gap to either
-    ring neighbour.  Moves that would invert a triangle, or make one flatter
-    than twice its area = ``flat * (href * mean hv)**2`` and flatter than it was,
-    are undone (its three vertices stay), then the mesh is legalised.  Stops when the largest move is
-    below ``tol * href``.
+    ring neighbour.  Moves that would invert a triangle, or flatten one whose
+    doubled area is below ``flat * (href * mean hv)**2`` further, are undone (its
+    three vertices stay), then the mesh is legalised.  Stops when the largest
+    move is below ``tol * href``.
     """
     n = m.nv
     xy, tv, tw = m.xy, m.tv, m.tw
@@ -229,7 +237,9 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
             F[b, 1] += f * dy
             F[a, 0] -= f * dx
             F[a, 1] -= f * dy
-        biggest = _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved)
+        biggest = _trial(
+            m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved
+        )
         _commit(m, role, t, new, newt, moved, hv, flat * href * href)
         # suspects: the edges of the triangles with a moved vertex
         sp = 0
@@ -432,8 +442,9 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     and its value returned with the number of sweeps made.  Each vertex keeps its
     own step, starting at ``step0 * href * hv[v]``: grown 1.5x after an accepted
     move, halved after a refused one.  A vertex whose line search fails rests
-    until a neighbour moves (an active set: converged regions cost nothing).  A move may not make a triangle around the
-    vertex flatter than twice its area = ``flat * (href * hv[v])**2``.
+    until a neighbour moves (an active set: converged regions cost nothing).  A
+    move may not flatten a triangle around the vertex whose doubled area is below
+    ``flat * (href * hv[v])**2`` any further.
     """
     w_len = 1.0 if objective != MAX_PERIMETER else 0.0
     w_short = 1.0 if objective in (BALANCED, RATIO) else 0.0
