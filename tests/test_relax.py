@@ -185,3 +185,33 @@ def test_spread_stage_lowers_cv_and_never_the_objective(objective):
     assert vb <= va * (1 + 1e-12)  # held in the kernel; mapping back rounds
     qa, qb = uniform2d.quality(a[0], a[1], p), uniform2d.quality(b[0], b[1], p)
     assert qb.cv_edge < qa.cv_edge
+
+
+@pytest.mark.parametrize("name", ["square", "square2holes", "star10", "heptagon_short"])
+def test_boundary_rows_sit_on_equilateral_apexes_clear_of_each_other(name):
+    from scipy.spatial import cKDTree
+
+    from uniform2d.optimize import _boundary_counts, _boundary_rows, _edge_geometry
+
+    p = BENCH[name]
+    a, d, L = _edge_geometry(p)
+    h = target_size(p, 300)
+    m = _boundary_counts(L, h, 300)
+    R = _boundary_rows(p, m)
+    g = L / m
+    shp = p.to_shapely()
+    assert shapely.contains_xy(shp, R[:, 0], R[:, 1]).all()
+    # every row point is the apex over the middle of a piece of some edge
+    apex_of = []
+    for r in R:
+        q = r - a
+        s = (q * d).sum(1) / (L * L)
+        dist = np.abs(d[:, 0] * q[:, 1] - d[:, 1] * q[:, 0]) / L
+        k = (s * m) % 1.0
+        hit = np.flatnonzero((np.abs(dist - g * np.sqrt(3) / 2) < 1e-9 * g) & (np.abs(k - 0.5) < 1e-9))
+        assert len(hit) >= 1
+        apex_of.append(g[hit[0]])
+    dmin, _ = cKDTree(R).query(R, k=2)
+    assert (dmin[:, 1] >= 0.75 * np.array(apex_of) * (1 - 1e-12)).all()
+    # only crowded corners lose points: at most two each
+    assert len(R) >= m.sum() - 2 * len(p.vertices)

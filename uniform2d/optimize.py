@@ -121,19 +121,22 @@ def _hex_lattice(polygon: Polygon, spacing: float, angle: float, origin) -> np.n
     return np.stack([x[keep], y[keep]], axis=1)
 
 
-def lattice_seed(polygon: Polygon, count: int) -> np.ndarray:
+def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarray:
     """Exactly ``count`` points of a hexagonal lattice inside P, away from its boundary.
 
-    The lattice is aligned with P's longest edge and its spacing chosen so that
-    ``count`` lattice points lie at least half a spacing inside P (the last few
-    are dropped near the boundary or added in the largest gaps).  A structured
-    start for :func:`improve`: relaxing a lattice ends far more uniform than
-    relaxing scattered points.
+    With ``rows`` (default), the first layer is one point above the middle of
+    every polygon edge, at the apex of the equilateral triangle on it (crowded
+    ones at corners dropped): the boundary's own spacing, wherever it is.  The
+    lattice, aligned with P's longest edge, fills the rest; its spacing is chosen
+    so that the count comes out (the last few are dropped near the boundary or
+    added in the largest gaps).  A structured start for :func:`improve`:
+    relaxing a lattice ends far more uniform than relaxing scattered points.
 
     Parameters
     ----------
     polygon : Polygon
     count : int
+    rows : bool
 
     Returns
     -------
@@ -148,16 +151,54 @@ def lattice_seed(polygon: Polygon, count: int) -> np.ndarray:
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
-    return _seed_interior(polygon, int(count), target_size(polygon, int(count)), np.empty((0, 2)))
+    count = int(count)
+    first = _boundary_rows(polygon, np.ones(len(polygon.edges), np.int64)) if rows else None
+    return _seed_interior(polygon, count, target_size(polygon, count), np.empty((0, 2)), None, first)
+
+
+def _boundary_rows(polygon: Polygon, m: np.ndarray) -> np.ndarray:
+    """One row of points along every polygon edge: above the middle of each of its
+    m[e] pieces, at the apex of the equilateral triangle on it (inside P), keeping
+    only those clear of the other edges and of each other (corners)."""
+    a, d, L = _edge_geometry(polygon)
+    rows, gaps = [], []
+    for e in range(len(L)):
+        g = L[e] / m[e]
+        nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: into P on every ring
+        s = (np.arange(m[e]) + 0.5) / m[e]
+        rows.append(a[e] + d[e] * s[:, None] + nrm * g * math.sqrt(3) / 2)
+        gaps.append(np.full(m[e], g))
+    R, G = np.concatenate(rows), np.concatenate(gaps)
+    shp = polygon.to_shapely()
+    ok = shapely.contains_xy(shp, R[:, 0], R[:, 1])
+    ok &= to_segments(R, a, a + d) >= 0.6 * G
+    R, G = R[ok], G[ok]
+    keep = []
+    tree = cKDTree(R)
+    taken = np.zeros(len(R), bool)
+    for i in range(len(R)):  # greedy, in ring order: the first of two crowded points stays
+        if taken[i]:
+            continue
+        keep.append(i)
+        taken[tree.query_ball_point(R[i], 0.75 * G[i])] = True
+    return R[keep]
 
 
 def _seed_interior(
-    polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None
+    polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
+    rows: np.ndarray | None = None,
 ) -> np.ndarray:
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
-    ``edge`` (default: the longest), deterministic."""
+    ``edge`` (default: the longest), deterministic.  With ``rows`` (from
+    :func:`_boundary_rows`) those come first and the lattice fills the rest,
+    clear of them."""
     if count <= 0:
         return np.empty((0, 2))
+    if rows is not None and len(rows) < count:
+        rtree = cKDTree(rows)
+        band = h * math.sqrt(3) / 2
+    else:
+        rows = None
     a, d, L = _edge_geometry(polygon)
     e = int(np.argmax(L)) if edge is None else int(edge)
     angle = math.atan2(d[e, 1], d[e, 0])
@@ -174,7 +215,16 @@ def _seed_interior(
         inside = shapely.contains_xy(shp, P[:, 0], P[:, 1])
         P = P[inside]
         dist = to_segments(P, sa, sb)
-        return P[dist >= 0.5 * sp], dist[dist >= 0.5 * sp]
+        ok = dist >= 0.5 * sp
+        if rows is not None:  # rows lie within ~band of the boundary: test only near ones
+            ok &= dist >= band + 0.5 * sp
+            near = np.flatnonzero(ok & (dist < 2.0 * band + sp))
+            ok[near] = rtree.query(P[near])[0] >= 0.75 * sp
+        return P[ok], dist[ok]
+
+    total = count
+    if rows is not None:
+        count = total - len(rows)
 
     lo, hi = 0.5 * h, 1.5 * h  # count(sp) decreases with sp
     best = None
@@ -195,6 +245,9 @@ def _seed_interior(
     if len(P) > count:  # drop the points nearest to the boundary
         order = np.lexsort((np.arange(len(P)), dist))
         P = P[np.sort(order[len(P) - count :])]
+    if rows is not None:
+        P = np.concatenate([rows, P])
+        count = total
     while len(P) < count:  # add centroids of the largest triangles
         allp = np.concatenate([polygon.vertices, bpts, P])
         tri = _cdt(polygon, allp)
@@ -239,23 +292,28 @@ def _extremes(points, tri):
 
 
 def _variants(polygon: Polygon, n: int):
-    """The starts tried: (boundary spacing / h, lattice edge).  Boundary counts and
-    lattice orientation decide the mesh's structure, which the point moves cannot
-    change, and the best choice depends on the polygon, so small meshes try a few
-    (the longest edge and the longest one at another angle, modulo 60 degrees,
-    each with the :data:`SPACINGS`, or above SMALL points the
-    :data:`SPACINGS_MEDIUM`); above LARGE points, where a start costs most,
-    only the first."""
+    """The starts tried: (boundary spacing / h, lattice edge, boundary rows).
+
+    Boundary counts, lattice orientation and the seed's first layer decide the
+    mesh's structure, which the point moves cannot change, and the best choice
+    depends on the polygon.  Small meshes (up to SMALL points) try the lattice
+    aligned with the longest edge and with the longest one at another angle
+    (modulo 60 degrees), each with every boundary spacing of :data:`SPACINGS`,
+    with and without a row of points on every edge (:func:`_boundary_rows`);
+    up to LARGE points the :data:`SPACINGS_MEDIUM` with rows; beyond, where a
+    start costs most, one start.
+    """
     _, d, L = _edge_geometry(polygon)
     first = int(np.argmax(L))
     if n + len(polygon.vertices) > LARGE:
-        return [(1.0, first)]
+        return [(1.0, first, LAYERED_LARGE)]
     ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
     off = np.abs((ang - ang[first] + 30.0) % 60.0 - 30.0)
     other = [e for e in np.lexsort((np.arange(len(L)), -L)) if off[e] > 5.0]
     edges = [first] + ([int(other[0])] if other else [])
-    spacings = SPACINGS if n + len(polygon.vertices) <= SMALL else SPACINGS_MEDIUM
-    return [(c, e) for e in edges for c in spacings]
+    small = n + len(polygon.vertices) <= SMALL
+    spacings, layers = (SPACINGS, LAYERED) if small else (SPACINGS_MEDIUM, LAYERED_MEDIUM)
+    return [(c, e, lay) for lay in layers for e in edges for c in spacings]
 
 
 def _quality_objective(objective, q, h):
@@ -276,8 +334,12 @@ SMALL = 5000
 #: FLAT * target**2 may not get flatter (an equilateral one has 0.87 * target**2).
 FLAT = 0.1
 #: Boundary spacings (relative to h) tried for small meshes (see :func:`_variants`).
-SPACINGS = (1.0, 0.95, 1.05, 1.1)
+SPACINGS = (1.0, 0.95, 1.05)
 SPACINGS_MEDIUM = (1.0, 1.05)
+#: Seeds tried: the plain lattice (False) and boundary rows + lattice (True).
+LAYERED = (False, True)
+LAYERED_MEDIUM = (True,)
+LAYERED_LARGE = True
 #: The short schedule that ranks the starts (the best one then gets the full one).
 TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5), "spread_sweeps": 0}
 #: Lattice seed points farther than BAND target sizes from the boundary stay put.
@@ -505,10 +567,11 @@ def optimize_mesh(
     a, d, L = _edge_geometry(polygon)
     variants = _variants(polygon, n)
     best = None
-    for spacing, edge in variants:
+    for spacing, edge, layered in variants:
         m = _boundary_counts(L, spacing * h, n)
         bpts, _, _ = _boundary_points(a, d, m)
-        ipts = _seed_interior(polygon, n - len(bpts), h, bpts, edge)
+        rows = _boundary_rows(polygon, m) if layered else None
+        ipts = _seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
         # the lattice deeper than BAND sizes inside P is uniform already: it stays
         deep = to_segments(ipts, a, a + d) > BAND * h
         frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
@@ -521,8 +584,8 @@ def optimize_mesh(
             sites = pts[nV:]
         val = objective_value(objective, *_extremes(pts, tri), h) if len(variants) > 1 else 0.0
         if best is None or val < best[0]:
-            best = (val, sites, frozen, len(bpts), spacing, edge)
-    _, sites, frozen, k, spacing, edge = best
+            best = (val, sites, frozen, len(bpts), spacing, edge, layered)
+    _, sites, frozen, k, spacing, edge, layered = best
     pts, tri, run = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **options)
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = _quality_objective(objective, q_new, h)
@@ -545,6 +608,7 @@ def optimize_mesh(
         "k": int(k),
         "boundary_spacing": spacing,
         "lattice_edge": edge,
+        "boundary_rows": layered,
         "relax_iterations": run["spring_rounds"],
         "sweeps": run["sweeps"],
         "start": {"method": tp.info.get("method"), **summary(q_tp), "objective": v_tp},
