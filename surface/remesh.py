@@ -77,7 +77,7 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
     and the count exact.  With ``optimize=False``: the paper's Algorithm INSERT,
     graded by ``size_field`` (its candidates ranked by distance / size).
     Relaxing INSERT's points ends less uniform (3-D edge CV about 0.12 against
-    0.04-0.06 from the lattice, at 2000 vertices on the benchmark patches): the
+    0.04-0.07 from the lattice, at 2000 vertices on the benchmark patches): the
     lattice gives the structure that point moves alone cannot.
 
     Parameters

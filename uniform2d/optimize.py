@@ -7,12 +7,13 @@ Pipeline (:func:`optimize_mesh`):
 2. **Starts.**  Boundary: every polygon edge of length L gets
    m = max(1, round(L / (c h))) equal pieces (k = sum(m - 1) boundary points; fewer
    if k would exceed n).  Interior: n - k points of a hexagonal lattice aligned
-   with one polygon edge, at least half a spacing inside P
-   (:func:`lattice_seed`).  Boundary counts and lattice orientation fix the
-   mesh's structure, which moving points cannot change, and the best choice
-   depends on the polygon: small meshes try c in :data:`SPACINGS` and two
-   orientations (:func:`_variants`), rank them by a short :data:`TRIAL` run and
-   give the best the full schedule.  Lattice points deeper than :data:`BAND`
+   with one polygon edge, at least half a spacing inside P, optionally after a
+   first row at the apex of the equilateral triangle over every boundary piece
+   (:func:`_boundary_rows`, :func:`lattice_seed`).  Boundary counts, lattice
+   orientation and the first row fix the mesh's structure, which moving points
+   cannot change, and the best choice depends on the polygon: small meshes try
+   several (:func:`_variants`), rank them by a short :data:`TRIAL` run and give
+   the best the full schedule.  Lattice points deeper than :data:`BAND`
    sizes inside P are uniform already and stay put.
 3. **Moving points** (:func:`improve`, kernel :mod:`uniform2d._kernel.relax`).
    The constrained Delaunay triangulation of the points is built once and kept
