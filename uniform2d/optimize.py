@@ -577,13 +577,14 @@ def optimize_mesh(
         deep = to_segments(ipts, a, a + d) > BAND * h
         frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
         sites = np.concatenate([bpts, ipts])
+        val = 0.0
         if len(variants) > 1:  # a short trial run ranks the starts
             trial = {**options, **TRIAL}
             pts, tri, _ = improve(
                 polygon, sites, objective=objective, href=h, frozen=frozen, **trial
             )
             sites = pts[nV:]
-        val = objective_value(objective, *_extremes(pts, tri), h) if len(variants) > 1 else 0.0
+            val = objective_value(objective, *_extremes(pts, tri), h)
         if best is None or val < best[0]:
             best = (val, sites, frozen, len(bpts), spacing, edge, layered)
     _, sites, frozen, k, spacing, edge, layered = best
