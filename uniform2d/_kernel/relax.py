@@ -78,6 +78,8 @@ FIXED, FREE, SLIDE = 0, 1, 2
 RELEVANT = 1e-2
 #: A descent stage ends after this many sweeps without a better objective.
 PATIENCE = 6
+#: Halvings of the step a line search tries before the vertex gives up.
+TRIES = 8
 #: Objectives, in the order of :data:`uniform2d.optimize.OBJECTIVES`.
 BALANCED, RATIO, MAX_EDGE, MAX_PERIMETER = 0, 1, 2, 3
 
@@ -346,6 +348,21 @@ def _pw(x, k):
     return x
 
 
+@njit(cache=True, inline="always")
+def _edge_energy(ell, s, k, p, w_len, w_short):
+    """(energy, d energy / d length) of an edge of normalised length ell, target s."""
+    q = _pw(ell, k)
+    E = 0.0
+    d = 0.0
+    if w_len > 0.0:
+        E += w_len * q
+        d += w_len * p * q / (ell * s)
+    if w_short > 0.0:
+        E += w_short / q
+        d -= w_short * p / (q * ell * s)
+    return E, d
+
+
 @njit(cache=True)
 def _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, grad):
     """Vertex v's share of the energy with v at (x, y); its gradient into ``grad``."""
@@ -368,18 +385,10 @@ def _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, grad):
         dcx = x - xy[c, 0]
         dcy = y - xy[c, 1]
         Lc = np.hypot(dcx, dcy)
-        lb = Lb / sb
-        q = _pw(lb, k)
-        if w_len > 0.0:
-            E += w_len * q
-            d = w_len * p * q / (lb * sb)
-            gx += d * dbx / Lb
-            gy += d * dby / Lb
-        if w_short > 0.0:
-            E += w_short / q
-            d = -w_short * p / (q * lb * sb)
-            gx += d * dbx / Lb
-            gy += d * dby / Lb
+        e, d = _edge_energy(Lb / sb, sb, k, p, w_len, w_short)
+        E += e
+        gx += d * dbx / Lb
+        gy += d * dby / Lb
         if w_per > 0.0:
             Lbc = np.hypot(xy[c, 0] - xy[b, 0], xy[c, 1] - xy[b, 1])
             tgt = sb + sc + 0.5 * (hv[b] + hv[c]) * href
@@ -391,18 +400,10 @@ def _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, grad):
             gy += d * (dby / Lb + dcy / Lc)
         g = tw[prv(h)]
         if g < 0:  # boundary: the last edge c-v
-            lc = Lc / sc
-            q = _pw(lc, k)
-            if w_len > 0.0:
-                E += w_len * q
-                d = w_len * p * q / (lc * sc)
-                gx += d * dcx / Lc
-                gy += d * dcy / Lc
-            if w_short > 0.0:
-                E += w_short / q
-                d = -w_short * p / (q * lc * sc)
-                gx += d * dcx / Lc
-                gy += d * dcy / Lc
+            e, d = _edge_energy(Lc / sc, sc, k, p, w_len, w_short)
+            E += e
+            gx += d * dcx / Lc
+            gy += d * dcy / Lc
             break
         h = g
         if h == h0:
@@ -410,6 +411,41 @@ def _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, grad):
     grad[0] = gx
     grad[1] = gy
     return E
+
+
+@njit(cache=True)
+def _search(role, eid, t, ed, prevb, nextb, v, grad, step_v):
+    """Direction (ux, uy) against the gradient and the first trial step for v: in
+    the plane for a FREE vertex; along its edge for a SLIDE one, at most 0.45 of
+    the room to the ring neighbour on that side.  A step of 0 means no move."""
+    if role[v] == SLIDE:
+        e = eid[v]
+        ex, ey = ed[e, 0], ed[e, 1]
+        L = np.hypot(ex, ey)
+        gt = -(grad[0] * ex + grad[1] * ey) / L
+        if gt == 0.0:
+            return 0.0, 0.0, 0.0
+        sgn = 1.0 if gt > 0 else -1.0
+        if sgn > 0:
+            room = _t_of(role, t, nextb[v], False) - t[v]
+        else:
+            room = t[v] - _t_of(role, t, prevb[v], True)
+        return sgn * ex / L, sgn * ey / L, min(step_v, 0.45 * room * L)
+    gn = np.hypot(grad[0], grad[1])
+    if gn == 0.0:
+        return 0.0, 0.0, 0.0
+    return -grad[0] / gn, -grad[1] / gn, step_v
+
+
+@njit(cache=True)
+def _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, s):
+    """(x, y, t) of v moved by s along (ux, uy); a SLIDE vertex stays on its edge."""
+    if role[v] == SLIDE:
+        e = eid[v]
+        ex, ey = ed[e, 0], ed[e, 1]
+        tt = t[v] + s * (ux * ex + uy * ey) / (ex * ex + ey * ey)
+        return ea[e, 0] + tt * ex, ea[e, 1] + tt * ey, tt
+    return x0 + s * ux, y0 + s * uy, t[v]
 
 
 @njit(cache=True)
@@ -485,65 +521,28 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
             if E0 < floor:
                 active[v] = False
                 continue
-            if role[v] == SLIDE:
-                e = eid[v]
-                ex, ey = ed[e, 0], ed[e, 1]
-                L = np.hypot(ex, ey)
-                gt = -(grad[0] * ex + grad[1] * ey) / L  # descent along the edge, per unit length
-                if gt == 0.0:
-                    continue
-                tp = _t_of(role, t, prevb[v], True)
-                tn = _t_of(role, t, nextb[v], False)
-                sgn = 1.0 if gt > 0 else -1.0
-                room = (tn - t[v]) if sgn > 0 else (t[v] - tp)
-                s = min(step[v] / L, 0.45 * room)
-                ok = False
-                for _k in range(8):
-                    tt = t[v] + sgn * s
-                    x = ea[e, 0] + tt * ex
-                    y = ea[e, 1] + tt * ey
-                    if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
-                        E1 = _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, g2)
-                        if E1 < E0:
-                            ok = True
-                            break
-                    s *= 0.5
-                if ok:
-                    xy[v, 0] = x
-                    xy[v, 1] = y
-                    t[v] = tt
-                    step[v] = min(1.5 * s * L, 0.3 * href * hv[v])
-                    moves += 1
-                    todo, sp = _wake(m, h0, active, todo, sp)
-                else:
-                    step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
-                    active[v] = False
+            ux, uy, st = _search(role, eid, t, ed, prevb, nextb, v, grad, step[v])
+            if st == 0.0:
+                continue
+            ok = False
+            for _k in range(TRIES):
+                x, y, tt = _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
+                if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
+                    E1 = _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, g2)
+                    if E1 < E0:
+                        ok = True
+                        break
+                st *= 0.5
+            if ok:
+                xy[v, 0] = x
+                xy[v, 1] = y
+                t[v] = tt
+                step[v] = min(1.5 * st, 0.3 * href * hv[v])
+                moves += 1
+                todo, sp = _wake(m, h0, active, todo, sp)
             else:
-                gn = np.hypot(grad[0], grad[1])
-                if gn == 0.0:
-                    continue
-                ux = -grad[0] / gn
-                uy = -grad[1] / gn
-                s = step[v]
-                ok = False
-                for _k in range(8):
-                    x = x0 + s * ux
-                    y = y0 + s * uy
-                    if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
-                        E1 = _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, g2)
-                        if E1 < E0:
-                            ok = True
-                            break
-                    s *= 0.5
-                if ok:
-                    xy[v, 0] = x
-                    xy[v, 1] = y
-                    step[v] = min(1.5 * s, 0.3 * href * hv[v])
-                    moves += 1
-                    todo, sp = _wake(m, h0, active, todo, sp)
-                else:
-                    step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
-                    active[v] = False
+                step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
+                active[v] = False
         legalize_stack(m, todo, sp)
         done = sweep + 1
         lmax, lmin, pmax = measure(m, hv, href)
@@ -673,51 +672,23 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
             x0 = xy[v, 0]
             y0 = xy[v, 1]
             E0 = _local_spread(m, v, x0, y0, h0, hv, href, cbar, grad, ext)
-            if role[v] == SLIDE:
-                e = eid[v]
-                ex, ey = ed[e, 0], ed[e, 1]
-                L = np.hypot(ex, ey)
-                gt = -(grad[0] * ex + grad[1] * ey) / L
-                if gt == 0.0:
-                    continue
-                tp = _t_of(role, t, prevb[v], True)
-                tn = _t_of(role, t, nextb[v], False)
-                sgn = 1.0 if gt > 0 else -1.0
-                room = (tn - t[v]) if sgn > 0 else (t[v] - tp)
-                s = min(step[v] / L, 0.45 * room)
-                ux = sgn * ex / L
-                uy = sgn * ey / L
-                s *= L  # in length units along the edge
-            else:
-                gn = np.hypot(grad[0], grad[1])
-                if gn == 0.0:
-                    continue
-                ux = -grad[0] / gn
-                uy = -grad[1] / gn
-                s = step[v]
+            ux, uy, st = _search(role, eid, t, ed, prevb, nextb, v, grad, step[v])
+            if st == 0.0:
+                continue
             ok = False
-            x = x0
-            y = y0
-            for _k in range(6):
-                if role[v] == SLIDE:
-                    tt = t[v] + (s / L) * sgn
-                    x = ea[e, 0] + tt * ex
-                    y = ea[e, 1] + tt * ey
-                else:
-                    x = x0 + s * ux
-                    y = y0 + s * uy
+            for _k in range(TRIES):
+                x, y, tt = _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
                 if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
                     E1 = _local_spread(m, v, x, y, h0, hv, href, cbar, g2, ext)
                     if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:
                         ok = True
                         break
-                s *= 0.5
+                st *= 0.5
             if ok:
                 xy[v, 0] = x
                 xy[v, 1] = y
-                if role[v] == SLIDE:
-                    t[v] = tt
-                step[v] = min(1.5 * s, 0.3 * href * hv[v])
+                t[v] = tt
+                step[v] = min(1.5 * st, 0.3 * href * hv[v])
                 moves += 1
                 todo, sp = _wake(m, h0, awake, todo, sp)  # push the star's edges
             else:
