@@ -215,3 +215,11 @@ def test_boundary_rows_sit_on_equilateral_apexes_clear_of_each_other(name):
     assert (dmin[:, 1] >= 0.75 * np.array(apex_of) * (1 - 1e-12)).all()
     # only crowded corners lose points: at most two each
     assert len(R) >= m.sum() - 2 * len(p.vertices)
+
+
+def test_improve_rejects_bad_input_with_typed_errors():
+    p = BENCH["square"]
+    with pytest.raises(ValueError, match="objective must be one of"):
+        improve(p, [(0.5, 0.5)], objective="nope")
+    with pytest.raises(uniform2d.InvalidSitesError, match="outside the polygon"):
+        improve(p, [(5.0, 5.0)])
