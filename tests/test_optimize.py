@@ -104,3 +104,26 @@ def test_scale_and_offset_keep_the_quality(s, off):
     assert qb.edge_ratio == pytest.approx(qa.edge_ratio, rel=0.05)
     assert qb.cv_edge == pytest.approx(qa.cv_edge, rel=0.2)
     assert qb.min_angle == pytest.approx(qa.min_angle, rel=0.1)
+
+
+@pytest.mark.parametrize("name", ["lshape", "square2holes", "star10"])
+def test_relocation_keeps_the_count_and_a_valid_cdt_and_never_raises_the_objective(name):
+    from uniform2d.optimize import RELOCATE, _extremes, _relocate, improve, objective_value
+
+    p = BENCH[name]
+    n, nV = 150, len(p.vertices)
+    h = target_size(p, n)
+    sites = uniform2d.insert(p, n).points  # INSERT's points: far from uniform, much to move
+    pts, tri, _ = improve(p, sites, href=h, **RELOCATE)
+    before = objective_value("balanced", *_extremes(pts, tri), h)
+    out, tri2, kept = _relocate(p, pts, tri, np.zeros(n, bool), "balanced", h, {})
+    after = objective_value("balanced", *_extremes(out, tri2), h)
+    assert len(out) == nV + n and np.array_equal(out[:nV], p.vertices)
+    check_mesh(out, tri2, p)
+    fresh = uniform2d.insert(p, 0, sites=out[nV:])  # the exact CDT of the points it returns
+    assert {tuple(sorted(t)) for t in fresh.triangles.tolist()} == {tuple(sorted(t)) for t in tri2.tolist()}
+    assert after <= before
+    if kept:
+        assert after < before and not np.array_equal(out, pts)
+    else:
+        assert np.array_equal(out, pts)

@@ -187,32 +187,65 @@ def test_spread_stage_lowers_cv_and_never_the_objective(objective):
     assert qb.cv_edge < qa.cv_edge
 
 
+@pytest.mark.parametrize("name", sorted(BENCH))
+def test_corner_fans_split_each_corner_into_near_60_degree_angles(name):
+    from uniform2d.optimize import _corner_fans
+
+    p = BENCH[name]
+    V, E = p.vertices, p.edges
+    theta = p.interior_angles()
+    piece = np.full(len(E), 0.05)
+    pts, gaps = _corner_fans(p, piece, 1.0)
+    pts = np.concatenate(pts) if pts else np.empty((0, 2))
+    # independent count: k - 1 points at every corner, k the nearest whole number of 60° parts
+    k = np.array([max(1, int(np.floor(t / (np.pi / 3) + 0.5))) for t in theta])
+    assert len(pts) == (k - 1).sum()
+    for v in range(len(V)):
+        near = pts[np.isclose(np.hypot(*(pts - V[v]).T), 0.05, rtol=1e-12)]
+        out = V[E[E[:, 0] == v][0, 1]] - V[v]  # the edge leaving v: P on its left
+        rel = near - V[v]
+        ang = np.sort((np.arctan2(rel[:, 1], rel[:, 0]) - np.arctan2(out[1], out[0])) % (2 * np.pi))
+        assert len(near) == k[v] - 1
+        assert np.allclose(ang, np.arange(1, k[v]) * theta[v] / k[v], atol=1e-12)
+        assert k[v] == 1 or abs(np.degrees(theta[v] / k[v]) - 60) <= 30 + 1e-9
+    # a piece longer than h is capped at h
+    far, _ = _corner_fans(p, np.full(len(E), 10.0), 0.05)
+    for q in far:
+        assert np.isclose(np.min(np.hypot(*(V - q).T)), 0.05, rtol=1e-12)
+
+
 @pytest.mark.parametrize("name", ["square", "square2holes", "star10", "heptagon_short"])
-def test_boundary_rows_sit_on_equilateral_apexes_clear_of_each_other(name):
+def test_boundary_rows_are_fans_and_equilateral_apexes_clear_of_each_other(name):
     from scipy.spatial import cKDTree
 
-    from uniform2d.optimize import _boundary_counts, _boundary_rows, _edge_geometry
+    from uniform2d.optimize import _boundary_counts, _boundary_rows, _corner_fans, _edge_geometry
 
     p = BENCH[name]
     a, d, L = _edge_geometry(p)
     h = target_size(p, 300)
     m = _boundary_counts(L, h, 300)
-    R = _boundary_rows(p, m)
+    R = _boundary_rows(p, m, h)
     g = L / m
+    fans, fan_gaps = _corner_fans(p, g, h)
+    fans = np.concatenate(fans) if fans else np.empty((0, 2))
     shp = p.to_shapely()
     assert shapely.contains_xy(shp, R[:, 0], R[:, 1]).all()
-    # every row point is the apex over the middle of a piece of some edge
-    apex_of = []
+    # every row point is a corner's fan point or the apex over the middle of a piece of some edge
+    spacing = []
     for r in R:
+        f = np.flatnonzero(np.all(fans == r, axis=1))
+        if len(f):
+            spacing.append(np.concatenate(fan_gaps)[f[0]])
+            continue
         q = r - a
         s = (q * d).sum(1) / (L * L)
         dist = np.abs(d[:, 0] * q[:, 1] - d[:, 1] * q[:, 0]) / L
         k = (s * m) % 1.0
         hit = np.flatnonzero((np.abs(dist - g * np.sqrt(3) / 2) < 1e-9 * g) & (np.abs(k - 0.5) < 1e-9))
         assert len(hit) >= 1
-        apex_of.append(g[hit[0]])
+        spacing.append(g[hit[0]])
     dmin, _ = cKDTree(R).query(R, k=2)
-    assert (dmin[:, 1] >= 0.75 * np.array(apex_of) * (1 - 1e-12)).all()
+    assert (dmin[:, 1] >= 0.75 * np.array(spacing) * (1 - 1e-12)).all()
     # only crowded corners lose points: at most two each
     assert len(R) >= m.sum() - 2 * len(p.vertices)
 

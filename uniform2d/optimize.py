@@ -9,7 +9,9 @@ Pipeline (:func:`optimize_mesh`):
    if k would exceed n).  Interior: n - k points of a hexagonal lattice aligned
    with one polygon edge, at least half a spacing inside P, optionally after a
    first row at the apex of the equilateral triangle over every boundary piece
-   (:func:`_boundary_rows`, :func:`lattice_seed`).  Boundary counts, lattice
+   (:func:`_boundary_rows`, :func:`lattice_seed`), which begins with a fan at
+   every corner of 90 degrees or more that splits it into angles near 60 degrees
+   (:func:`_corner_fans`).  Boundary counts, lattice
    orientation and the first row fix the mesh's structure, which moving points
    cannot change, and the best choice depends on the polygon: small meshes try
    several (:func:`_variants`), rank them by a short :data:`TRIAL` run and give
@@ -25,6 +27,10 @@ Pipeline (:func:`optimize_mesh`):
    ``"max_perimeter"``: sum over triangles of perimeter^p; ``"balanced"``: all),
    keeping the best state by the true objective; last, sweeps that lower the
    spread of the edge lengths (the CV) with the objective's extremes held.
+   Small meshes then try relocation moves (:func:`_relocate`): a point from
+   where the edges are shortest to the middle of the longest edge, kept if the
+   objective improves after a local re-relaxation; the one change of structure
+   that point moves cannot make.
 4. **Certification.**  The final points are triangulated afresh by
    :func:`uniform2d.insert` (exact CDT); the quality is compared with the paper's
    T+ on the objective and the better mesh is returned, with its certificates.
@@ -48,7 +54,7 @@ from scipy.spatial import cKDTree
 from ._kernel import cdt, relax
 from ._kernel.distance import to_segments
 from .errors import InsufficientPointsError
-from .insert import _normaliser, _size_grid, insert
+from .insert import BOUNDARY_TOL, _normaliser, _size_grid, insert
 from .mesh import Mesh
 from .polygon import Polygon
 
@@ -125,9 +131,11 @@ def _hex_lattice(polygon: Polygon, spacing: float, angle: float, origin) -> np.n
 def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarray:
     """Exactly ``count`` points of a hexagonal lattice inside P, away from its boundary.
 
-    With ``rows`` (default), the first layer is one point above the middle of
-    every polygon edge, at the apex of the equilateral triangle on it (crowded
-    ones at corners dropped): the boundary's own spacing, wherever it is.  The
+    With ``rows`` (default), the first layer is a fan at every corner of
+    90 degrees or more (points one edge length from the corner that split its
+    angle into near-60-degree parts), then one point above the middle of every
+    polygon edge, at the apex of the equilateral triangle on it (those crowding
+    a point before them dropped): the boundary's own spacing, wherever it is.  The
     lattice, aligned with P's longest edge, fills the rest; its spacing is chosen
     so that the count comes out (the last few are dropped near the boundary or
     added in the largest gaps).  A structured start for :func:`improve`:
@@ -153,16 +161,18 @@ def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarr
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     count = int(count)
-    first = _boundary_rows(polygon, np.ones(len(polygon.edges), np.int64)) if rows else None
-    return _seed_interior(polygon, count, target_size(polygon, count), np.empty((0, 2)), None, first)
+    h = target_size(polygon, count)
+    first = _boundary_rows(polygon, np.ones(len(polygon.edges), np.int64), h) if rows else None
+    return _seed_interior(polygon, count, h, np.empty((0, 2)), None, first)
 
 
-def _boundary_rows(polygon: Polygon, m: np.ndarray) -> np.ndarray:
+def _boundary_rows(polygon: Polygon, m: np.ndarray, h: float) -> np.ndarray:
     """One row of points along every polygon edge: above the middle of each of its
-    m[e] pieces, at the apex of the equilateral triangle on it (inside P), keeping
-    only those clear of the other edges and of each other (corners)."""
+    m[e] pieces, at the apex of the equilateral triangle on it (inside P), after
+    the corners' fans (:func:`_corner_fans`), keeping only those clear of the
+    other edges and of the points before them (the fans win at corners)."""
     a, d, L = _edge_geometry(polygon)
-    rows, gaps = [], []
+    rows, gaps = _corner_fans(polygon, L / m, h)
     for e in range(len(L)):
         g = L[e] / m[e]
         nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: into P on every ring
@@ -183,6 +193,36 @@ def _boundary_rows(polygon: Polygon, m: np.ndarray) -> np.ndarray:
         keep.append(i)
         taken[tree.query_ball_point(R[i], 0.75 * G[i])] = True
     return R[keep]
+
+
+def _corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
+    """Points that split every polygon corner of angle theta into
+    k = round(theta / 60 degrees) equal angles (k >= 2), one boundary piece (at
+    most h) away from the corner: the corner's fan of near-equilateral triangles.
+
+    Returns lists of (1, 2) points and of their (1,) spacings."""
+    E = polygon.edges
+    V = polygon.vertices
+    theta = polygon.interior_angles()
+    _, d, L = _edge_geometry(polygon)
+    e_in = np.empty(len(V), np.int64)
+    e_in[E[:, 1]] = np.arange(len(E))
+    out, gaps = [], []
+    for e in range(len(E)):  # e leaves vertex v: the interior is on its left
+        v = E[e, 0]
+        k = int(math.floor(theta[v] / (math.pi / 3) + 0.5))
+        if k < 2:
+            continue
+        g = min(0.5 * (piece[e] + piece[e_in[v]]), h)
+        u = d[e] / L[e]
+        for j in range(1, k):
+            phi = j * theta[v] / k
+            c, s = math.cos(phi), math.sin(phi)
+            out.append(V[v] + g * np.array([[c * u[0] - s * u[1], s * u[0] + c * u[1]]]))
+            gaps.append(np.full(1, g))
+    return out, gaps
+
+
 
 
 def _seed_interior(
@@ -345,6 +385,12 @@ LAYERED_LARGE = True
 TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5), "spread_sweeps": 0}
 #: Lattice seed points farther than BAND target sizes from the boundary stay put.
 BAND = 8.0
+#: Relocation moves (:func:`_relocate`), for meshes up to RELOCATE_MAX points:
+#: tries, the radius (in target sizes) re-relaxed around a move, and its schedule.
+RELOCATE_MAX = SMALL
+RELOCATE_TRIES = 15
+RELOCATE_RADIUS = 4.0
+RELOCATE = {"spring_rounds": 20, "sweeps": 20, "exponents": (3, 4, 5, 6), "spread_sweeps": 10}
 
 
 def improve(
@@ -534,6 +580,61 @@ def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:
     return out
 
 
+def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, options):
+    """Relocation moves: the one change of structure point moves cannot make.
+
+    Each try takes the interior point whose edges are shortest on average (away
+    from the target) and moves it to the midpoint of the longest edge, then
+    re-relaxes the points within :data:`RELOCATE_RADIUS` sizes of either place
+    (:data:`RELOCATE` schedule); the move is kept if the objective improves.  A
+    failed edge is not tried again until a move succeeds; at most
+    :data:`RELOCATE_TRIES` tries.  The count of points never changes.
+
+    Returns (points, triangles, moves kept).
+    """
+    nV = len(polygon.vertices)
+    a, d, _ = _edge_geometry(polygon)
+    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
+    on_edge = BOUNDARY_TOL * extent
+    value = objective_value(objective, *_extremes(pts, tri), h)
+    fixed = np.asarray(frozen, dtype=bool).copy()
+    failed = set()
+    kept = 0
+    for _ in range(RELOCATE_TRIES):
+        E = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), 1), axis=0)
+        L = np.hypot(*(pts[E[:, 1]] - pts[E[:, 0]]).T)
+        target = next((E[j] for j in np.lexsort((np.arange(len(L)), -L)) if tuple(E[j]) not in failed), None)
+        if target is None:
+            break
+        failed.add(tuple(target))
+        new = 0.5 * (pts[target[0]] + pts[target[1]])  # on P's boundary if the edge is
+        total = np.zeros(len(pts))
+        count = np.zeros(len(pts))
+        np.add.at(total, E.ravel(), np.repeat(L, 2))
+        np.add.at(count, E.ravel(), 1.0)
+        sites = pts[nV:]
+        free = (to_segments(sites, a, a + d) > on_edge) & ~fixed
+        free &= np.hypot(*(sites - new).T) > RELOCATE_RADIUS * h
+        if not free.any():
+            break
+        mean = np.where(free, total[nV:] / np.maximum(count[nV:], 1.0), np.inf)
+        r = int(np.argmin(mean))
+        old = sites[r].copy()
+        trial = sites.copy()
+        trial[r] = new
+        near = np.minimum(np.hypot(*(trial - new).T), np.hypot(*(trial - old).T))
+        local = fixed | (near > RELOCATE_RADIUS * h)
+        p2, t2, _ = improve(
+            polygon, trial, objective=objective, href=h, frozen=local, **{**options, **RELOCATE}
+        )
+        v2 = objective_value(objective, *_extremes(p2, t2), h)
+        if v2 < value:
+            pts, tri, value = p2, t2, v2
+            kept += 1
+            failed.clear()
+    return pts, tri, kept
+
+
 # ----------------------------------------------------------------------------- driver
 def optimize_mesh(
     polygon: Polygon,
@@ -571,7 +672,7 @@ def optimize_mesh(
     for spacing, edge, layered in variants:
         m = _boundary_counts(L, spacing * h, n)
         bpts, _, _ = _boundary_points(a, d, m)
-        rows = _boundary_rows(polygon, m) if layered else None
+        rows = _boundary_rows(polygon, m, spacing * h) if layered else None
         ipts = _seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
         # the lattice deeper than BAND sizes inside P is uniform already: it stays
         deep = to_segments(ipts, a, a + d) > BAND * h
@@ -589,6 +690,9 @@ def optimize_mesh(
             best = (val, sites, frozen, len(bpts), spacing, edge, layered)
     _, sites, frozen, k, spacing, edge, layered = best
     pts, tri, run = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **options)
+    moved = 0
+    if n + nV <= RELOCATE_MAX:
+        pts, tri, moved = _relocate(polygon, pts, tri, frozen, objective, h, options)
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = _quality_objective(objective, q_new, h)
     v_tp = _quality_objective(objective, q_tp, h)
@@ -613,6 +717,7 @@ def optimize_mesh(
         "boundary_rows": layered,
         "relax_iterations": run["spring_rounds"],
         "sweeps": run["sweeps"],
+        "relocated": moved,
         "start": {"method": tp.info.get("method"), **summary(q_tp), "objective": v_tp},
         "before": summary(q_tp),
         "after": summary(q_new),
