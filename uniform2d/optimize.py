@@ -10,8 +10,8 @@ Pipeline (:func:`optimize_mesh`):
    with one polygon edge, at least half a spacing inside P, optionally after a
    first row at the apex of the equilateral triangle over every boundary piece
    (:func:`_boundary_rows`, :func:`lattice_seed`), which begins with a fan at
-   every corner of 90 degrees or more that splits it into angles near 60 degrees
-   (:func:`_corner_fans`).  Boundary counts, lattice
+   every corner of 90 degrees or more (not near-straight) that splits it into
+   angles near 60 degrees (:func:`_corner_fans`).  Boundary counts, lattice
    orientation and the first row fix the mesh's structure, which moving points
    cannot change, and the best choice depends on the polygon: small meshes try
    several (:func:`_variants`), rank them by a short :data:`TRIAL` run and give
@@ -132,8 +132,9 @@ def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarr
     """Exactly ``count`` points of a hexagonal lattice inside P, away from its boundary.
 
     With ``rows`` (default), the first layer is a fan at every corner of
-    90 degrees or more (points one edge length from the corner that split its
-    angle into near-60-degree parts), then one point above the middle of every
+    90 degrees or more that is not within 30 degrees of straight (points one
+    edge length from the corner that split its angle into near-60-degree
+    parts), then one point above the middle of every
     polygon edge, at the apex of the equilateral triangle on it (those crowding
     a point before them dropped): the boundary's own spacing, wherever it is.  The
     lattice, aligned with P's longest edge, fills the rest; its spacing is chosen
@@ -197,8 +198,12 @@ def _boundary_rows(polygon: Polygon, m: np.ndarray, h: float) -> np.ndarray:
 
 def _corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
     """Points that split every polygon corner of angle theta into
-    k = round(theta / 60 degrees) equal angles (k >= 2), one boundary piece (at
-    most h) away from the corner: the corner's fan of near-equilateral triangles.
+    k = round(theta / 60 degrees) equal angles, one boundary piece away from the
+    corner (at most :data:`FAN_CAP` h: a polygon edge left whole is no guide):
+    the corner's fan of near-equilateral triangles.  Only for k = 2 and k >= 4: below 90 degrees there is nothing to split, and a
+    vertex within 30 degrees of straight (k = 3) is split into three by the
+    apexes of :func:`_boundary_rows` already (on the surface layer's domains,
+    those are the vertices that are not corners).
 
     Returns lists of (1, 2) points and of their (1,) spacings."""
     E = polygon.edges
@@ -211,9 +216,9 @@ def _corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
     for e in range(len(E)):  # e leaves vertex v: the interior is on its left
         v = E[e, 0]
         k = int(math.floor(theta[v] / (math.pi / 3) + 0.5))
-        if k < 2:
+        if k < 2 or k == 3:  # k = 3: a near-straight vertex, the rows' apexes split it
             continue
-        g = min(0.5 * (piece[e] + piece[e_in[v]]), h)
+        g = min(0.5 * (piece[e] + piece[e_in[v]]), FAN_CAP * h)
         u = d[e] / L[e]
         for j in range(1, k):
             phi = j * theta[v] / k
@@ -383,6 +388,8 @@ LAYERED_MEDIUM = (True,)
 LAYERED_LARGE = True
 #: The short schedule that ranks the starts (the best one then gets the full one).
 TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5), "spread_sweeps": 0}
+#: Corner fan points sit at most FAN_CAP target sizes from their corner.
+FAN_CAP = 1.5
 #: Lattice seed points farther than BAND target sizes from the boundary stay put.
 BAND = 8.0
 #: Relocation moves (:func:`_relocate`), for meshes up to RELOCATE_MAX points:
