@@ -3,7 +3,8 @@
 The pipeline (see ``docs/surface.md``)::
 
     patch --check--> Patch --parameterize--> UV map (flip- and overlap-free)
-          --boundary_domain--> Polygon (corners kept, boundary even in 3-D length)
+          --boundary_domain--> Polygon (corners kept, boundary even in 3-D length
+                               within a chord-height tolerance)
           --compensation_field--> SizeField h * sqrt(area scale)
           --_mesh_domain--> planar mesh with exactly n_vertices points
           --lift--> 3-D mesh on the input surface --report--> measures + cross-check
@@ -159,6 +160,7 @@ def remesh(
     param: str = "lscm",
     compensate: bool = True,
     corner_angle: float = CORNER_ANGLE,
+    chord_tol: float | str | None = "auto",
     check: bool = True,
     hausdorff: bool = True,
     optimize: bool = True,
@@ -183,6 +185,14 @@ def remesh(
         False the planar mesh is uniform in UV instead.
     corner_angle : float
         Boundary vertices turning more than this (degrees, in 3-D) are kept.
+    chord_tol : "auto", float or None
+        Chord-height tolerance of the boundary, as a fraction of the edge length:
+        boundary runs whose even spacing leaves an input boundary vertex farther
+        than this from the output boundary edge are resampled (vertices moved onto
+        input vertices, edges shortened down to 0.8 of the spacing; see
+        :func:`surface.domain.boundary_domain`).  ``"auto"`` (default): the larger
+        of 1/128 and the chord error the interior of the mesh has anyway
+        (:func:`surface.domain.interior_chord_error`).  None: evenly spaced boundary.
     check : bool
         Run the pymeshlab cross-check (raises CrossCheckError on disagreement).
     hausdorff : bool
@@ -235,7 +245,9 @@ def remesh(
 
     t = time.perf_counter()
     measure = "3d" if compensate else "uv"
-    domain = boundary_domain(P, prm.uv, h, measure=measure, corner_angle=corner_angle)
+    domain = boundary_domain(
+        P, prm.uv, h, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol
+    )
     times["domain"] = time.perf_counter() - t
     K = len(domain.polygon.vertices)
     n_int = N - K
@@ -246,7 +258,9 @@ def remesh(
             return len(_domain(hm).polygon.vertices)
 
         def _domain(hm):
-            return boundary_domain(P, prm.uv, hm, measure=measure, corner_angle=corner_angle)
+            return boundary_domain(
+                P, prm.uv, hm, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol
+            )
 
         lo, hi = N, max(2 * N, 16)
         while boundary_count(hi) > hi:

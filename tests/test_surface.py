@@ -17,7 +17,7 @@ trimesh = pytest.importorskip("trimesh")
 
 import surface  # noqa: E402
 from surface import _igl  # noqa: E402
-from surface.domain import turning_angles  # noqa: E402
+from surface.domain import CHORD_TOL, boundary_domain, turning_angles  # noqa: E402
 from surface.errors import CrossCheckError, InvalidPatchError, ParameterizationError  # noqa: E402
 from surface.parameterize import check_map, parameterize  # noqa: E402
 from surface.report import cross_check  # noqa: E402
@@ -503,6 +503,99 @@ def test_polygon_and_corner_threshold():
     r = surface.remesh((t["vertices"], t["triangles"]), 250, corner_angle=100.0,
                        check=False, hausdorff=False)
     assert r.report.n_corners == 0
+
+
+# -- boundary chord heights ----------------------------------------------------------------
+def plate_with_holes():
+    """A planar 3 x 2 plate with two circular holes: a fine 256-gon of radius 0.5 and
+    a coarse 24-gon of radius 0.15 (edges 0.039), triangulated without uniform2d."""
+    from scipy.spatial import Delaunay
+
+    holes = [((-0.6, 0.0), 0.5, 256), ((0.8, 0.0), 0.15, 24)]
+    X, Y = np.meshgrid(np.linspace(-1.5, 1.5, 31), np.linspace(-1.0, 1.0, 21))
+    P = np.column_stack([X.ravel(), Y.ravel()])
+    for c, r, _ in holes:
+        P = P[np.hypot(P[:, 0] - c[0], P[:, 1] - c[1]) > r + 0.06]
+    a = [2 * np.pi * np.arange(n) / n for _, _, n in holes]
+    P = np.vstack([P] + [np.column_stack([c[0] + r * np.cos(t), c[1] + r * np.sin(t)])
+                         for (c, r, _), t in zip(holes, a)])
+    T = Delaunay(P).simplices
+    for c, r, _ in holes:  # drop the triangles filling the holes
+        g = P[T].mean(axis=1)
+        T = T[np.hypot(g[:, 0] - c[0], g[:, 1] - c[1]) > r]
+    e1, e2 = P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]
+    cw = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] < 0
+    T[cw] = T[cw][:, ::-1]
+    return surface.Patch(np.column_stack([P, np.zeros(len(P))]), T), holes
+
+
+def hole_chord_heights(domain, patch, loop, center):
+    """Distance of every input vertex of a circular hole from the ring edge spanning
+    it, the ring edges found by angle around the centre (not through the domain's
+    own arc bookkeeping)."""
+    X = domain.xyz[domain.loop == loop]
+    ang = np.arctan2(X[:, 1] - center[1], X[:, 0] - center[0])
+    X = X[np.argsort(ang)]
+    ang = np.sort(ang)
+    B = patch.vertices[patch.boundary_loops[loop]]
+    k = np.searchsorted(ang, np.arctan2(B[:, 1] - center[1], B[:, 0] - center[0]), "right") - 1
+    A, AB = X[k], X[(k + 1) % len(X)] - X[k]
+    t = np.clip(((B - A) * AB).sum(1) / (AB * AB).sum(1), 0, 1)
+    return np.linalg.norm(B - A - t[:, None] * AB, axis=1), X
+
+
+def test_boundary_chord_height_within_tolerance():
+    p, holes = plate_with_holes()
+    assert [len(lp) for lp in p.boundary_loops] == [100, 256, 24]
+    uv, h = p.vertices[:, :2], 0.04
+    d = boundary_domain(p, uv, h)  # planar: no interior chord error, tolerance h/128
+    plain = boundary_domain(p, uv, h, chord_tol=None)
+    tol = CHORD_TOL * h
+    assert d.chord_tol == pytest.approx(tol, rel=1e-12) and plain.chord_tol is None
+    for loop, (c, r, n) in enumerate(holes, start=1):
+        height, X = hole_chord_heights(d, p, loop, c)
+        assert height.max() <= tol
+        # the even spacing does not: the sagitta h^2 / (8 r) = h / 100 on the fine hole,
+        # chords cutting across input vertices on the coarse one
+        assert hole_chord_heights(plain, p, loop, c)[0].max() > 1.25 * tol
+        # ring edges (in arc length) within [0.8, 1.25] of the plain spacing
+        L = 2 * n * r * np.sin(np.pi / n)
+        href = L / round(L / h)
+        s = np.sort(d.s[d.loop == loop])
+        arc = np.diff(np.concatenate([s, [s[0] + L]]))
+        assert arc.min() >= 0.8 * href * (1 - 1e-12) and arc.max() <= 1.25 * href * (1 + 1e-12)
+    # the fine hole: edges shortened (a sagitta of h/128 on radius 12.5 h needs ~0.88 h)
+    L0 = np.linalg.norm(np.diff(hole_chord_heights(d, p, 1, holes[0][0])[1], axis=0), axis=1)
+    assert L0.mean() < 0.95 * h
+    # the coarse hole: ring vertices on input vertices, chords along input edges
+    assert hole_chord_heights(d, p, 2, holes[1][0])[0].max() == pytest.approx(0, abs=1e-15)
+    assert d.chord_height <= tol
+    # the straight outer sides keep the plain even spacing: every edge is h
+    out = d.xyz[d.loop == 0][np.argsort(d.s[d.loop == 0])]
+    assert np.allclose(np.linalg.norm(np.roll(out, -1, 0) - out, axis=1), h, rtol=1e-9)
+    assert np.array_equal(d.xyz[d.loop == 0], plain.xyz[plain.loop == 0])
+    for bad in ("fine", -0.1, True):
+        with pytest.raises(ValueError):
+            boundary_domain(p, uv, h, chord_tol=bad)
+
+
+def test_boundary_tolerance_follows_the_interior_error(results):
+    """With the default tolerance the boundary is resampled only where it would
+    deviate more than the interior does: on the 60 degree cap at 600 vertices the
+    interior chord error is larger than the even boundary's, which stays as it is."""
+    r = results["cap60"]
+    p = surface.read_patch(patch_path("cap60"))
+    uv = parameterize(p).uv
+    h = r.report.target_size
+    err = surface.domain.interior_chord_error(p, uv, h)
+    assert err > CHORD_TOL * h
+    assert r.domain.chord_tol == pytest.approx(err, rel=1e-9)
+    plain = boundary_domain(p, uv, h, chord_tol=None)
+    assert r.domain.chord_height == pytest.approx(plain.chord_height) and plain.chord_height < err
+    assert np.array_equal(r.domain.xyz, plain.xyz)
+    # a planar patch has no interior chord error
+    q = surface.read_patch(patch_path("plate_hole"))
+    assert surface.domain.interior_chord_error(q, q.vertices[:, :2], 0.1) < 1e-12
 
 
 @pytest.mark.parametrize("ext", ["obj", "off"])
