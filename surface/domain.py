@@ -51,6 +51,7 @@ from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidPolygonError
 
 from . import _igl
+from .lift import barycentric
 from .patch import Patch
 
 __all__ = [
@@ -254,13 +255,9 @@ def interior_chord_error(patch: Patch, uv, h: float, area_scale=None) -> float:
     ends = uv[idx][:, None, None, :] + np.stack([d, -d])[None] * r[:, None, None, None]
     q = ends.reshape(-1, 2)
     _, face, _ = _igl.closest_faces(q, uv, F)
-    a = uv[F[face, 0]]
-    e1, e2, w = uv[F[face, 1]] - a, uv[F[face, 2]] - a, q - a
-    den = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-    l1 = (w[:, 0] * e2[:, 1] - w[:, 1] * e2[:, 0]) / den
-    l2 = (e1[:, 0] * w[:, 1] - e1[:, 1] * w[:, 0]) / den
-    bary = np.stack([1.0 - l1 - l2, l1, l2], axis=1)  # not clamped: < 0 outside
-    X = np.einsum("ki,kij->kj", bary, V[F[face]]).reshape(len(idx), 2, 3, 3)
+    tri = F[face]
+    bary = barycentric(q, uv[tri[:, 0]], uv[tri[:, 1]], uv[tri[:, 2]], clamp=False)
+    X = np.einsum("ki,kij->kj", bary, V[tri]).reshape(len(idx), 2, 3, 3)
     # chords with an end outside the parameter domain (near the boundary) are skipped
     inside = (bary.min(axis=1) >= 0).reshape(len(idx), 2, 3).all(axis=1).ravel()
     if not inside.any():
@@ -414,16 +411,12 @@ def _sample_run(V, lp, ext, a, nv, m, tol):
     check = np.flatnonzero(on) if len(rest) == 0 else np.arange(nc)
     first = np.searchsorted(check, pi, side="right")
     count = np.searchsorted(check, pi + pd, side="left") - first
-    A, AB = C[pi], C[pi + pd] - C[pi]
-    L2 = np.einsum("ij,ij->i", AB, AB)
     hmax = np.zeros(len(pi))
     emax = excess[pi]
     for e in range(int(count.max(initial=0))):
         s = np.flatnonzero(count > e)
         k = check[first[s] + e]
-        AP = C[k] - A[s]
-        t = np.clip(np.einsum("ij,ij->i", AP, AB[s]) / L2[s], 0.0, 1.0)
-        dist = np.linalg.norm(AP - t[:, None] * AB[s], axis=1)
+        dist = _segment_dist(C[k], C[pi[s]], C[pi[s] + pd[s]])
         hmax[s] = np.maximum(hmax[s], dist)
         emax[s] = np.maximum(emax[s], excess[k])
     H = np.full((W + 1, nc), np.inf)

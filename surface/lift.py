@@ -19,13 +19,15 @@ from . import _igl
 __all__ = ["Lifted", "lift", "barycentric"]
 
 
-def barycentric(p, a, b, c) -> np.ndarray:
+def barycentric(p, a, b, c, *, clamp: bool = True) -> np.ndarray:
     """Barycentric coordinates (K, 3) of 2-D points p in triangles (a, b, c),
     clamped to the triangle (negative parts set to 0, then renormalised).
 
     Parameters
     ----------
     p, a, b, c : (K, 2) float64
+    clamp : bool
+        With False, the plain coordinates: some are negative for a point outside.
 
     Examples
     --------
@@ -33,6 +35,8 @@ def barycentric(p, a, b, c) -> np.ndarray:
     >>> a, b, c = np.array([[0., 0]]), np.array([[1., 0]]), np.array([[0., 1]])
     >>> barycentric(np.array([[0.25, 0.25]]), a, b, c).tolist()
     [[0.5, 0.25, 0.25]]
+    >>> barycentric(np.array([[1.0, 0.5]]), a, b, c, clamp=False).tolist()   # outside
+    [[-0.5, 1.0, 0.5]]
     """
     v0 = b - a
     v1 = c - a
@@ -41,6 +45,8 @@ def barycentric(p, a, b, c) -> np.ndarray:
     l1 = (v2[:, 0] * v1[:, 1] - v2[:, 1] * v1[:, 0]) / d
     l2 = (v0[:, 0] * v2[:, 1] - v0[:, 1] * v2[:, 0]) / d
     out = np.stack([1.0 - l1 - l2, l1, l2], axis=1)
+    if not clamp:
+        return out
     out = np.clip(out, 0.0, None)
     return out / out.sum(axis=1, keepdims=True)
 

@@ -57,6 +57,7 @@ from .errors import InsufficientPointsError
 from .insert import BOUNDARY_TOL, _normaliser, _size_grid, insert
 from .mesh import Mesh
 from .polygon import Polygon
+from .quality import edge_lengths
 
 __all__ = ["optimize_mesh", "improve", "lattice_seed", "OBJECTIVES", "objective_value"]
 
@@ -134,10 +135,9 @@ def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarr
     With ``rows`` (default), the first layer is a fan at every corner of
     90 degrees or more that is not within 30 degrees of straight (points one
     edge length from the corner that split its angle into near-60-degree
-    parts), then one point above the middle of every
-    polygon edge, at the apex of the equilateral triangle on it (those crowding
-    a point before them dropped): the boundary's own spacing, wherever it is.  The
-    lattice, aligned with P's longest edge, fills the rest; its spacing is chosen
+    parts), then one point above the middle of every polygon edge, at the apex
+    of the equilateral triangle on it (those crowding a point before them
+    dropped): the boundary's own spacing, wherever it is.  The lattice, aligned with P's longest edge, fills the rest; its spacing is chosen
     so that the count comes out (the last few are dropped near the boundary or
     added in the largest gaps).  A structured start for :func:`improve`:
     relaxing a lattice ends far more uniform than relaxing scattered points.
@@ -200,10 +200,11 @@ def _corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
     """Points that split every polygon corner of angle theta into
     k = round(theta / 60 degrees) equal angles, one boundary piece away from the
     corner (at most :data:`FAN_CAP` h: a polygon edge left whole is no guide):
-    the corner's fan of near-equilateral triangles.  Only for k = 2 and k >= 4: below 90 degrees there is nothing to split, and a
-    vertex within 30 degrees of straight (k = 3) is split into three by the
-    apexes of :func:`_boundary_rows` already (on the surface layer's domains,
-    those are the vertices that are not corners).
+    the corner's fan of near-equilateral triangles.  Only for k = 2 and k >= 4:
+    below 90 degrees there is nothing to split, and a vertex within 30 degrees
+    of straight (k = 3) is split into three by the apexes of
+    :func:`_boundary_rows` already (on the surface layer's domains, those are
+    the vertices that are not corners).
 
     Returns lists of (1, 2) points and of their (1,) spacings."""
     E = polygon.edges
@@ -226,8 +227,6 @@ def _corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
             out.append(V[v] + g * np.array([[c * u[0] - s * u[1], s * u[0] + c * u[1]]]))
             gaps.append(np.full(1, g))
     return out, gaps
-
-
 
 
 def _seed_interior(
@@ -611,8 +610,7 @@ def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, opti
     failed = set()
     kept = 0
     for _ in range(RELOCATE_TRIES):
-        E = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), 1), axis=0)
-        L = np.hypot(*(pts[E[:, 1]] - pts[E[:, 0]]).T)
+        E, L = edge_lengths(pts, tri)
         target = next((E[j] for j in np.lexsort((np.arange(len(L)), -L)) if tuple(E[j]) not in failed), None)
         if target is None:
             break
