@@ -305,10 +305,11 @@ def _check_manifold(V, F):
     n = len(V)
     m = len(F)
     srt = np.sort(F, axis=1)
-    _, first, cnt = np.unique(srt, axis=0, return_index=True, return_counts=True)
-    if (cnt > 1).any():
-        k = int(first[np.flatnonzero(cnt > 1)[0]])
-        dup = np.flatnonzero((srt == srt[k]).all(axis=1))
+    rows = srt[np.lexsort(srt.T[::-1])]
+    same = (rows[1:] == rows[:-1]).all(axis=1)
+    if same.any():
+        dup = np.flatnonzero((srt == rows[np.flatnonzero(same)[0]]).all(axis=1))
+        k = int(dup[0])
         raise InvalidPatchError(
             f"non-manifold: faces {dup[0]} and {dup[1]} use the same three vertices "
             f"{F[k].tolist()}; remove the duplicate face",
@@ -356,9 +357,8 @@ def _check_manifold(V, F):
     c = np.concatenate([corner(h2, 1), corner(h2, 0)])
     g = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(3 * m, 3 * m))
     _, lab = connected_components(g, directed=False)
-    vert = F.ravel()
-    fans = np.unique(np.stack([vert, lab], axis=1), axis=0)
-    nfans = np.bincount(fans[:, 0], minlength=n)
+    fans = np.unique(F.ravel().astype(np.int64) * (3 * m) + lab)  # (vertex, fan) pairs
+    nfans = np.bincount(fans // (3 * m), minlength=n)
     if (nfans > 1).any():
         v = int(np.flatnonzero(nfans > 1)[0])
         raise InvalidPatchError(

@@ -17,7 +17,10 @@ Jacobian is a scaled rotation).  A mesh that is uniform with edge ``h`` in 3-D i
 therefore, in UV, a mesh of size ``h * sqrt(s)``: larger where the map magnifies
 (``s > 1``), smaller where it shrinks.  Said the other way round, the UV size is
 proportional to ``1 / sqrt(S)`` with ``S = 1 / s`` the 3-D/UV area ratio.
-:func:`compensation_field` builds that size as a :class:`uniform2d.SizeField`.
+:func:`compensation_field` builds that size as a :class:`uniform2d.SizeField`;
+:func:`size_variation` says whether it is worth it: on a developable patch the
+map is (close to) an isometry, ``s`` is constant up to discretisation, and a
+constant size is meshed faster without a field.
 """
 
 from __future__ import annotations
@@ -32,7 +35,9 @@ from uniform2d.sizefield import SizeField
 from . import _igl
 from .lift import barycentric
 
-__all__ = ["target_size", "vertex_count", "vertex_scale", "compensation_field"]
+__all__ = [
+    "target_size", "vertex_count", "vertex_scale", "size_variation", "compensation_field"
+]
 
 _R3 = math.sqrt(3.0)
 
@@ -97,7 +102,26 @@ def vertex_scale(V, F, area_scale, smooth: int = 2) -> np.ndarray:
     return np.exp(lv)
 
 
-def compensation_field(V, F, uv, area_scale, h: float, *, resolution: int = 128) -> SizeField:
+def size_variation(scale) -> float:
+    """How much the compensated size ``sqrt(s)`` varies: ``sqrt(max s / min s) - 1``.
+
+    Parameters
+    ----------
+    scale : (N,) float64
+        Per-vertex area scale (:func:`vertex_scale`).
+
+    Examples
+    --------
+    >>> round(size_variation([1.0, 1.21, 1.1]), 12)
+    0.1
+    """
+    s = np.asarray(scale, dtype=np.float64)
+    return float(np.sqrt(s.max() / s.min()) - 1.0)
+
+
+def compensation_field(
+    V, F, uv, area_scale, h: float, *, resolution: int = 64, scale=None
+) -> SizeField:
     """The UV size field ``h * sqrt(s)`` of a parameterisation.
 
     Parameters
@@ -110,7 +134,12 @@ def compensation_field(V, F, uv, area_scale, h: float, *, resolution: int = 128)
     h : float
         Target 3-D edge length.
     resolution : int
-        Grid nodes along the longer side of the UV bounding box.
+        Grid nodes along the longer side of the UV bounding box.  The scale is
+        smoothed, so 64 is enough: 128 changed the benchmark meshes' edge ratio
+        and CV by less than 0.002.
+    scale : (N,) float64, optional
+        The per-vertex scale if already computed (:func:`vertex_scale` of
+        ``area_scale``).
 
     Returns
     -------
@@ -121,7 +150,7 @@ def compensation_field(V, F, uv, area_scale, h: float, *, resolution: int = 128)
     """
     uv = np.asarray(uv, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
-    sv = vertex_scale(V, F, area_scale)
+    sv = vertex_scale(V, F, area_scale) if scale is None else np.asarray(scale, dtype=np.float64)
     lo, hi = uv.min(axis=0), uv.max(axis=0)
     ext = hi - lo
     step = ext.max() / (resolution - 1)

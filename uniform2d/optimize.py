@@ -566,7 +566,7 @@ def _load(polygon: Polygon, res, size, href, frozen) -> _Loaded:
     cdt.build_adjacency(m, T0)
     cdt.legalize_all(m)
     hv = np.ones(N)
-    relax.refresh_sizes(m, hv)
+    relax.refresh_sizes(m, hv, np.ones(N, np.bool_))
     if grid is not None:  # the field's shape, scaled to the edges present
         E = np.concatenate([T0[:, [0, 1]], T0[:, [1, 2]], T0[:, [2, 0]]])
         Ls = np.hypot(*(xy[E[:, 1]] - xy[E[:, 0]]).T)

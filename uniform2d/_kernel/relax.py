@@ -76,8 +76,12 @@ __all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "spread", "measure", "
 FIXED, FREE, SLIDE = 0, 1, 2
 #: A vertex whose energy share is below this fraction of the largest share rests.
 RELEVANT = 1e-2
-#: A descent stage ends after this many sweeps without a better objective.
+#: A descent stage ends after PATIENCE sweeps in a row none of which lowered the
+#: objective by the fraction GAIN below the last value that did (slow creep is
+#: not worth the sweeps: on plate_hole and hypar the last 20 of 40 sweeps of a
+#: stage gained under 1e-4).
 PATIENCE = 6
+GAIN = 1e-4
 #: Halvings of the step a line search tries before the vertex gives up.
 TRIES = 8
 #: Objectives, in the order of :data:`uniform2d.optimize.OBJECTIVES`.
@@ -85,10 +89,12 @@ BALANCED, RATIO, MAX_EDGE, MAX_PERIMETER = 0, 1, 2, 3
 
 
 @njit(cache=True)
-def refresh_sizes(m, hv):
-    """hv[v] = the size field at vertex v (1 without a field)."""
+def refresh_sizes(m, hv, which):
+    """hv[v] = the size field at vertex v (1 without a field), for each v with
+    ``which[v]`` (the vertices moved since the last refresh)."""
     for v in range(m.nv):
-        hv[v] = size_at(m, m.xy[v, 0], m.xy[v, 1])
+        if which[v]:
+            hv[v] = size_at(m, m.xy[v, 0], m.xy[v, 1])
 
 
 @njit(cache=True)
@@ -104,7 +110,9 @@ def measure(m, hv, href):
         for i in range(3):
             a = tv[3 * t + i]
             b = tv[3 * t + (i + 1) % 3]
-            L = np.hypot(xy[b, 0] - xy[a, 0], xy[b, 1] - xy[a, 1])
+            dx = xy[b, 0] - xy[a, 0]
+            dy = xy[b, 1] - xy[a, 1]
+            L = np.sqrt(dx * dx + dy * dy)
             s = 0.5 * (hv[a] + hv[b]) * href
             per += L
             tgt += s
@@ -165,25 +173,84 @@ def _outgoing(m):
 
 
 @njit(cache=True)
-def _star_ok(m, v, x, y, h0, floor):
-    """Whether every triangle around v stays strictly CCW with v at (x, y) (exact),
-    and none whose doubled area is below ``floor`` gets flatter (a
-    quality guard, not a predicate: slivers may not form, but may heal)."""
+def _star_buffers(m):
+    """Buffers for the largest star: spokes (S, 3), triangles (S, 2), lengths (S,)."""
+    deg = np.zeros(m.nv, np.int64)
+    for h in range(3 * m.nt):
+        deg[m.tv[h]] += 1
+    s = deg.max() + 2
+    return np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
+
+
+@njit(cache=True)
+def _gather(m, v, h0, hv, href, SP, TR):
+    """Cache the star of v (outgoing half-edge h0) for its line search.
+
+    Spoke i: ``SP[i] = (x, y, target)`` of the i-th neighbour counter-clockwise;
+    triangle j has spokes j and j + 1 (mod the spoke count) and
+    ``TR[j] = (length of its edge opposite v, its perimeter target)``.  Returns
+    (spokes, triangles): equal for an interior vertex, spokes = triangles + 1 on
+    the boundary (an open fan).  Nothing of the star but v moves during the
+    search, so lengths opposite v are computed once here.
+    """
     xy, tv, tw = m.xy, m.tv, m.tw
     h = h0
+    j = 0
     while True:
         b = tv[nxt(h)]
         c = tv[prv(h)]
-        det = orient2d(x, y, xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])
+        SP[j, 0] = xy[b, 0]
+        SP[j, 1] = xy[b, 1]
+        SP[j, 2] = 0.5 * (hv[v] + hv[b]) * href
+        ex = xy[c, 0] - xy[b, 0]
+        ey = xy[c, 1] - xy[b, 1]
+        TR[j, 0] = np.sqrt(ex * ex + ey * ey)
+        TR[j, 1] = (hv[v] + hv[b] + hv[c]) * href
+        j += 1
+        g = tw[prv(h)]
+        if g < 0:  # boundary: the last spoke is v-c
+            SP[j, 0] = xy[c, 0]
+            SP[j, 1] = xy[c, 1]
+            SP[j, 2] = 0.5 * (hv[v] + hv[c]) * href
+            return j + 1, j
+        h = g
+        if h == h0:
+            return j, j
+
+
+@njit(cache=True)
+def _star_ok(x, y, x0, y0, ns, nt, SP, floor):
+    """Whether every triangle of the cached star stays strictly CCW with v moved
+    from (x0, y0) to (x, y) (exact), and none whose doubled area is below
+    ``floor`` gets flatter (a quality guard, not a predicate: slivers may not
+    form, but may heal)."""
+    for j in range(nt):
+        i = j + 1 if j + 1 < ns else 0
+        det = orient2d(x, y, SP[j, 0], SP[j, 1], SP[i, 0], SP[i, 1])
         if det <= 0.0:
             return False
         if det < floor:
-            old = orient2d(xy[v, 0], xy[v, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])
+            old = orient2d(x0, y0, SP[j, 0], SP[j, 1], SP[i, 0], SP[i, 1])
             if det < old:
                 return False
-        h = tw[prv(h)]
-        if h < 0 or h == h0:
-            return True
+    return True
+
+
+@njit(cache=True)
+def _suspects(m, moved, todo):
+    """The unconstrained edges with a moved vertex in either triangle (each once),
+    for the legalisation after a sweep.  Returns (todo, count)."""
+    tv, tw = m.tv, m.tw
+    sp = 0
+    for h in range(3 * m.nt):
+        g = tw[h]
+        if g < h:  # boundary (-1), or the twin's turn
+            continue
+        if moved[tv[h]] or moved[tv[nxt(h)]] or moved[tv[prv(h)]] or moved[tv[prv(g)]]:
+            todo = grown(todo, sp + 1)
+            todo[sp] = h
+            sp += 1
+    return todo, sp
 
 
 # ----------------------------------------------------------------------------- springs
@@ -204,12 +271,12 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
     F = np.zeros((n, 2))
     new = np.empty((n, 2))
     newt = t.copy()
-    moved = np.zeros(n, np.bool_)
+    moved = np.ones(n, np.bool_)  # moved in the last round (all, before the first)
     todo = np.empty(64, np.int32)
     it = 0
     for it in range(1, iters + 1):
         if m.sized:
-            refresh_sizes(m, hv)
+            refresh_sizes(m, hv, moved)
         # rest-length scale c: sum (c * target)^2 = pressure^2 * sum L^2
         sL = 0.0
         sT = 0.0
@@ -233,7 +300,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
             b = tv[nxt(h)]
             dx = xy[b, 0] - xy[a, 0]
             dy = xy[b, 1] - xy[a, 1]
-            L = np.hypot(dx, dy)
+            L = np.sqrt(dx * dx + dy * dy)
             f = (c * 0.5 * (hv[a] + hv[b]) - L) / L
             F[b, 0] += f * dx
             F[b, 1] += f * dy
@@ -243,15 +310,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
             m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved
         )
         _commit(m, role, t, new, newt, moved, hv, flat * href * href)
-        # suspects: the edges of the triangles with a moved vertex
-        sp = 0
-        for tt in range(m.nt):
-            if moved[tv[3 * tt]] or moved[tv[3 * tt + 1]] or moved[tv[3 * tt + 2]]:
-                todo = grown(todo, sp + 3)
-                todo[sp] = 3 * tt
-                todo[sp + 1] = 3 * tt + 1
-                todo[sp + 2] = 3 * tt + 2
-                sp += 3
+        todo, sp = _suspects(m, moved, todo)
         legalize_stack(m, todo, sp)
         if biggest < tol * href:
             break
@@ -349,65 +408,52 @@ def _pw(x, k):
 
 
 @njit(cache=True, inline="always")
-def _edge_energy(ell, s, k, p, w_len, w_short):
-    """(energy, d energy / d length) of an edge of normalised length ell, target s."""
+def _edge_energy(ell, s, k, p, w_len, w_short, want):
+    """(energy, d energy / d length if ``want``) of an edge of normalised length
+    ell, target s."""
     q = _pw(ell, k)
     E = 0.0
     d = 0.0
     if w_len > 0.0:
         E += w_len * q
-        d += w_len * p * q / (ell * s)
+        if want:
+            d += w_len * p * q / (ell * s)
     if w_short > 0.0:
         E += w_short / q
-        d -= w_short * p / (q * ell * s)
+        if want:
+            d -= w_short * p / (q * ell * s)
     return E, d
 
 
 @njit(cache=True)
-def _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, grad):
-    """Vertex v's share of the energy with v at (x, y); its gradient into ``grad``."""
-    xy, tv, tw = m.xy, m.tv, m.tw
+def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
+    """The cached star's share of the energy with v at (x, y) (see :func:`_gather`);
+    its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths."""
     p = 2.0**k
     E = 0.0
     gx = 0.0
     gy = 0.0
-    h = h0
-    while True:
-        b = tv[nxt(h)]
-        c = tv[prv(h)]
-        # edge v-b (each edge around v is the first edge of exactly one triangle,
-        # except the incoming boundary edge c-v of the last triangle, added below)
-        sb = 0.5 * (hv[v] + hv[b]) * href
-        dbx = x - xy[b, 0]
-        dby = y - xy[b, 1]
-        Lb = np.hypot(dbx, dby)
-        sc = 0.5 * (hv[v] + hv[c]) * href
-        dcx = x - xy[c, 0]
-        dcy = y - xy[c, 1]
-        Lc = np.hypot(dcx, dcy)
-        e, d = _edge_energy(Lb / sb, sb, k, p, w_len, w_short)
+    for i in range(ns):
+        dx = x - SP[i, 0]
+        dy = y - SP[i, 1]
+        Li = np.sqrt(dx * dx + dy * dy)
+        L[i] = Li
+        e, d = _edge_energy(Li / SP[i, 2], SP[i, 2], k, p, w_len, w_short, want)
         E += e
-        gx += d * dbx / Lb
-        gy += d * dby / Lb
-        if w_per > 0.0:
-            Lbc = np.hypot(xy[c, 0] - xy[b, 0], xy[c, 1] - xy[b, 1])
-            tgt = sb + sc + 0.5 * (hv[b] + hv[c]) * href
-            pi = (Lb + Lc + Lbc) / tgt
+        if want:
+            gx += d * dx / Li
+            gy += d * dy / Li
+    if w_per > 0.0:
+        for j in range(nt):
+            i = j + 1 if j + 1 < ns else 0
+            tgt = TR[j, 1]
+            pi = (L[j] + L[i] + TR[j, 0]) / tgt
             q = _pw(pi, k)
             E += w_per * q
-            d = w_per * p * q / (pi * tgt)
-            gx += d * (dbx / Lb + dcx / Lc)
-            gy += d * (dby / Lb + dcy / Lc)
-        g = tw[prv(h)]
-        if g < 0:  # boundary: the last edge c-v
-            e, d = _edge_energy(Lc / sc, sc, k, p, w_len, w_short)
-            E += e
-            gx += d * dcx / Lc
-            gy += d * dcy / Lc
-            break
-        h = g
-        if h == h0:
-            break
+            if want:
+                d = w_per * p * q / (pi * tgt)
+                gx += d * ((x - SP[j, 0]) / L[j] + (x - SP[i, 0]) / L[i])
+                gy += d * ((y - SP[j, 1]) / L[j] + (y - SP[i, 1]) / L[i])
     grad[0] = gx
     grad[1] = gy
     return E
@@ -449,23 +495,17 @@ def _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, s):
 
 
 @njit(cache=True)
-def _wake(m, h0, active, todo, sp):
-    """Mark the vertex of outgoing half-edge h0 and all its neighbours active, and
-    push the edges of its star (suspects for the next legalisation)."""
+def _wake(m, h0, active):
+    """Mark the vertex of outgoing half-edge h0 and all its neighbours active."""
     tv, tw = m.tv, m.tw
     active[tv[h0]] = True
     h = h0
     while True:
         active[tv[nxt(h)]] = True
         active[tv[prv(h)]] = True
-        todo = grown(todo, sp + 3)
-        todo[sp] = h
-        todo[sp + 1] = nxt(h)
-        todo[sp + 2] = prv(h)
-        sp += 3
         h = tw[prv(h)]
         if h < 0 or h == h0:
-            return todo, sp
+            return
 
 
 @njit(cache=True)
@@ -480,7 +520,10 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     move, halved after a refused one.  A vertex whose line search fails rests
     until a neighbour moves (an active set: converged regions cost nothing).  A
     move may not flatten a triangle around the vertex whose doubled area is below
-    ``flat * (href * hv[v])**2`` any further.
+    ``flat * (href * hv[v])**2`` any further.  The run ends early when the
+    objective stops improving (:data:`PATIENCE`, :data:`GAIN`) or nothing moves.
+    A vertex's star is read once per visit (:func:`_gather`); the trials of its
+    line search only recompute the distances to the moved vertex.
     """
     w_len = 1.0 if objective != MAX_PERIMETER else 0.0
     w_short = 1.0 if objective in (BALANCED, RATIO) else 0.0
@@ -496,27 +539,31 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     grad = np.zeros(2)
     g2 = np.zeros(2)
     active = np.ones(n, np.bool_)
+    moved = np.ones(n, np.bool_)  # moved in the last sweep (all, before the first)
     todo = np.empty(64, np.int32)
     done = 0
     stale = 0
+    mark = best  # the value PATIENCE sweeps must beat by GAIN
     emax = 0.0
     for sweep in range(sweeps):
         if m.sized:
-            refresh_sizes(m, hv)
+            refresh_sizes(m, hv, moved)
+        moved[:] = False
         vh = _outgoing(m)
+        SP, TR, L = _star_buffers(m)
         # a vertex whose share is below RELEVANT times the largest share of the
         # previous sweep cannot change the objective's extremes: skip it
         floor = RELEVANT * emax
         emax = 0.0
         moves = 0
-        sp = 0
         for v in range(n):
             if role[v] == FIXED or vh[v] < 0 or not active[v]:
                 continue
             h0 = vh[v]
             x0 = xy[v, 0]
             y0 = xy[v, 1]
-            E0 = _local(m, v, x0, y0, h0, hv, href, k, w_len, w_short, w_per, grad)
+            ns, nt = _gather(m, v, h0, hv, href, SP, TR)
+            E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, True)
             emax = max(emax, E0)
             if E0 < floor:
                 active[v] = False
@@ -527,8 +574,8 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
             ok = False
             for _k in range(TRIES):
                 x, y, tt = _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
-                if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
-                    E1 = _local(m, v, x, y, h0, hv, href, k, w_len, w_short, w_per, g2)
+                if _star_ok(x, y, x0, y0, ns, nt, SP, flat * (href * hv[v]) ** 2):
+                    E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, False)
                     if E1 < E0:
                         ok = True
                         break
@@ -539,10 +586,12 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
                 t[v] = tt
                 step[v] = min(1.5 * st, 0.3 * href * hv[v])
                 moves += 1
-                todo, sp = _wake(m, h0, active, todo, sp)
+                moved[v] = True
+                _wake(m, h0, active)
             else:
                 step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
                 active[v] = False
+        todo, sp = _suspects(m, moved, todo)
         legalize_stack(m, todo, sp)
         done = sweep + 1
         lmax, lmin, pmax = measure(m, hv, href)
@@ -552,6 +601,8 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
             best_xy[:, :] = xy[: best_xy.shape[0]]
             best_t[:] = t
             best_tv[:] = m.tv[: best_tv.shape[0]]
+        if val < mark * (1.0 - GAIN):
+            mark = val
             stale = 0
         else:
             stale += 1
@@ -573,56 +624,40 @@ def _mean_length(m, hv, href):
             continue
         a = tv[h]
         b = tv[nxt(h)]
-        s += np.hypot(xy[b, 0] - xy[a, 0], xy[b, 1] - xy[a, 1]) / (0.5 * (hv[a] + hv[b]) * href)
+        dx = xy[b, 0] - xy[a, 0]
+        dy = xy[b, 1] - xy[a, 1]
+        s += np.sqrt(dx * dx + dy * dy) / (0.5 * (hv[a] + hv[b]) * href)
         k += 1
     return s / k
 
 
 @njit(cache=True)
-def _local_spread(m, v, x, y, h0, hv, href, cbar, grad, ext):
-    """Sum (l - cbar)^2 over v's edges with v at (x, y), its gradient into ``grad``,
-    and the star's longest and shortest normalised edge and largest normalised
-    perimeter into ``ext``."""
-    xy, tv, tw = m.xy, m.tv, m.tw
+def _star_spread(x, y, ns, nt, SP, TR, L, cbar, grad, ext, want):
+    """Sum (l - cbar)^2 over the cached star's spokes with v at (x, y), its
+    gradient into ``grad`` if ``want``, and the star's longest and shortest
+    normalised edge and largest normalised perimeter into ``ext``."""
     E = 0.0
     gx = 0.0
     gy = 0.0
     lmax = 0.0
     lmin = np.inf
+    for i in range(ns):
+        dx = x - SP[i, 0]
+        dy = y - SP[i, 1]
+        Li = np.sqrt(dx * dx + dy * dy)
+        L[i] = Li
+        ell = Li / SP[i, 2]
+        E += (ell - cbar) ** 2
+        lmax = max(lmax, ell)
+        lmin = min(lmin, ell)
+        if want:
+            d = 2.0 * (ell - cbar) / (SP[i, 2] * Li)
+            gx += d * dx
+            gy += d * dy
     pmax = 0.0
-    h = h0
-    while True:
-        b = tv[nxt(h)]
-        c = tv[prv(h)]
-        sb = 0.5 * (hv[v] + hv[b]) * href
-        sc = 0.5 * (hv[v] + hv[c]) * href
-        sbc = 0.5 * (hv[b] + hv[c]) * href
-        dbx = x - xy[b, 0]
-        dby = y - xy[b, 1]
-        Lb = np.hypot(dbx, dby)
-        dcx = x - xy[c, 0]
-        dcy = y - xy[c, 1]
-        Lc = np.hypot(dcx, dcy)
-        lb = Lb / sb
-        E += (lb - cbar) ** 2
-        d = 2.0 * (lb - cbar) / sb
-        gx += d * dbx / Lb
-        gy += d * dby / Lb
-        lc = Lc / sc
-        lmax = max(lmax, lb, lc)
-        lmin = min(lmin, lb, lc)
-        Lbc = np.hypot(xy[c, 0] - xy[b, 0], xy[c, 1] - xy[b, 1])
-        pmax = max(pmax, (Lb + Lc + Lbc) / (sb + sc + sbc))
-        g = tw[prv(h)]
-        if g < 0:  # boundary: the last edge c-v
-            E += (lc - cbar) ** 2
-            d = 2.0 * (lc - cbar) / sc
-            gx += d * dcx / Lc
-            gy += d * dcy / Lc
-            break
-        h = g
-        if h == h0:
-            break
+    for j in range(nt):
+        i = j + 1 if j + 1 < ns else 0
+        pmax = max(pmax, (L[j] + L[i] + TR[j, 0]) / TR[j, 1])
     grad[0] = gx
     grad[1] = gy
     ext[0] = lmax
@@ -655,31 +690,33 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
     grad = np.zeros(2)
     g2 = np.zeros(2)
     ext = np.zeros(3)
-    awake = np.zeros(n, np.bool_)  # unused here: spread sweeps visit every vertex
+    moved = np.ones(n, np.bool_)  # moved in the last sweep (all, before the first)
     todo = np.empty(64, np.int32)
     kept = 0
     for sweep in range(sweeps):
         if m.sized:
-            refresh_sizes(m, hv)
+            refresh_sizes(m, hv, moved)
+        moved[:] = False
         vh = _outgoing(m)
+        SP, TR, L = _star_buffers(m)
         cbar = _mean_length(m, hv, href)
         moves = 0
-        sp = 0
         for v in range(n):
             if role[v] == FIXED or vh[v] < 0:
                 continue
             h0 = vh[v]
             x0 = xy[v, 0]
             y0 = xy[v, 1]
-            E0 = _local_spread(m, v, x0, y0, h0, hv, href, cbar, grad, ext)
+            ns, nt = _gather(m, v, h0, hv, href, SP, TR)
+            E0 = _star_spread(x0, y0, ns, nt, SP, TR, L, cbar, grad, ext, True)
             ux, uy, st = _search(role, eid, t, ed, prevb, nextb, v, grad, step[v])
             if st == 0.0:
                 continue
             ok = False
             for _k in range(TRIES):
                 x, y, tt = _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
-                if _star_ok(m, v, x, y, h0, flat * (href * hv[v]) ** 2):
-                    E1 = _local_spread(m, v, x, y, h0, hv, href, cbar, g2, ext)
+                if _star_ok(x, y, x0, y0, ns, nt, SP, flat * (href * hv[v]) ** 2):
+                    E1 = _star_spread(x, y, ns, nt, SP, TR, L, cbar, g2, ext, False)
                     if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:
                         ok = True
                         break
@@ -690,9 +727,10 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
                 t[v] = tt
                 step[v] = min(1.5 * st, 0.3 * href * hv[v])
                 moves += 1
-                todo, sp = _wake(m, h0, awake, todo, sp)  # push the star's edges
+                moved[v] = True
             else:
                 step[v] = max(0.5 * step[v], 1e-9 * href * hv[v])
+        todo, sp = _suspects(m, moved, todo)
         legalize_stack(m, todo, sp)
         a, b, c = measure(m, hv, href)
         if objective_of(objective, a, b, c) > start:

@@ -320,11 +320,28 @@ def _peer_details(pm) -> dict:
 
 
 def warm_up() -> None:
-    """Compile uniform2d's numba kernels in this process, so no case's time includes it."""
+    """Load uniform2d's numba kernels in this process (INSERT, T+, the optimiser
+    and, when the surface layer's libraries are installed, a small remesh), so
+    no case's time includes compiling or loading them."""
+    import importlib.util
+
     from ..polygon import Polygon
     from ..tplus import tplus
+    from ..uniform import uniform_mesh
 
-    tplus(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 20)
+    square = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    tplus(square, 20)
+    uniform_mesh(square, 20)
+    if all(importlib.util.find_spec(m) is not None for m in ("igl", "trimesh", "pymeshlab")):
+        from surface import remesh
+
+        u = np.linspace(0.0, 1.0, 7)
+        x, y = (a.ravel() for a in np.meshgrid(u, u))
+        V = np.column_stack([x, y, 0.3 * (x * x + y * y)])  # curved: a graded mesh
+        q = np.arange(36).reshape(6, 6) + np.arange(6)[:, None]  # lower-left corners
+        a, b, c, d = q.ravel(), q.ravel() + 1, q.ravel() + 8, q.ravel() + 7
+        F = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+        remesh((V, F), 60, check=False, hausdorff=False)
 
 
 def run_case(case: dict) -> dict:
