@@ -73,6 +73,9 @@ CORNER_ANGLE = 30.0
 #: On a circular arc that is a turning of at most 1/16 rad (3.6 degrees) per edge
 #: of length ``h``, about 100 edges per full turn (Gmsh's "elements per 2 pi").
 CHORD_TOL = 1 / 128
+#: A patch whose vertices all lie within this fraction of its bounding-box
+#: diagonal from their best-fitting plane is planar: its interior chord error is 0.
+PLANAR = 1e-12
 
 #: Candidate positions per plain spacing (besides the input vertices).
 _GRID = 16
@@ -239,6 +242,10 @@ def interior_chord_error(patch: Patch, uv, h: float, area_scale=None) -> float:
     from .sizing import vertex_scale
 
     V, F = patch.vertices, patch.faces
+    X = V - V.mean(axis=0)
+    normal = np.linalg.eigh(X.T @ X)[1][:, 0]  # of the best-fitting plane
+    if np.abs(X @ normal).max() <= PLANAR * np.linalg.norm(np.ptp(V, axis=0)):
+        return 0.0  # planar: chords lie in the surface (this skips 6 point locations per vertex)
     uv = np.asarray(uv, dtype=np.float64)
     if area_scale is None:
         e1, e2 = uv[F[:, 1]] - uv[F[:, 0]], uv[F[:, 2]] - uv[F[:, 0]]
