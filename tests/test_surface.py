@@ -21,7 +21,10 @@ from surface.domain import CHORD_TOL, boundary_domain, turning_angles  # noqa: E
 from surface.errors import CrossCheckError, InvalidPatchError, ParameterizationError  # noqa: E402
 from surface.parameterize import check_map, parameterize  # noqa: E402
 from surface.report import cross_check  # noqa: E402
-from surface.sizing import compensation_field, target_size, vertex_count  # noqa: E402
+from surface.remesh import UNIFORM_SIZE  # noqa: E402
+from surface.sizing import (  # noqa: E402
+    compensation_field, size_variation, target_size, vertex_count, vertex_scale
+)
 from uniform2d.errors import (  # noqa: E402
     InsufficientPointsError,
     Uniform2dError,
@@ -438,6 +441,21 @@ def test_compensation_reduces_size_gradient(results):
     assert off.size_trend < -0.35
     assert abs(on.size_trend) < 0.15
     assert on.edges["cv"] < off.edges["cv"]
+
+
+@pytest.mark.parametrize("name", DEVELOPABLE + ["cap60"])
+def test_size_field_only_where_the_size_varies(results, name):
+    # independent: sqrt of the UV / 3-D area ratio of the faces, max over min
+    q = surface.read_patch(patch_path(name))
+    prm = parameterize(q)
+    e1, e2 = prm.uv[q.faces[:, 1]] - prm.uv[q.faces[:, 0]], prm.uv[q.faces[:, 2]] - prm.uv[q.faces[:, 0]]
+    s = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) / q.face_areas
+    spread = np.sqrt(s.max() / s.min()) - 1
+    sv = vertex_scale(q.vertices, q.faces, prm.area_scale)
+    assert size_variation(sv) <= spread + 1e-12  # vertex means lie within the face range
+    graded = "size field" in results[name].report.mesher
+    assert graded == (size_variation(sv) > UNIFORM_SIZE)
+    assert graded == (name == "cap60")  # developable patches: an isometry up to rounding
 
 
 def test_isotropic_remesh_wrapper():
