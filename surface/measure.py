@@ -17,16 +17,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from uniform2d.quality import _unique_edges
+
 __all__ = ["unique_edges", "edge_lengths", "face_edge_lengths", "corner_angles", "edge_stats"]
 
 
 def unique_edges(F) -> np.ndarray:
     """Unique undirected edges of faces (M, 3) -> (E, 2) int64, sorted, ``e[:, 0] < e[:, 1]``."""
     F = np.asarray(F, dtype=np.int64)
-    e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    n = int(e.max()) + 1 if len(e) else 1
-    key = np.unique(e[:, 0] * n + e[:, 1])  # one integer per edge: a 1-D unique is fast
-    return np.stack([key // n, key % n], axis=1)
+    return _unique_edges(F, int(F.max()) + 1 if F.size else 1)[0]
 
 
 def edge_lengths(V, E) -> np.ndarray:

@@ -448,7 +448,8 @@ def test_size_field_only_where_the_size_varies(results, name):
     # independent: sqrt of the UV / 3-D area ratio of the faces, max over min
     q = surface.read_patch(patch_path(name))
     prm = parameterize(q)
-    e1, e2 = prm.uv[q.faces[:, 1]] - prm.uv[q.faces[:, 0]], prm.uv[q.faces[:, 2]] - prm.uv[q.faces[:, 0]]
+    a, b, c = (prm.uv[q.faces[:, i]] for i in range(3))
+    e1, e2 = b - a, c - a
     s = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) / q.face_areas
     spread = np.sqrt(s.max() / s.min()) - 1
     sv = vertex_scale(q.vertices, q.faces, prm.area_scale)

@@ -323,8 +323,7 @@ def warm_up() -> None:
     """Load uniform2d's numba kernels in this process (INSERT, T+, the optimiser
     and, when the surface layer's libraries are installed, a small remesh), so
     no case's time includes compiling or loading them."""
-    import importlib.util
-
+    from ..peers import meshlab_peer
     from ..polygon import Polygon
     from ..tplus import tplus
     from ..uniform import uniform_mesh
@@ -332,7 +331,7 @@ def warm_up() -> None:
     square = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
     tplus(square, 20)
     uniform_mesh(square, 20)
-    if all(importlib.util.find_spec(m) is not None for m in ("igl", "trimesh", "pymeshlab")):
+    if meshlab_peer.available():  # the surface layer's libraries are installed
         from surface import remesh
 
         u = np.linspace(0.0, 1.0, 7)
