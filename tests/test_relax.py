@@ -84,6 +84,38 @@ def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage):
     check_mesh(pts, kern, p)
 
 
+@pytest.mark.parametrize("graded", [False, True])
+@pytest.mark.parametrize("k", [2, 4, 6])
+def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
+    # independent reference: the p-power sums over the unique edges and the
+    # triangles, computed with numpy from the kernel's triangle list
+    p = BENCH["square2holes"]
+    x0, y0, x1, y1 = p.to_shapely().bounds
+    x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
+    size = SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1))) if graded else None
+    res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
+    st = _load(p, res, size, None, None)
+    tri = cdt.triangle_list(st.m)
+    xy = st.xy
+    E = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+    E = np.unique(E, axis=0)
+    tgt = 0.5 * (st.hv[E[:, 0]] + st.hv[E[:, 1]]) * st.href
+    ell = np.linalg.norm(xy[E[:, 1]] - xy[E[:, 0]], axis=1) / tgt
+    per = np.linalg.norm(xy[tri] - xy[np.roll(tri, -1, axis=1)], axis=2).sum(axis=1)
+    pi = per / (st.hv[tri].sum(axis=1) * st.href)
+    P = 2.0**k
+    s_len, s_short, s_per = (ell**P).sum(), (ell**-P).sum(), (pi**P).sum()
+    expect = {
+        relax.BALANCED: (2 / s_len, 1 / s_short, 1 / s_per),
+        relax.RATIO: (1 / s_len, 1 / s_short, 0.0),
+        relax.MAX_EDGE: (1.0, 0.0, 0.0),
+        relax.MAX_PERIMETER: (0.0, 0.0, 1.0),
+    }
+    for obj, want in expect.items():
+        got = relax._weights(st.m, st.hv, st.href, k, obj)
+        np.testing.assert_allclose(got, want, rtol=1e-9, atol=0)
+
+
 @pytest.mark.parametrize("k", range(6))
 def test_boundary_points_slide_on_their_own_edge_in_order(k):
     p = _polygons()[k]

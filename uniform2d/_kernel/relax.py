@@ -39,11 +39,13 @@ Three ways to move
                  normalised lengths (small spread, the edge CV).
 :func:`descend`  Gauss-Seidel sweeps over the vertices, each moved by a
                  backtracking line search on its share of the energy
-                 ``sum l**p + l**-p`` over edges (and ``sum pi**p`` over
-                 perimeters): with large p that is the max/min of the
-                 objective, decreased one vertex at a time (a decrease of a
-                 vertex's share is a decrease of the total).  The best state
-                 by the true objective is kept.
+                 ``w_len sum l**p + w_short sum l**-p`` over edges (and
+                 ``w_per sum pi**p`` over perimeters): with large p that is the
+                 max/min of the objective, decreased one vertex at a time (a
+                 decrease of a vertex's share is a decrease of the total).  The
+                 weights (:func:`_weights`, once per sweep) make the energy the
+                 linearised log of the objective, so no term drowns the others.
+                 The best state by the true objective is kept.
 :func:`spread`   Gauss-Seidel sweeps on ``sum (l - mean l)**2`` (the spread, the
                  edge CV), a move accepted only if the star's longest and
                  shortest edge and largest perimeter stay within the mesh's
@@ -509,6 +511,53 @@ def _wake(m, h0, active):
 
 
 @njit(cache=True)
+def _weights(m, hv, href, k, objective):
+    """Weights (w_len, w_short, w_per) of the three energy terms for ``objective``.
+
+    The terms ``S_len = sum l**p``, ``S_short = sum l**-p`` and ``S_per = sum
+    pi**p`` are smooth stand-ins for ``lmax**p``, ``lmin**-p`` and ``pmax**p``, so
+    ``log`` of an objective that is a product of powers of the extremes is, up to
+    the factor 1/p, a weighted sum of their logs: for ``"balanced"``,
+    ``(lmax**2 / lmin * pmax)**(1/3)``, it is ``2 log S_len + log S_short + log
+    S_per``.  Linearised at the present mesh (log is concave, so a decrease of the
+    linearisation is a decrease of the sum) each term is weighted by its exponent
+    over its present value.  Equal weights would let the term with the largest
+    sum drown the others (at p = 64 the longest edge's term outweighs the largest
+    perimeter's some 50 times).
+    """
+    if objective == MAX_EDGE:
+        return 1.0, 0.0, 0.0
+    if objective == MAX_PERIMETER:
+        return 0.0, 0.0, 1.0
+    tv, tw, xy = m.tv, m.tw, m.xy
+    s_len = 0.0
+    s_short = 0.0
+    s_per = 0.0
+    for t in range(m.nt):
+        per = 0.0
+        tgt = 0.0
+        for i in range(3):
+            h = 3 * t + i
+            a = tv[h]
+            b = tv[nxt(h)]
+            dx = xy[b, 0] - xy[a, 0]
+            dy = xy[b, 1] - xy[a, 1]
+            L = np.sqrt(dx * dx + dy * dy)
+            s = 0.5 * (hv[a] + hv[b]) * href
+            per += L
+            tgt += s
+            g = tw[h]
+            if g < 0 or g > h:  # each edge once
+                q = _pw(L / s, k)
+                s_len += q
+                s_short += 1.0 / q
+        s_per += _pw(per / tgt, k)
+    if objective == RATIO:
+        return 1.0 / s_len, 1.0 / s_short, 0.0
+    return 2.0 / s_len, 1.0 / s_short, 1.0 / s_per
+
+
+@njit(cache=True)
 def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best_xy, best_t,
             best_tv, flat):  # fmt: skip
     """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``, p = 2**k.
@@ -525,9 +574,6 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     A vertex's star is read once per visit (:func:`_gather`); the trials of its
     line search only recompute the distances to the moved vertex.
     """
-    w_len = 1.0 if objective != MAX_PERIMETER else 0.0
-    w_short = 1.0 if objective in (BALANCED, RATIO) else 0.0
-    w_per = 1.0 if objective in (BALANCED, MAX_PERIMETER) else 0.0
     n = m.nv
     xy = m.xy
     prevb, nextb = _ring_neighbours(m, role)
@@ -549,6 +595,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
         if m.sized:
             refresh_sizes(m, hv, moved)
         moved[:] = False
+        w_len, w_short, w_per = _weights(m, hv, href, k, objective)
         vh = _outgoing(m)
         SP, TR, L = _star_buffers(m)
         # a vertex whose share is below RELEVANT times the largest share of the
