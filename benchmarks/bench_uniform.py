@@ -10,7 +10,10 @@ and min angle of three meshes: T+ (the paper), ours (``uniform2d.optimize``) and
 Gmsh (algorithm 6, ``Mesh.MeshSizeExtendFromBoundary = 0``,
 ``Mesh.MeshSizeMax = size``, size bisected until Gmsh's vertex count is |V| + n,
 or as close as the bisection gets).  The lower bounds are those of
-``uniform2d.quality`` with the same n and d_n for all three.  It prints the
+``uniform2d.quality`` with the same n and d_n for all three: long/LB and
+perim/LB against the bounds of design.md section 4 (the terms ``area``,
+``packing`` and ``boundary``; the issue's targets are stated against them),
+long/LB+ and perim/LB+ against the full bound, with the tighter ``split`` term.  It prints the
 geometric means per n and a speed comparison at ~1e5 vertices.
 """
 
@@ -84,13 +87,21 @@ def gmsh_tuned(poly, N):
     return best
 
 
+def design_factor(b):
+    """achieved / the bound of design.md section 4 (the issue's targets use it):
+    every term but ``split``, which came later and is tighter."""
+    return b.achieved / max(v for k, v in b.terms if k != "split")
+
+
 def row(q):
     return (
         q.edge_ratio,
-        q.longest_edge_bound.factor,
-        q.max_perimeter_bound.factor,
+        design_factor(q.longest_edge_bound),
+        design_factor(q.max_perimeter_bound),
         q.cv_edge,
         q.min_angle,
+        q.longest_edge_bound.factor,
+        q.max_perimeter_bound.factor,
     )
 
 
@@ -107,7 +118,7 @@ def main(argv=None):
     ap.add_argument("--no-gmsh", action="store_true")
     args = ap.parse_args(argv)
     polys = benchmark_polygons()
-    cols = ("ratio", "long/LB", "perim/LB", "CV", "minang")
+    cols = ("ratio", "long/LB", "perim/LB", "CV", "minang", "long/LB+", "perim/LB+")
     for n in args.n:
         table = {"T+": [], "ours": [], "gmsh": []}
         times = {"T+": 0.0, "ours": 0.0, "gmsh": 0.0}
@@ -140,7 +151,7 @@ def main(argv=None):
             if not rows:
                 continue
             a = np.array(rows)
-            vals = [gmean(a[:, i]) for i in range(4)] + [a[:, 4].min()]
+            vals = [gmean(a[:, i]) if i != 4 else a[:, 4].min() for i in range(a.shape[1])]
             print(f"{'':15s} {key:5s} " + " ".join(f"{x:9.3f}" for x in vals) + f"  {times[key]:6.2f}s")
         if gm_n:
             print(f"(gmsh Steiner counts: {gm_n})")
@@ -157,7 +168,10 @@ def main(argv=None):
         print(f"\n=== speed at {N} vertices (square) ===")
         print(f"T+            {t_tp:8.2f}s")
         print(f"ours (+T+)    {t_ours + t_tp:8.2f}s   (optimisation alone {t_ours:.2f}s)")
-        print("ours quality  ratio %.3f long/LB %.3f perim/LB %.3f CV %.3f minang %.1f" % row(ours.quality(d_n=tp.info["d_n"])))
+        print(
+            "ours quality  ratio %.3f long/LB %.3f perim/LB %.3f CV %.3f minang %.1f "
+            "long/LB+ %.3f perim/LB+ %.3f" % row(ours.quality(d_n=tp.info["d_n"]))
+        )
         if not args.no_gmsh:
             pts, tri, dt, size = gmsh_tuned(p, N)
             print(f"gmsh          {dt:8.2f}s   ({len(pts)} vertices, generate() only)")

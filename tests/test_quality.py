@@ -482,3 +482,51 @@ def test_bound_dataclass_is_hashable_and_plain():
     hash(q)
     assert isinstance(q.longest_edge_bound, Bound)
     assert all(type(v) is float for _, v in q.longest_edge_bound.terms)
+
+
+def _split_reference(edges, n, t_max, K, c):
+    """The ``split`` term by enumeration: every way of putting k <= n boundary
+    points on the polygon edges (m_e - 1 on edge e), the longest piece
+    max L_e / m_e, the value max(c * piece, sqrt(K / (t_max - k))), minimised."""
+    import itertools
+
+    best = math.inf
+    for ks in itertools.product(range(n + 1), repeat=len(edges)):
+        k = sum(ks)
+        if k > n:
+            continue
+        piece = max(L / (j + 1) for L, j in zip(edges, ks))
+        best = min(best, max(c * piece, math.sqrt(K / (t_max - k))))
+    return best
+
+
+@pytest.mark.parametrize(
+    "ring, holes, n",
+    [
+        ([(0, 0), (4, 0), (4, 1), (0, 1)], [], 6),
+        ([(0, 0), (3, 0), (3, 3), (0, 3)], [], 9),
+        ([(0, 0), (5, 0), (2, 2)], [], 12),
+        ([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)], [], 5),
+        ([(0, 0), (6, 0), (6, 6), (0, 6)], [[(2, 2), (3, 2), (3, 3)]], 4),
+    ],
+)
+def test_split_term_equals_enumeration_over_boundary_point_counts(ring, holes, n):
+    P = Polygon(ring, holes)
+    pts = np.vstack([P.vertices, np.full((n, 2), np.nan)])[: len(P.vertices)]
+    tri = Delaunay(P.vertices).simplices  # only the bounds are checked
+    q = quality(pts, tri, P, n_steiner=n)
+    e = P.edges
+    edges = np.linalg.norm(P.vertices[e[:, 1]] - P.vertices[e[:, 0]], axis=1)
+    s = 1 - BOUND_SLACK
+    A = P.area
+    for bound, K, c in (
+        (q.longest_edge_bound, 4 * A / SQRT3, 1.0),
+        (q.max_perimeter_bound, 12 * SQRT3 * A, 2.0),
+    ):
+        terms = dict(bound.terms)
+        want = _split_reference(edges, n, q.t_max, K, c) * s
+        assert terms["split"] <= want * (1 + 1e-12)  # a bound: never above the minimum
+        assert terms["split"] == pytest.approx(want, rel=1e-12)
+        assert terms["split"] >= terms["area"] * (1 - 1e-15)
+        assert terms["split"] >= terms["boundary"] * (1 - 1e-15)
+        assert bound.term == "split"  # these cases are chosen so that it binds

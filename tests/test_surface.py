@@ -623,3 +623,30 @@ def test_write_patch_round_trips_small_coordinates_exactly(tmp_path, ext):
     F = np.array([[0, 1, 2]])
     q = surface.read_patch(surface.write_patch(tmp_path / f"t.{ext}", V, F))
     assert np.array_equal(q.vertices, V) and q.faces.tolist() == [[0, 1, 2]]
+
+
+def test_uv_point_location_agrees_with_a_fresh_search_across_meshes():
+    # closest_faces keeps the last UV mesh's tree: alternating meshes, and a mesh
+    # changed in place, must still be answered against the mesh given
+    import igl
+
+    rng = np.random.default_rng(3)
+    meshes = []
+    for name in ("cap60", "plate_hole"):
+        p = surface.as_patch(patch_path(name))
+        meshes.append((parameterize(p, "lscm").uv, np.asarray(p.faces)))
+    uv0, F0 = meshes[0]
+    moved = uv0.copy()
+    moved[:, 0] = 2.0 * moved[:, 0] + 0.1  # the same faces, other coordinates
+    meshes.append((moved, F0))
+    for uv, F in meshes + meshes[::-1]:
+        lo, hi = uv.min(axis=0), uv.max(axis=0)
+        q = lo - 0.1 * (hi - lo) + 1.2 * (hi - lo) * rng.random((500, 2))  # some outside
+        d2, face, c = _igl.closest_faces(q, uv, F)
+        U3 = np.column_stack([uv, np.zeros(len(uv))])
+        Q3 = np.column_stack([q, np.zeros(len(q))])
+        e2, eface, ec = igl.point_mesh_squared_distance(Q3, U3, F.astype(np.int64))
+        np.testing.assert_allclose(d2, e2, rtol=0, atol=1e-14 * np.ptp(uv) ** 2)
+        np.testing.assert_allclose(c, np.asarray(ec)[:, :2], rtol=0, atol=1e-12 * np.ptp(uv))
+        inside = e2 == 0
+        assert (d2[inside] == 0).all() and (~inside).any() and inside.any()

@@ -166,6 +166,37 @@ def _histogram(values: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
     return np.histogram(values, bins=bins, range=(lo, hi))
 
 
+def _split_term(edges, n: int, t_max: int, K: float, c: float) -> float:
+    """The ``split`` term: min over l of max(c l, sqrt(K / (T_max - k(l)))).
+
+    ``k(l) = sum(ceil(L_e / l) - 1)`` is the least number of boundary Steiner
+    points that cut every polygon edge (lengths ``edges``) into pieces of at most
+    ``l`` (infinite if it exceeds n).  Both parts are monotone in l, so the
+    minimum is at the smallest l where ``c l`` reaches the other part; it is
+    found by bisection, and the lower end of the final bracket is returned (a
+    value at or below the minimum).
+    """
+    edges = np.asarray(edges, dtype=np.float64)
+
+    def area_part(ell):
+        k = int(np.maximum(np.ceil(edges / ell) - 1.0, 0.0).sum())
+        return math.inf if k > n else math.sqrt(K / (t_max - k))
+
+    hi = float(edges.max())
+    if c * hi < area_part(hi):  # no boundary point helps: the area term itself
+        return math.sqrt(K / t_max)
+    lo = 0.0
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if c * mid >= area_part(mid):
+            hi = mid
+        else:
+            lo = mid
+    return c * lo
+
+
 def _make_bound(terms: list[tuple[str, float]], achieved: float) -> Bound:
     terms = [(k, float(v) * (1.0 - BOUND_SLACK)) for k, v in terms]
     best = max(range(len(terms)), key=lambda i: (terms[i][1], -i))  # ties: first listed
@@ -382,6 +413,14 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
       (its apex is within L of both ends of that edge).
     - ``boundary``: B / (|V| + n).  The boundary is made of |V| + n_b <= |V| + n
       mesh edges of total length B, so one of them is at least that long.
+    - ``split``: the two above, combined over the number k of boundary Steiner
+      points.  A mesh whose longest boundary edge is l has at least
+      k(l) = sum over polygon edges e of (ceil(L_e / l) - 1) of them, so at most
+      T_max - k(l) triangles, and its longest edge is at least
+      max(l, sqrt(4A / (sqrt(3) (T_max - k(l))))).  The term is the least such
+      value over l (bisection; at least ``area`` and ``boundary``).  Points on
+      the boundary leave fewer, larger triangles; fewer of them leave longer
+      boundary edges: no mesh escapes both.
     - ``packing`` (convex P without holes only): sqrt(3)/2 d_n.  Lemma 9 of the
       paper gives sqrt(3)/2 d_n* for the optimum, and d_n <= d_n*.  The lemma is
       proven for convex polygons only, so the term is not used otherwise.
@@ -393,6 +432,8 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
       (the equilateral one is largest).
     - ``boundary``: 2 B / (|V| + n).  The triangle holding the longest boundary
       edge has perimeter at least twice that edge (triangle inequality).
+    - ``split``: as for the longest edge, with the perimeter parts
+      max(2 l, sqrt(12 sqrt(3) A / (T_max - k(l)))).
     - ``packing`` (convex P without holes only): sqrt(3) d_n, twice the longest
       edge bound (Theorem 5 of the paper).
 
@@ -538,6 +579,10 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
         dn = _packing_distance(poly, n)
 
     per_edge = B / (n_v + n)
+    pe = poly.edges
+    dv = poly.vertices[pe[:, 1]] - poly.vertices[pe[:, 0]]
+    polygon_edges = np.hypot(dv[:, 0], dv[:, 1])
+    min_polygon_edge = float(polygon_edges.min())
     longest_terms = [("area", math.sqrt(4.0 * A / (_SQRT3 * t_max)))]
     perimeter_terms = [("area", math.sqrt(12.0 * _SQRT3 * A / t_max))]
     if dn is not None:
@@ -545,15 +590,16 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
         perimeter_terms.append(("packing", _SQRT3 * dn))
     longest_terms.append(("boundary", per_edge))
     perimeter_terms.append(("boundary", 2.0 * per_edge))
+    longest_terms.append(("split", _split_term(polygon_edges, n, t_max, 4.0 * A / _SQRT3, 1.0)))
+    perimeter_terms.append(
+        ("split", _split_term(polygon_edges, n, t_max, 12.0 * _SQRT3 * A, 2.0))
+    )
     longest_bound = _make_bound(longest_terms, longest)
 
     ratio_terms = [("trivial", 1.0)]
     theta = float(poly.interior_angles().min())
     if theta < math.pi / 3:
         ratio_terms.append(("corner", _corner_ratio(theta)))
-    pe = poly.edges
-    dv = poly.vertices[pe[:, 1]] - poly.vertices[pe[:, 0]]
-    min_polygon_edge = float(np.hypot(dv[:, 0], dv[:, 1]).min())
     # longest_bound.value is already lowered by the slack; undo it to avoid applying it twice.
     ratio_terms.append(("boundary", longest_bound.value / (1.0 - BOUND_SLACK) / min_polygon_edge))
 
