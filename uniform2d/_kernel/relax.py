@@ -99,6 +99,16 @@ def refresh_sizes(m, hv, which):
             hv[v] = size_at(m, m.xy[v, 0], m.xy[v, 1])
 
 
+@njit(cache=True, inline="always")
+def _edge(xy, tv, hv, href, h):
+    """(length, target) of the edge of half-edge h."""
+    a = tv[h]
+    b = tv[nxt(h)]
+    dx = xy[b, 0] - xy[a, 0]
+    dy = xy[b, 1] - xy[a, 1]
+    return np.sqrt(dx * dx + dy * dy), 0.5 * (hv[a] + hv[b]) * href
+
+
 @njit(cache=True)
 def measure(m, hv, href):
     """(longest, shortest, largest perimeter), all normalised by their targets."""
@@ -110,12 +120,7 @@ def measure(m, hv, href):
         per = 0.0
         tgt = 0.0
         for i in range(3):
-            a = tv[3 * t + i]
-            b = tv[3 * t + (i + 1) % 3]
-            dx = xy[b, 0] - xy[a, 0]
-            dy = xy[b, 1] - xy[a, 1]
-            L = np.sqrt(dx * dx + dy * dy)
-            s = 0.5 * (hv[a] + hv[b]) * href
+            L, s = _edge(xy, tv, hv, href, 3 * t + i)
             per += L
             tgt += s
             ell = L / s
@@ -538,12 +543,7 @@ def _weights(m, hv, href, k, objective):
         tgt = 0.0
         for i in range(3):
             h = 3 * t + i
-            a = tv[h]
-            b = tv[nxt(h)]
-            dx = xy[b, 0] - xy[a, 0]
-            dy = xy[b, 1] - xy[a, 1]
-            L = np.sqrt(dx * dx + dy * dy)
-            s = 0.5 * (hv[a] + hv[b]) * href
+            L, s = _edge(xy, tv, hv, href, h)
             per += L
             tgt += s
             g = tw[h]
