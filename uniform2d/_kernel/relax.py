@@ -669,11 +669,8 @@ def _mean_length(m, hv, href):
         g = tw[h]
         if g >= 0 and g < h:
             continue
-        a = tv[h]
-        b = tv[nxt(h)]
-        dx = xy[b, 0] - xy[a, 0]
-        dy = xy[b, 1] - xy[a, 1]
-        s += np.sqrt(dx * dx + dy * dy) / (0.5 * (hv[a] + hv[b]) * href)
+        L, tgt = _edge(xy, tv, hv, href, h)
+        s += L / tgt
         k += 1
     return s / k
 
