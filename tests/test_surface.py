@@ -466,6 +466,30 @@ def test_isotropic_remesh_wrapper():
     assert edge_stats(V, F)["mean"] == pytest.approx(0.1, rel=0.25)
 
 
+def test_isotropic_remesh_applies_meshlabs_surface_distance_check():
+    """MeshLab's default ``maxsurfdist`` (1 % of the diagonal) was not reliably
+    applied: in one process the same call behaved as with the check off.  The
+    adapter passes it explicitly; at a collapse-limited target on the cap the two
+    behaviours give different counts (56 and 41 vertices measured)."""
+    from surface import _meshlab
+
+    pml = _meshlab.pymeshlab
+    P = surface.as_patch(patch_path("cap60"))
+    V, F = np.asarray(P.vertices), np.asarray(P.faces)
+    target = 0.3417
+
+    def meshlab(**kw):
+        ms = _meshlab._meshset((V, F))
+        ms.meshing_isotropic_explicit_remeshing(
+            iterations=10, targetlen=pml.PureValue(target), **kw
+        )
+        return ms.current_mesh().vertex_number()
+
+    ours = len(_meshlab.isotropic_remesh(V, F, target)[0])
+    assert ours == meshlab(checksurfdist=True, maxsurfdist=pml.PercentageValue(1.0))
+    assert ours != meshlab(checksurfdist=False)
+
+
 def test_points_on_polygon_edges_are_lifted_onto_the_boundary(monkeypatch):
     """A mesher may put points on polygon edges (INSERT's boundary case): they must
     land on the input boundary arc, not on the chord."""
