@@ -51,6 +51,7 @@ from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidPolygonError
 
 from . import _igl
+from .locate import face_neighbours, walk
 from .lift import barycentric
 from .patch import Patch
 
@@ -261,7 +262,13 @@ def interior_chord_error(patch: Patch, uv, h: float, area_scale=None) -> float:
     d = np.stack([np.cos(ang), np.sin(ang)], axis=1)
     ends = uv[idx][:, None, None, :] + np.stack([d, -d])[None] * r[:, None, None, None]
     q = ends.reshape(-1, 2)
-    _, face, _ = _igl.closest_faces(q, uv, F)
+    # walk from a face at each end's own vertex; a tree search where that fails
+    at = np.empty(len(V), dtype=np.int64)
+    at[F.ravel()] = np.repeat(np.arange(len(F)), 3)
+    face = walk(q, np.repeat(at[idx], 6), uv, np.asarray(F, dtype=np.int64), face_neighbours(F))
+    lost = face < 0
+    if lost.any():
+        face[lost] = _igl.closest_faces(q[lost], uv, F)[1]
     tri = F[face]
     bary = barycentric(q, uv[tri[:, 0]], uv[tri[:, 1]], uv[tri[:, 2]], clamp=False)
     X = np.einsum("ki,kij->kj", bary, V[tri]).reshape(len(idx), 2, 3, 3)

@@ -674,3 +674,43 @@ def test_uv_point_location_agrees_with_a_fresh_search_across_meshes():
         np.testing.assert_allclose(c, np.asarray(ec)[:, :2], rtol=0, atol=1e-12 * np.ptp(uv))
         inside = e2 == 0
         assert (d2[inside] == 0).all() and (~inside).any() and inside.any()
+
+
+def test_walk_locates_like_the_tree_search():
+    from surface.lift import barycentric
+    from surface.locate import face_neighbours, walk
+
+    P = surface.read_patch(patch_path("cap60"))
+    uv, F = parameterize(P).uv, np.asarray(P.faces, dtype=np.int64)
+    nbr = face_neighbours(F)
+    # independent: every directed edge's twin from a dict
+    owner = {(int(f[i]), int(f[(i + 1) % 3])): t for t, f in enumerate(F) for i in range(3)}
+    want = [[owner.get((int(f[(i + 1) % 3]), int(f[i])), -1) for i in range(3)] for f in F]
+    assert nbr.tolist() == want
+    rng = np.random.default_rng(5)
+    v = rng.integers(0, len(uv), 4000)
+    h = np.median(np.linalg.norm(uv[F[:, 1]] - uv[F[:, 0]], axis=1))
+    q = uv[v] + rng.normal(scale=2 * h, size=(4000, 2))
+    at = np.empty(len(uv), dtype=np.int64)
+    at[F.ravel()] = np.repeat(np.arange(len(F)), 3)
+    got = walk(q, at[v], uv, F, nbr)
+    d2, tree, _ = _igl.closest_faces(q, uv, F)
+    assert (got[d2 > 1e-18 * h * h] == -1).all()  # outside: never a face (the tree
+    # search reports rounding-level distances for points inside)
+    found = got >= 0
+    assert found.mean() > 0.8
+    b = barycentric(q[found], *(uv[F[got[found], i]] for i in range(3)), clamp=False)
+    assert b.min() > -1e-12  # the face found holds the point
+    clear = b.min(axis=1) > 1e-9  # not on an edge: the face is unique
+    assert np.array_equal(got[found][clear], tree[found][clear])
+
+
+def test_chord_error_is_the_same_without_the_walk(monkeypatch):
+    import surface.domain as dom
+
+    P = surface.read_patch(patch_path("cap60"))
+    uv = parameterize(P).uv
+    h = 0.05 * P.diagonal
+    walked = dom.interior_chord_error(P, uv, h)
+    monkeypatch.setattr(dom, "walk", lambda q, *a: np.full(len(q), -1, dtype=np.int64))
+    assert dom.interior_chord_error(P, uv, h) == walked > 0

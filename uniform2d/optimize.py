@@ -185,7 +185,7 @@ def _boundary_rows(polygon: Polygon, m: np.ndarray, h: float) -> np.ndarray:
     R, G = np.concatenate(rows), np.concatenate(gaps)
     shp = polygon.to_shapely()
     ok = shapely.contains_xy(shp, R[:, 0], R[:, 1])
-    ok &= to_segments(R, a, a + d) >= 0.6 * G
+    ok &= to_segments(R, a, a + d, 0.6 * G.max()) >= 0.6 * G
     R, G = R[ok], G[ok]
     keep = []
     tree = cKDTree(R)
@@ -261,7 +261,9 @@ def _seed_interior(
         P = _hex_lattice(polygon, sp, angle, origin)
         inside = shapely.contains_xy(shp, P[:, 0], P[:, 1])
         P = P[inside]
-        dist = to_segments(P, sa, sb)
+        # only distances below the cap matter, here and in the drop below
+        cap = (2.0 * band + 2.0 * sp) if rows is not None else 2.0 * sp
+        dist = to_segments(P, sa, sb, cap)
         ok = dist >= 0.5 * sp
         if rows is not None:  # rows lie within ~band of the boundary: test only near ones
             ok &= dist >= band + 0.5 * sp
@@ -290,6 +292,8 @@ def _seed_interior(
             hi = mid
     P, dist = best
     if len(P) > count:  # drop the points nearest to the boundary
+        if np.count_nonzero(dist < dist.max()) < len(P) - count:  # capped ones would go
+            dist = to_segments(P, sa, sb)
         order = np.lexsort((np.arange(len(P)), dist))
         P = P[np.sort(order[len(P) - count :])]
     if rows is not None:
