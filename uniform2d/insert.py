@@ -116,7 +116,9 @@ def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
     edges = polygon.edges
     a = V[edges[:, 0]]
     d = V[edges[:, 1]] - a
-    dist = to_segments(np.ascontiguousarray(sites, dtype=np.float64), a, V[edges[:, 1]])
+    # only "within tol or not" is asked: distances beyond 2 tol come back as 2 tol
+    cap = 2.0 * tol if tol > 0 else np.inf
+    dist = to_segments(np.ascontiguousarray(sites, dtype=np.float64), a, V[edges[:, 1]], cap)
     near = np.flatnonzero(dist <= tol)
     inside = shapely.contains_xy(polygon.to_shapely(), sites[:, 0], sites[:, 1])
     outside = np.flatnonzero((dist > tol) & ~inside)

@@ -641,7 +641,7 @@ def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, opti
         np.add.at(total, E.ravel(), np.repeat(L, 2))
         np.add.at(count, E.ravel(), 1.0)
         sites = pts[nV:]
-        free = (to_segments(sites, a, a + d) > on_edge) & ~fixed
+        free = (to_segments(sites, a, a + d, 2.0 * on_edge) > on_edge) & ~fixed
         free &= np.hypot(*(sites - new).T) > RELOCATE_RADIUS * h
         if not free.any():
             break
@@ -703,7 +703,7 @@ def optimize_mesh(
         rows = _boundary_rows(polygon, m, spacing * h) if layered else None
         ipts = _seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
         # the lattice deeper than BAND sizes inside P is uniform already: it stays
-        deep = to_segments(ipts, a, a + d) > BAND * h
+        deep = to_segments(ipts, a, a + d, 2.0 * BAND * h) > BAND * h
         frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
         sites = np.concatenate([bpts, ipts])
         val = 0.0
