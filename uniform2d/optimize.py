@@ -293,7 +293,7 @@ def _seed_interior(
     P, dist = best
     if len(P) > count:  # drop the points nearest to the boundary
         if np.count_nonzero(dist < dist.max()) < len(P) - count:  # capped ones would go
-            dist = to_segments(P, sa, sb)
+            dist = to_segments(P, sa, sb, np.inf)
         order = np.lexsort((np.arange(len(P)), dist))
         P = P[np.sort(order[len(P) - count :])]
     if rows is not None:

@@ -252,8 +252,8 @@ def flip(m, h):
     n_ca = m.tw[prv(h)]
     n_ad = m.tw[nxt(g)]
     n_db = m.tw[prv(g)]
-    _set_triangle(m, t, c, a, d)
-    _set_triangle(m, u, d, b, c)
+    _set_triangle(m, np.int64(t), np.int64(c), np.int64(a), np.int64(d))
+    _set_triangle(m, np.int64(u), np.int64(d), np.int64(b), np.int64(c))
     _link(m, 3 * t, n_ca)
     _link(m, 3 * t + 1, n_ad)
     _link(m, 3 * u, n_db)
@@ -288,7 +288,7 @@ def legalize_all(m):
         if m.tw[h] > h:
             todo[sp] = h
             sp += 1
-    return legalize_stack(m, todo, sp)
+    return legalize_stack(m, todo, np.int64(sp))
 
 
 @njit(cache=True)
@@ -324,7 +324,7 @@ def build_adjacency(m, tris):
     nt = tris.shape[0]
     nv = m.nv
     for t in range(nt):
-        _set_triangle(m, t, tris[t, 0], tris[t, 1], tris[t, 2])
+        _set_triangle(m, np.int64(t), np.int64(tris[t, 0]), np.int64(tris[t, 1]), np.int64(tris[t, 2]))
     m.nt = nt
     keys = np.empty(3 * nt, np.int64)
     for h in range(3 * nt):
@@ -477,7 +477,7 @@ def insert_point(m, x, y, t0, hs):
     for k in range(nb):
         s = m.cav[k]
         u = bu[k]
-        _set_triangle(m, s, u, m.ebuf[k], p)
+        _set_triangle(m, np.int64(s), np.int64(u), np.int64(m.ebuf[k]), np.int64(p))
         _link(m, 3 * s, m.stack[k])
         tw[3 * s + 1] = -1
         tw[3 * s + 2] = -1
@@ -511,14 +511,14 @@ def insert_sites(m, idx):
         v = idx[k]
         x = m.xy[v, 0]
         y = m.xy[v, 1]
-        loc = locate(m, t, x, y, 4096)
+        loc = locate(m, np.int64(t), x, y, np.int64(4096))
         if loc < 0:
             loc = locate_scan(m, x, y)
             if loc < 0:
                 m.nv = nv
                 return -(k + 1)
         m.nv = v
-        if insert_point(m, x, y, loc, -1) < 0:
+        if insert_point(m, x, y, np.int64(loc), np.int64(-1)) < 0:
             m.nv = nv
             return -(k + 1)
         t = m.cav[0]

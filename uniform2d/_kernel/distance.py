@@ -60,9 +60,9 @@ def _brute(points, a, b, cap):
 
 
 @njit(cache=True)
-def to_segments(points, a, b, cap=np.inf):
+def to_segments(points, a, b, cap):
     """Distance (K,) from each of points (K, 2) to the nearest segment a[i]-b[i]
-    (E, 2), or ``cap`` where that is smaller."""
+    (E, 2), or ``cap`` (a float; ``np.inf`` for none) where that is smaller."""
     k = points.shape[0]
     E = a.shape[0]
     if E <= BRUTE_MAX or k <= BRUTE_MAX or cap == np.inf:

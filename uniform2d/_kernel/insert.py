@@ -238,7 +238,7 @@ def eval_segment(m, h, xtol):
             for k in range(ns):
                 z = sites[k]
                 d2 = (xy[z, 0] - x) ** 2 + (xy[z, 1] - y) ** 2
-                if d2 < wmin and (k < 2 or _visible(m, ne, x, y, z)):
+                if d2 < wmin and (k < 2 or _visible(m, np.int64(ne), x, y, z)):
                     wmin = d2
             val = np.sqrt(wmin) / size_at(m, x, y)
             if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol):
@@ -268,7 +268,7 @@ def _push_segment(m, M, h):
 def push_initial(m, M):
     """Entries for every candidate triangle and every boundary subsegment."""
     for t in range(m.nt):
-        _push_triangle(m, M, t)
+        _push_triangle(m, M, np.int64(t))
     for h in range(3 * m.nt):
         if m.tw[h] < 0:
             _push_segment(m, M, h)
@@ -280,7 +280,7 @@ def push_new(m, M, k, split):
     p = m.nv - 1
     for i in range(k):
         t = m.cav[i]
-        _push_triangle(m, M, t)
+        _push_triangle(m, M, np.int64(t))
         if split:
             for e in range(3):
                 h = 3 * t + e
@@ -356,14 +356,14 @@ def new_pool(capacity):
 @njit(cache=True)
 def _to_window(P, s):
     P.ploc[s] = 1
-    heap.lpush(P.wx, P.px[s], P.py[s], s, P.pgen[s])
-    heap.lpush(P.wy, P.py[s], P.px[s], s, P.pgen[s])
+    heap.lpush(P.wx, P.px[s], P.py[s], np.int64(s), P.pgen[s])
+    heap.lpush(P.wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
 
 
 @njit(cache=True)
 def _to_outside(P, s):
     P.ploc[s] = 0
-    heap.lpush(P.lo, P.px[s], P.py[s], s, P.pgen[s])
+    heap.lpush(P.lo, P.px[s], P.py[s], np.int64(s), P.pgen[s])
 
 
 @njit(cache=True)
@@ -372,7 +372,7 @@ def _dump_window(P):
     while P.wx.size > 0:
         x, y, s, g = heap.lpop(P.wx)
         if P.pgen[s] == g and P.ploc[s] == 1:
-            _to_outside(P, s)
+            _to_outside(P, np.int64(s))
     P.wy.size = 0
     P.bound = -np.inf
 
@@ -408,11 +408,11 @@ def _pool_add(P, a, b, w, x, y, xtol):
     heap.push(P.pv, w, s, P.pgen[s])
     if x < P.bound - xtol:  # a new smallest x: the window must be rebuilt around it
         _dump_window(P)
-        _to_outside(P, s)
+        _to_outside(P, np.int64(s))
     elif x <= P.bound:
-        _to_window(P, s)
+        _to_window(P, np.int64(s))
     else:
-        _to_outside(P, s)
+        _to_outside(P, np.int64(s))
 
 
 @njit(cache=True)
@@ -430,7 +430,7 @@ def _revalidate(m, M, P, s, thr, xtol):
     alive, w, x, y = _current(m, a, b, xtol)
     if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
         return True
-    _pool_kill(P, s)
+    _pool_kill(P, np.int64(s))
     if alive:
         if w >= thr:
             _pool_add(P, a, b, w, x, y, xtol)
@@ -490,8 +490,8 @@ def _choose(m, M, P, W, xtol):
     """Step 2: the slot of the canonical candidate (or -1)."""
     thr = W * (1.0 - REL_TIE)
     while True:
-        xw = _lclean(m, M, P, P.wx, 1, thr, xtol)
-        xo = _lclean(m, M, P, P.lo, 0, thr, xtol)
+        xw = _lclean(m, M, P, P.wx, np.int64(1), thr, xtol)
+        xo = _lclean(m, M, P, P.lo, np.int64(0), thr, xtol)
         if xw == np.inf and xo == np.inf:
             return -1
         if xo < xw and xw != np.inf:  # a smaller x outside: rebuild the window
@@ -510,7 +510,7 @@ def _choose(m, M, P, W, xtol):
             if not _revalidate(m, M, P, s, thr, xtol):
                 restart = True  # a re-filed member may have moved the anchor
                 break
-            _to_window(P, s)
+            _to_window(P, np.int64(s))
         if restart:
             continue
         ymin = np.inf
@@ -535,7 +535,7 @@ def _choose(m, M, P, W, xtol):
         best = -1
         for i in range(nsel):  # put them back; the smallest x wins
             s = P.sel[i]
-            heap.lpush(P.wy, P.py[s], P.px[s], s, P.pgen[s])
+            heap.lpush(P.wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
             if best < 0 or P.px[s] < P.px[best]:
                 best = s
         if restart:
@@ -564,9 +564,9 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
             if s < 0:
                 return ERR_EMPTY - 100 * j
             a, w, x, y = P.pa[s], P.pw[s], P.px[s], P.py[s]
-            _pool_kill(P, s)
+            _pool_kill(P, np.int64(s))
         if a >= 0:
-            loc = locate(m, a, x, y, 64)
+            loc = locate(m, np.int64(a), x, y, np.int64(64))
             if loc >= 0:
                 t0 = loc
                 hsplit = _near_boundary(m, loc, x, y, snap)
@@ -584,7 +584,7 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
         out_xy[j, 1] = y
         out_w[j] = w * size_at(m, x, y)  # the distance (w is distance / size)
         out_b[j] = hsplit >= 0
-        k = insert_point(m, x, y, t0, hsplit)
+        k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
             return k - 100 * j
         push_new(m, M, k, hsplit >= 0)
