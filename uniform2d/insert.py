@@ -323,6 +323,14 @@ def hilbert_order(points: np.ndarray, bits: int = 16) -> np.ndarray:
     return np.argsort(d, kind="stable")
 
 
+def _complex_key(p: np.ndarray) -> np.ndarray:
+    """(K,) complex128 holding the points (K, 2) bit for bit (no arithmetic)."""
+    out = np.empty(len(p), dtype=np.complex128)
+    out.real = p[:, 0]
+    out.imag = p[:, 1]
+    return out
+
+
 def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
     """Constrained Delaunay triangles of the rings (GEOS), as CCW vertex indices.
 
@@ -332,16 +340,17 @@ def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
     shell = xy[rings[0]]
     holes = [xy[r] for r in rings[1:]]
     geom = shapely.constrained_delaunay_triangles(shapely.Polygon(shell, holes))
-    index = {(float(x), float(y)): k for r in rings for k in r for x, y in [xy[k]]}
-    out = []
-    for g in shapely.get_parts(geom):
-        c = np.asarray(g.exterior.coords)[:3]
-        try:
-            tri = [index[(float(x), float(y))] for x, y in c]
-        except KeyError:
-            raise RuntimeError("GEOS returned a vertex that is not a polygon vertex") from None
-        out.append(tri)
-    tris = np.array(out, dtype=np.int32).reshape(-1, 3)
+    rings_ = shapely.get_exterior_ring(shapely.get_parts(geom))
+    corners = shapely.get_coordinates(rings_).reshape(len(rings_), 4, 2)[:, :3]
+    # exact matching on (x, y) through a complex key (ordered by x, then y)
+    idx = np.concatenate([np.asarray(r, dtype=np.int64) for r in rings])
+    key = _complex_key(xy[idx])
+    order = np.argsort(key, kind="stable")
+    want = _complex_key(corners.reshape(-1, 2))
+    pos = np.minimum(np.searchsorted(key[order], want), len(key) - 1)
+    if not np.array_equal(key[order][pos], want):
+        raise RuntimeError("GEOS returned a vertex that is not a polygon vertex")
+    tris = idx[order[pos]].astype(np.int32).reshape(-1, 3)
     p = xy[tris]
     cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
         p[:, 1, 1] - p[:, 0, 1]
