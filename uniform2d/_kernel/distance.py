@@ -1,7 +1,8 @@
-"""Distance from many points to many segments (the optimiser's seeding).
+"""Distance from many points to many segments (sites and seeds against P's edges).
 
-Not a predicate: plain floating point, used only to keep seed points a margin
-away from the boundary.
+Not a predicate: plain floating point, used only with margins: which given
+sites lie on P's boundary (within a tolerance of 1e-10 of P's size, see
+:func:`uniform2d.insert.insert`), and which seed points are a margin away from it.
 
 Every point-segment distance is computed by one formula (:func:`_sq`), and a
 point's result is the minimum of it over a set of segments that is sure to hold
