@@ -20,11 +20,13 @@ point inside the grid scans rings of cells around its own::
     | 1 | 1 | 1 |     ring r = 1 around the point's cell (0); after ring r,
     +---+---+---+     every segment not yet seen lies outside the (2r+1)^2
     | 1 | 0 | 1 |     block, so at least r * cell from the point: stop once the
-    +---+---+---+     best distance found is within that.
-    | 1 | 1 | 1 |
-    +---+---+---+
+    +---+---+---+     best distance found is within (r - 1) * cell (one cell
+    | 1 | 1 | 1 |     of slack: a point or a bounding box within rounding of a
+    +---+---+---+     cell side may be filed in the neighbouring cell).
 
-Points outside the grid, few segments and no cap go brute force.
+Points outside the grid, few segments, no cap and grids whose cells are within
+rounding of the coordinates (``cell`` below 1e-9 of their magnitude) go brute
+force.
 """
 
 import numpy as np
@@ -74,7 +76,7 @@ def to_segments(points, a, b, cap):
     y1 = max(a[:, 1].max(), b[:, 1].max())
     G = max(1, int(np.sqrt(E)))
     cell = max(x1 - x0, y1 - y0) / G
-    if not cell > 0.0:
+    if not cell > 1e-9 * max(abs(x0), abs(y0), abs(x1), abs(y1)):
         return _brute(points, a, b, cap)
     # cells each segment's bounding box overlaps (clamped: rounding at x1, y1)
     lo_i = np.empty(E, np.int64)
@@ -128,7 +130,7 @@ def to_segments(points, a, b, cap):
                             best = min(best, _sq(px, py, a[e, 0], a[e, 1], b[e, 0], b[e, 1]))
             if ci - r <= 0 and cj - r <= 0 and ci + r >= G - 1 and cj + r >= G - 1:
                 break  # the whole grid is scanned
-            bound = r * cell
+            bound = max(r - 1, 0) * cell
             if best <= bound * bound or bound >= cap:
                 break  # every segment not seen is at least bound away
             r += 1
