@@ -25,7 +25,7 @@ import numpy as np
 
 import igl
 
-__all__ = ["lscm", "arap", "harmonic_disk", "closest_faces", "closest_points"]
+__all__ = ["lscm", "arap", "harmonic_disk", "closest_faces", "closest_points", "face_neighbours"]
 
 
 def _V(V) -> np.ndarray:
@@ -34,6 +34,29 @@ def _V(V) -> np.ndarray:
 
 def _F(F) -> np.ndarray:
     return np.ascontiguousarray(F, dtype=np.int64)
+
+
+def face_neighbours(F) -> np.ndarray:
+    """Neighbour of every face across each edge, -1 on the boundary.
+
+    Parameters
+    ----------
+    F : (M, 3) int
+        Faces of an oriented manifold mesh.
+
+    Returns
+    -------
+    (M, 3) int64
+        Column i: the face across edge ``(F[:, i], F[:, (i + 1) % 3])``
+        (``igl.triangle_triangle_adjacency``).
+
+    Examples
+    --------
+    >>> face_neighbours([[0, 1, 2], [2, 1, 3]]).tolist()
+    [[-1, 1, -1], [0, -1, -1]]
+    """
+    TT, _ = igl.triangle_triangle_adjacency(_F(F))
+    return np.asarray(TT, dtype=np.int64)
 
 
 def lscm(V, F, pins) -> np.ndarray:

@@ -51,7 +51,7 @@ from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidPolygonError
 
 from . import _igl
-from .locate import face_neighbours, walk
+from .locate import walk
 from .lift import barycentric
 from .patch import Patch
 
@@ -265,7 +265,8 @@ def interior_chord_error(patch: Patch, uv, h: float, area_scale=None) -> float:
     # walk from a face at each end's own vertex; a tree search where that fails
     at = np.empty(len(V), dtype=np.int64)
     at[F.ravel()] = np.repeat(np.arange(len(F)), 3)
-    face = walk(q, np.repeat(at[idx], 6), uv, np.asarray(F, dtype=np.int64), face_neighbours(F))
+    F64 = np.asarray(F, dtype=np.int64)
+    face = walk(q, np.repeat(at[idx], 6), uv, F64, _igl.face_neighbours(F64))
     lost = face < 0
     if lost.any():
         face[lost] = _igl.closest_faces(q[lost], uv, F)[1]

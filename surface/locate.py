@@ -16,7 +16,8 @@ across that edge; when it lies to the right of none, ``f`` holds it::
 It gives up (returns -1) where it would step off the mesh (the query is
 outside, or the straight way to it leaves a non-convex mesh) or after
 :data:`MAX_STEPS` steps (a visibility walk can cycle on a non-Delaunay mesh):
-callers then use a tree search (:func:`surface._igl.closest_faces`).
+callers then use a tree search (:func:`surface._igl.closest_faces`).  The
+face neighbours come from :func:`surface._igl.face_neighbours`.
 Plain floating point, like the tree search: a query within rounding of an edge
 may be given either face.
 """
@@ -26,44 +27,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["face_neighbours", "walk", "MAX_STEPS"]
+__all__ = ["walk", "MAX_STEPS"]
 
 #: Steps after which a walk gives up.
 MAX_STEPS = 256
-
-
-def face_neighbours(F) -> np.ndarray:
-    """Neighbour of every face across each edge, -1 on the boundary.
-
-    Parameters
-    ----------
-    F : (M, 3) int
-        Faces of an oriented manifold mesh.
-
-    Returns
-    -------
-    (M, 3) int64
-        Column i: the face across edge ``(F[:, i], F[:, (i + 1) % 3])``.
-
-    Examples
-    --------
-    >>> face_neighbours([[0, 1, 2], [2, 1, 3]]).tolist()
-    [[-1, 1, -1], [0, -1, -1]]
-    """
-    F = np.asarray(F, dtype=np.int64)
-    M = len(F)
-    u = F.ravel()
-    v = F[:, [1, 2, 0]].ravel()
-    n = int(F.max()) + 1 if M else 1
-    key = u * n + v
-    twin = v * n + u
-    order = np.argsort(key, kind="stable")
-    pos = np.searchsorted(key[order], twin)
-    pos = np.minimum(pos, len(key) - 1)
-    hit = key[order[pos]] == twin
-    out = np.full(3 * M, -1, dtype=np.int64)
-    out[hit] = order[pos[hit]] // 3
-    return out.reshape(M, 3)
 
 
 @njit(cache=True)

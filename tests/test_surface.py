@@ -678,11 +678,11 @@ def test_uv_point_location_agrees_with_a_fresh_search_across_meshes():
 
 def test_walk_locates_like_the_tree_search():
     from surface.lift import barycentric
-    from surface.locate import face_neighbours, walk
+    from surface.locate import walk
 
     P = surface.read_patch(patch_path("cap60"))
     uv, F = parameterize(P).uv, np.asarray(P.faces, dtype=np.int64)
-    nbr = face_neighbours(F)
+    nbr = _igl.face_neighbours(F)
     # independent: every directed edge's twin from a dict
     owner = {(int(f[i]), int(f[(i + 1) % 3])): t for t, f in enumerate(F) for i in range(3)}
     want = [[owner.get((int(f[(i + 1) % 3]), int(f[i])), -1) for i in range(3)] for f in F]
