@@ -24,6 +24,10 @@ point inside the grid scans rings of cells around its own::
     | 1 | 1 | 1 |     of slack: a point or a bounding box within rounding of a
     +---+---+---+     cell side may be filed in the neighbouring cell).
 
+(shapely's ``STRtree.query_nearest`` with ``max_distance`` answers the same
+question, but measured 4.5x slower on 2000 points and 250 segments, and with
+GEOS's own rounding, which would move points at the thresholds.)
+
 Points outside the grid, few segments, no cap and grids whose cells are within
 rounding of the coordinates (``cell`` below 1e-9 of their magnitude) go brute
 force.
