@@ -127,3 +127,25 @@ def test_relocation_keeps_the_count_and_a_valid_cdt_and_never_raises_the_objecti
         assert after < before and not np.array_equal(out, pts)
     else:
         assert np.array_equal(out, pts)
+
+
+def test_balanced_ranks_the_starts_by_the_edge_cv_too(monkeypatch):
+    """On a 4:1 rectangle, a lattice aligned with a short side meets both long
+    sides along a row of 5-7 pairs: ranking the starts by the extremes alone
+    picks it at n = 300, the CV-weighted ranking picks the lattice along the long
+    sides, whose edges are far more even, for a small cost in the extremes."""
+    import uniform2d.optimize as O
+
+    p = BENCH["rect4x1"]
+    a = optimize_mesh(p, 300)
+    monkeypatch.setattr(O, "CV_WEIGHT", 0.0)
+    b = optimize_mesh(p, 300)
+    check_mesh(a.points, a.triangles, p)
+    _, _, L = O._edge_geometry(p)
+    assert a.info["lattice_edge"] == int(np.argmax(L)) != b.info["lattice_edge"]
+    qa, qb = a.quality(), b.quality()
+    assert qa.cv_edge < 0.75 * qb.cv_edge
+    h = target_size(p, 300)
+    va = O.objective_value("balanced", qa.longest_edge, qa.shortest_edge, qa.max_perimeter, h)
+    vb = O.objective_value("balanced", qb.longest_edge, qb.shortest_edge, qb.max_perimeter, h)
+    assert va < 1.05 * vb
