@@ -15,13 +15,13 @@ Run:  python benchmarks/bench_insert.py [--sizes 10000 100000 1000000] [--quick]
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import os
 import subprocess
 import sys
 import tempfile
 import textwrap
-import time
 
 SQUARE = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
 
@@ -80,9 +80,7 @@ def cold_compile() -> dict:
 
 def triangle_quality(n_vertices: int) -> dict | None:
     """Triangle's pq20a<area> mesh of the unit square bisected to n_vertices."""
-    try:
-        import triangle  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("triangle") is None:
         return None
     return _child(
         f"""
@@ -115,9 +113,7 @@ def triangle_quality(n_vertices: int) -> dict | None:
 
 
 def triangle_delaunay(n: int) -> dict | None:
-    try:
-        import triangle  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("triangle") is None:
         return None
     return _child(
         f"""

@@ -10,7 +10,6 @@ Deterministic: the same uniform2d gives the same pictures.
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 

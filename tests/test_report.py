@@ -7,7 +7,6 @@ import json
 from html.parser import HTMLParser
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 import uniform2d
@@ -199,3 +198,17 @@ def test_tune_and_switches():
     t = tune(lambda h: int(round(1000 / h)), lambda c: c, 333, 1.0)
     assert t.count == 333 and t.evaluations == len(t.history)
     assert "e" not in triangle_peer.switches(1e-4)
+
+
+def test_scheduler_without_dask_says_which_extra_to_install(monkeypatch):
+    import importlib.util
+
+    from uniform2d.report.runners import run_cases
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "distributed" else real(name, *a)
+    )
+    case = {"status": "ok"}
+    with pytest.raises(ImportError, match=r"pip install 'uniform2d\[dask\]'"):
+        run_cases([case], scheduler="tcp://127.0.0.1:1")

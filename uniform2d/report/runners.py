@@ -6,6 +6,7 @@ so the report never depends on where or when a case ran.
 
 from __future__ import annotations
 
+import importlib.util
 import logging
 import multiprocessing
 import sys
@@ -92,12 +93,10 @@ def run_cases(cases, *, jobs: int = 1, scheduler=None, progress: bool = False) -
     log.info("%d cases to run (%d not installed)", len(todo), len(cases) - len(todo))
     with _bar(len(cases), progress) as bar:
         if scheduler is not None:
-            try:
-                import distributed  # noqa: F401
-            except ImportError:
+            if importlib.util.find_spec("distributed") is None:
                 raise ImportError(
                     "--scheduler needs the 'dask' extra: pip install 'uniform2d[dask]'"
-                ) from None
+                )
             results = _dask(cases, scheduler, bar)
         elif jobs > 1 and len(cases) > 1:
             results = _pool(cases, min(jobs, len(cases)), bar)
