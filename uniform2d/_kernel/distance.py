@@ -55,14 +55,20 @@ def _sq(px, py, ax, ay, bx, by):
     return qx * qx + qy * qy
 
 
+@njit(cache=True, inline="always")
+def _nearest_sq(px, py, a, b):
+    """Squared distance from (px, py) to the nearest of all segments a[e]-b[e]."""
+    best = np.inf
+    for e in range(a.shape[0]):
+        best = min(best, _sq(px, py, a[e, 0], a[e, 1], b[e, 0], b[e, 1]))
+    return best
+
+
 @njit(cache=True)
 def _brute(points, a, b, cap):
     out = np.empty(points.shape[0])
     for i in range(points.shape[0]):
-        best = np.inf
-        for e in range(a.shape[0]):
-            best = min(best, _sq(points[i, 0], points[i, 1], a[e, 0], a[e, 1], b[e, 0], b[e, 1]))
-        out[i] = min(np.sqrt(best), cap)
+        out[i] = min(np.sqrt(_nearest_sq(points[i, 0], points[i, 1], a, b)), cap)
     return out
 
 
@@ -110,10 +116,7 @@ def to_segments(points, a, b, cap):
         px = points[p, 0]
         py = points[p, 1]
         if not (x0 <= px <= x1 and y0 <= py <= y1):
-            best = np.inf
-            for e in range(E):
-                best = min(best, _sq(px, py, a[e, 0], a[e, 1], b[e, 0], b[e, 1]))
-            out[p] = min(np.sqrt(best), cap)
+            out[p] = min(np.sqrt(_nearest_sq(px, py, a, b)), cap)
             continue
         ci = min(G - 1, int((px - x0) / cell))
         cj = min(G - 1, int((py - y0) / cell))
