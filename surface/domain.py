@@ -48,6 +48,7 @@ import numbers
 import numpy as np
 
 from uniform2d import Polygon
+from uniform2d.polygon import _signed_area
 from uniform2d.errors import InsufficientPointsError, InvalidPolygonError
 
 from . import _igl
@@ -624,7 +625,7 @@ def boundary_domain(
             rings.append(
                 dict(uv=ring_uv, xyz=ring_xyz, a=a, b=b, t=t, s=s, corner=np.concatenate(is_corner))
             )
-        areas = [abs(_shoelace(r["uv"])) for r in rings]
+        areas = [abs(_signed_area(r["uv"])) for r in rings]
         order = [int(np.argmax(areas))] + [i for i in range(len(rings)) if i != int(np.argmax(areas))]
         try:
             poly = Polygon(rings[order[0]]["uv"], [rings[i]["uv"] for i in order[1:]])
@@ -663,8 +664,3 @@ def boundary_domain(
         "crossing in the parameter plane (tight bends or narrow gaps); ask for more "
         "vertices (a smaller size)"
     )
-
-
-def _shoelace(p):
-    x, y = p[:, 0], p[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))

@@ -34,6 +34,32 @@ def test_closing_vertex_dropped_and_collinear_vertices_kept():
     assert math.isclose(angles[1], math.pi)
 
 
+def _exact_area(rings):
+    """Shoelace of the float coordinates in rational arithmetic (signed by ring)."""
+    from fractions import Fraction
+
+    total = Fraction(0)
+    for r in rings:
+        q = [(Fraction(float(x)), Fraction(float(y))) for x, y in r]
+        total += sum(q[i - 1][0] * q[i][1] - q[i][0] * q[i - 1][1] for i in range(len(q))) / 2
+    return total
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1.0, 1e6])
+@pytest.mark.parametrize("offset", [0.0, 1e3, 1e6])
+def test_area_is_accurate_far_from_the_origin(scale, offset):
+    # absolute-coordinate shoelace terms are offset**2 large and cancel: a unit
+    # ring 1000 units away lost about 1e-9 of its area that way
+    rng = np.random.default_rng(7)
+    outer = np.array([(0.0, 0.0), (3.1, 0.2), (2.7, 2.9), (0.4, 2.2)]) + rng.uniform(0, 0.1, (4, 2))
+    hole = np.array([(1.0, 1.0), (1.3, 1.9), (1.9, 1.1)])
+    rings = [(r * scale + offset * scale) for r in (outer, hole)]
+    P = Polygon(rings[0], [rings[1]])
+    exact = _exact_area(P.rings)
+    assert exact > 0
+    assert abs(P.area - float(exact)) <= 1e-14 * float(exact)
+
+
 def test_inputs_are_not_mutated_and_arrays_are_read_only():
     outer = np.array(SQ, dtype=float)[::-1].copy()
     before = outer.copy()

@@ -71,7 +71,7 @@ import shapely
 import shapely.wkt
 
 from ..errors import FileFormatError, InvalidPolygonError
-from ..polygon import Polygon
+from ..polygon import Polygon, _signed_area
 
 __all__ = [
     "read_json",
@@ -604,11 +604,6 @@ def write_poly(path, polygon: Polygon) -> None:
 _GEOMETRY_ENTITIES = {"LINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE", "INSERT", "HATCH"}
 
 
-def _shoelace(xy: np.ndarray) -> float:
-    x, y = xy[:, 0], xy[:, 1]
-    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)))
-
-
 def read_dxf(path) -> Polygon:
     """Read closed polylines from a DXF modelspace: the largest is outer, the rest holes."""
     import ezdxf
@@ -675,7 +670,7 @@ def read_dxf(path) -> Polygon:
             f"no closed polylines in modelspace (found {found}); draw the outline and the "
             "holes as closed LWPOLYLINE or POLYLINE entities",
         )
-    outer_i = int(np.argmax([_shoelace(r) for r in rings]))
+    outer_i = int(np.argmax([abs(_signed_area(r)) for r in rings]))
     order = [outer_i] + [i for i in range(len(rings)) if i != outer_i]
     outer_shape = shapely.Polygon(rings[outer_i]) if len(rings[outer_i]) >= 3 else None
     for i in order[1:]:
