@@ -64,6 +64,18 @@ def test_mesh_one_file(capsys, tmp_path):
     check_mesh(points, triangles, polygon)
 
 
+def test_mesh_default_method_takes_an_n_too_small_for_tplus(capsys, tmp_path):
+    # --method paper refuses n = 10 for the bracket (test_mesh_bad_input); the
+    # default method still gives exactly 10 Steiner points
+    out_file = tmp_path / "bracket.vtu"
+    code, out, err = run(capsys, "mesh", BRACKET, "-n", 10, "-o", out_file)
+    assert code == 0, err
+    polygon = read_polygon(BRACKET)
+    points, triangles = read_mesh(out_file)
+    assert len(points) == len(polygon.vertices) + 10
+    check_mesh(points, triangles, polygon)
+
+
 @pytest.mark.parametrize("ext", [".msh", ".csv", ".truss.json", ".obj"])
 def test_mesh_formats_by_extension(capsys, tmp_path, ext):
     out_file = tmp_path / f"sq{ext}"
@@ -160,7 +172,7 @@ def test_mesh_bad_input(capsys, tmp_path, case):
     args = {
         "missing": [tmp_path / "nope.json", "-n", 10],
         "self_intersecting": [_bad_polygon(tmp_path), "-n", 10],
-        "n_too_small": [BRACKET, "-n", 10],
+        "n_too_small": [BRACKET, "-n", 10, "--method", "paper"],
         "unknown_extension": [SQUARE, "-n", 10, "-o", tmp_path / "out.step"],
         "n_and_size": [SQUARE, "-n", 10, "--size", 0.1],
         "negative_n": [SQUARE, "-n", -3],

@@ -52,6 +52,36 @@ def test_random_polygons_valid_exact_and_never_worse(objective, seed):
         assert va <= vb
 
 
+@pytest.mark.parametrize("n", [1, 2, 5])
+def test_n_too_small_for_tplus_still_gives_exactly_n(n):
+    # T+ needs room for its boundary points; the optimised mesh does not
+    p = BENCH["square2holes"]
+    with pytest.raises(uniform2d.InsufficientPointsError):
+        uniform2d.tplus(p, n)
+    m = uniform2d.uniform_mesh(p, n)
+    assert m.n_steiner == n and len(m.points) == len(p.vertices) + n
+    check_mesh(m.points, m.triangles, p)
+    assert m.info["start"] is None and m.info["before"] is None and m.info["fallback"] is None
+    assert m.info["d_n"] == uniform2d.insert(p, n).min_distance()
+    q = m.quality()
+    for b in (q.longest_edge_bound, q.max_perimeter_bound, q.edge_ratio_bound):
+        assert b.factor >= 1.0
+
+
+def test_n_too_small_for_tplus_uses_the_packing_distance_of_insert():
+    p = BENCH["heptagon_short"]  # convex: the packing terms (from d_n) apply
+    n = 3
+    with pytest.raises(uniform2d.InsufficientPointsError):
+        uniform2d.tplus(p, n)
+    m = uniform2d.uniform_mesh(p, n)
+    d_n = uniform2d.insert(p, n).min_distance()
+    assert m.info["d_n"] == d_n and m.info["start"] is None
+    q = m.quality()
+    assert q.d_n == d_n
+    assert dict(q.longest_edge_bound.terms)
+    assert q.longest_edge_bound.value >= np.sqrt(3) / 2 * d_n
+
+
 def test_deterministic():
     p = BENCH["star10"]
     a = optimize_mesh(p, 300)

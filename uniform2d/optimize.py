@@ -36,7 +36,8 @@ Pipeline (:func:`optimize_mesh`):
    re-relaxation; the one change of structure that point moves cannot make.
 4. **Certification.**  The final points are triangulated afresh by
    :func:`uniform2d.insert` (exact CDT); the quality is compared with the paper's
-   T+ on the objective and the better mesh is returned, with its certificates.
+   T+ on the objective and the better mesh is returned, with its certificates
+   (when n is too small for T+, the optimised one).
 
 With a size field (:func:`improve` ``size=``, used by the surface layer) every
 length is measured against the local target size, so the same moves make a
@@ -687,7 +688,10 @@ def optimize_mesh(
     """The most uniform mesh with exactly ``n`` Steiner points (see module docstring).
 
     ``start`` is the T+ mesh to beat (computed if not given); ``options`` go to
-    :func:`improve`.
+    :func:`improve`.  If n is too small for T+ (:func:`uniform2d.tplus` raises
+    :class:`~uniform2d.errors.InsufficientPointsError`), there is nothing to
+    compare with: the optimised mesh is returned with ``info["start"]`` None, and
+    d_n for its certificates comes from :func:`uniform2d.insert`.
     """
     from .quality import quality
     from .tplus import tplus
@@ -701,9 +705,18 @@ def optimize_mesh(
     n = int(n)
     nV = len(polygon.vertices)
 
-    tp = start if start is not None else tplus(polygon, n)
-    d_n = tp.info.get("d_n")
-    q_tp = tp.quality(d_n=d_n if d_n is not None else False)
+    tp = start
+    if tp is None:
+        try:
+            tp = tplus(polygon, n)
+        except InsufficientPointsError as exc:  # too few points for T+, not for this method
+            log.info("uniform: no T+ to compare with (%s)", exc)
+    if tp is not None:
+        d_n = tp.info.get("d_n")
+        q_tp = tp.quality(d_n=d_n if d_n is not None else False)
+    else:  # d_n for the certificates comes from INSERT alone
+        d_n = insert(polygon, n).min_distance()
+        q_tp = None
 
     h = target_size(polygon, n)
     a, d, L = _edge_geometry(polygon)
@@ -738,9 +751,11 @@ def optimize_mesh(
         pts, tri, moved = _relocate(polygon, pts, tri, frozen, objective, h, options)
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = _quality_objective(objective, q_new, h)
-    v_tp = _quality_objective(objective, q_tp, h)
+    v_tp = _quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
 
     def summary(q):
+        if q is None:
+            return None
         return {
             "edge_ratio": q.edge_ratio,
             "longest_edge": q.longest_edge,
@@ -761,12 +776,18 @@ def optimize_mesh(
         "relax_iterations": run["spring_rounds"],
         "sweeps": run["sweeps"],
         "relocated": moved,
-        "start": {"method": tp.info.get("method"), **summary(q_tp), "objective": v_tp},
+        "start": (
+            None
+            if tp is None
+            else {"method": tp.info.get("method"), **summary(q_tp), "objective": v_tp}
+        ),
         "before": summary(q_tp),
         "after": summary(q_new),
         "objective_value": v_new,
     }
-    if not (v_new <= v_tp) or len(pts) != nV + n:
+    if tp is None and len(pts) != nV + n:
+        raise RuntimeError(f"uniform: {len(pts) - nV} Steiner points instead of {n} (a bug)")
+    if tp is not None and (not (v_new <= v_tp) or len(pts) != nV + n):
         info["fallback"] = "tplus"
         info["after"] = summary(q_tp)
         info["objective_value"] = v_tp

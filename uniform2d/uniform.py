@@ -49,6 +49,8 @@ def uniform_mesh(
     ``objective``: ``"ratio"`` (longest / shortest edge), ``"max_edge"``,
     ``"max_perimeter"`` or ``"balanced"`` (all three), and is never worse on it than
     the paper's T+ (:func:`uniform2d.tplus`), which it falls back to otherwise.
+    Any n >= 1 works, also one too small for T+ (there is then nothing to compare
+    with, and ``mesh.info["start"]`` is None).
 
     Examples
     --------
