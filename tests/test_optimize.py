@@ -82,6 +82,18 @@ def test_n_too_small_for_tplus_uses_the_packing_distance_of_insert():
     assert q.longest_edge_bound.value >= np.sqrt(3) / 2 * d_n
 
 
+@pytest.mark.parametrize("n", [3, 50])
+def test_tiny_hole_far_below_the_target_size(n):
+    # the hole's edges are some 1 % of the target: edge**p underflows at p = 256
+    # (the short-edge term used to divide by it: ZeroDivisionError)
+    hole = [(0.02 + 0.006 * np.cos(t), 0.5 + 0.006 * np.sin(t)) for t in np.linspace(0, 2 * np.pi, 7)[:-1]]
+    p = uniform2d.Polygon([(0, 0), (1, 0), (1, 1), (0, 1)], [hole])
+    for objective in OBJECTIVES:
+        m = optimize_mesh(p, n, objective=objective)
+        assert m.n_steiner == n and len(m.points) == len(p.vertices) + n
+        check_mesh(m.points, m.triangles, p)
+
+
 def test_deterministic():
     p = BENCH["star10"]
     a = optimize_mesh(p, 300)

@@ -426,6 +426,8 @@ def _edge_energy(ell, s, k, p, w_len, w_short, want):
         if want:
             d += w_len * p * q / (ell * s)
     if w_short > 0.0:
+        if q == 0.0:  # ell**p underflowed (an edge some 6 % of its target at p = 256)
+            return np.inf, 0.0
         E += w_short / q
         if want:
             d -= w_short * p / (q * ell * s)
@@ -528,7 +530,9 @@ def _weights(m, hv, href, k, objective):
     linearisation is a decrease of the sum) each term is weighted by its exponent
     over its present value.  Equal weights would let the term with the largest
     sum drown the others (at p = 64 the longest edge's term outweighs the largest
-    perimeter's some 50 times).
+    perimeter's some 50 times).  An edge so short that ``l**p`` underflows makes
+    ``S_short`` infinite and its weight 0 for that sweep (typically a polygon
+    edge far below the target size, which fixes the shortest edge anyway).
     """
     if objective == MAX_EDGE:
         return 1.0, 0.0, 0.0
@@ -550,7 +554,9 @@ def _weights(m, hv, href, k, objective):
             if g < 0 or g > h:  # each edge once
                 q = _pw(L / s, k)
                 s_len += q
-                s_short += 1.0 / q
+                # an underflowed q (a polygon edge far shorter than the target,
+                # such as a tiny hole's) leaves no room for the short-edge term
+                s_short += 1.0 / q if q > 0.0 else np.inf
         s_per += _pw(per / tgt, k)
     if objective == RATIO:
         return 1.0 / s_len, 1.0 / s_short, 0.0
