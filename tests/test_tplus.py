@@ -225,3 +225,18 @@ def test_uniform_mesh_exactly_one_of_n_and_size():
         uniform_mesh(sq, size=10.0)
     with pytest.raises(ValueError):
         uniform_mesh(sq, size=-1.0)
+
+
+@pytest.mark.parametrize(
+    "width, scale, offset, n", [(0.011995, 1.0, 1e3, 200), (0.010755, 1e6, 1e9, 700)]
+)
+def test_thin_strip_far_from_the_origin_is_exactly_delaunay(width, scale, offset, n):
+    # the strip's boundary points make near-cocircular quadruples; far from the
+    # origin the returned points are rounded images of the kernel's, and the
+    # triangulation must be Delaunay for those (it was not before insert
+    # re-legalised on the returned coordinates)
+    ring = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, width), (0.0, width)]) * scale + offset
+    P = Polygon(ring)
+    m = tplus(P, n)
+    assert len(m.points) == 4 + n
+    check_mesh(m.points, m.triangles, P)

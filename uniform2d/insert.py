@@ -276,16 +276,41 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
         )
 
     del M, P  # the queues are done: release them before the outputs are built
-    triangles = cdt.triangle_list(m)
-    del m, xy
     out_xy *= scale
     out_xy += centre
     points = out_xy
     weights = out_w * scale
     mesh_points = np.concatenate([V, sites, points], axis=0)
+    if centre.any():
+        _recertify(m, xy, mesh_points)
+    triangles = cdt.triangle_list(m)
+    del m, xy
     for arr in (points, weights, out_b, mesh_points, triangles):
         arr.setflags(write=False)
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
+
+
+def _recertify(m, xy, mesh_points):
+    """Make the triangulation exactly Delaunay for the points the caller gets.
+
+    Far from the origin (:func:`_normaliser` translated) the caller's coordinates
+    cannot hold the kernel's new points exactly, so the points returned are
+    rounded images of the ones the predicates certified, and a near-cocircular
+    quadruple can change sides.  The exact predicates work on any float64, so
+    the mesh is re-legalised on the returned coordinates themselves.  Should
+    rounding have turned a triangle over (a point within rounding of an edge),
+    the kernel's triangulation is kept and a warning logged.
+    """
+    kept = xy[: len(mesh_points)].copy()
+    xy[: len(mesh_points)] = mesh_points
+    if cdt.count_not_ccw(m) == 0:
+        cdt.legalize_all(m)
+    else:
+        xy[: len(mesh_points)] = kept
+        log.warning(
+            "insert: rounding the points to the caller's coordinates turned a triangle "
+            "over; the triangulation is the one certified before rounding"
+        )
 
 
 def _size_grid(size, centre, scale):

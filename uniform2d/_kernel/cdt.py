@@ -527,6 +527,18 @@ def insert_sites(m, idx):
 
 
 @njit(cache=True)
+def count_not_ccw(m):
+    """Number of triangles that are not strictly counter-clockwise (exact)."""
+    xy, tv = m.xy, m.tv
+    bad = 0
+    for t in range(m.nt):
+        a, b, c = tv[3 * t], tv[3 * t + 1], tv[3 * t + 2]
+        if orient2d(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1]) <= 0.0:
+            bad += 1
+    return bad
+
+
+@njit(cache=True)
 def triangle_list(m):
     """(T, 3) int64 vertex indices of all triangles."""
     nt = m.nt
