@@ -91,7 +91,8 @@ def _normaliser(polygon: Polygon):
     one the predicates certified.  A polygon far from the origin is translated by
     its centre rounded to a multiple of 2**-20 scale, which keeps the subtraction
     exact for coordinates on that scale; mapping the points back then rounds
-    them to what the caller's coordinates can represent there.
+    them to what the caller's coordinates can represent there, and the mesh is
+    re-legalised on those (:func:`_recertify`).
     """
     xmin, ymin, xmax, ymax = polygon.bounds
     size = max(xmax - xmin, ymax - ymin)
