@@ -96,6 +96,9 @@ def test_min_vertex_distance_and_edges():
         (SQ, [[(1, 1), (2, 1), (2, 2)], [(2, 1), (3, 1), (3, 2)]], ["holes 0 and 1", "touch"]),
         (SQ, [[(1, 1), (2, 1), (3, 1)]], ["hole 0", "zero area"]),
         (SQ, [[(1, 1), (3, 3), (3, 1), (1, 3)]], ["hole 0", "intersects itself"]),
+        ([(0, 0), (1e150, 0), (1e150, 1e150)], [], ["outer ring", "1e+150", "rescale"]),
+        ([(0, 0), (1e-150, 0), (1e-150, 1e-150)], [], ["outer ring", "1e-150 across", "rescale"]),
+        (SQ, [[(1e-110, 1e-110), (2e-110, 1e-110), (2e-110, 2e-110)]], ["hole 0", "across"]),
     ],
 )
 def test_invalid_polygons_raise_with_a_useful_message(outer, holes, fragments):
@@ -105,6 +108,12 @@ def test_invalid_polygons_raise_with_a_useful_message(outer, holes, fragments):
     msg = str(e.value)
     for f in fragments:
         assert f in msg, (f, msg)
+
+
+@pytest.mark.parametrize("s", [1e-99, 1e99])
+def test_coordinates_within_the_float64_range_are_accepted(s):
+    P = Polygon(np.array(SQ) * s)
+    assert P.area == 16 * s * s and P.perimeter == 16 * s
 
 
 def test_single_hole_array_is_refused_with_a_hint():

@@ -42,6 +42,13 @@ def _collinear(ring: np.ndarray) -> bool:
     return all((x - p[0][0]) * uy == (y - p[0][1]) * ux for x, y in p)
 
 
+#: Coordinates float64 geometry can carry here: every length must square to a
+#: normal float (areas, perimeters, the quality measures), so a ring may be no
+#: larger than COORD_MAX in any coordinate and no smaller than COORD_MIN across.
+COORD_MAX = 1e100
+COORD_MIN = 1e-100
+
+
 def _as_ring(coords, name: str) -> np.ndarray:
     """Convert one ring to a float64 (k, 2) array, checking everything local to it."""
     try:
@@ -60,6 +67,18 @@ def _as_ring(coords, name: str) -> np.ndarray:
         raise InvalidPolygonError(
             f"{name}: vertex {i} has a non-finite coordinate {tuple(ring[i])}; "
             "remove NaN/inf values"
+        )
+    big = float(np.abs(ring).max())
+    if big > COORD_MAX:
+        raise InvalidPolygonError(
+            f"{name}: a coordinate is {big:.3g}, beyond the {COORD_MAX:g} that float64 "
+            "geometry can square; rescale the polygon (other units)"
+        )
+    across = float(np.ptp(ring, axis=0).max())
+    if 0.0 < across < COORD_MIN:
+        raise InvalidPolygonError(
+            f"{name}: the ring is {across:.3g} across, below the {COORD_MIN:g} whose square "
+            "float64 can hold; rescale the polygon (other units)"
         )
     # An explicitly closed ring (first vertex repeated at the end) is accepted.
     if len(ring) > 1 and np.array_equal(ring[0], ring[-1]):
