@@ -162,6 +162,20 @@ def _bad_polygon(tmp_path):
     return bad
 
 
+def test_mesh_out_of_memory_is_one_line(capsys, tmp_path, monkeypatch):
+    import uniform2d.uniform
+
+    def too_big(*args, **kwargs):
+        raise MemoryError("Unable to allocate 44.7 GiB for an array")
+
+    monkeypatch.setattr(uniform2d.uniform, "uniform_mesh", too_big)
+    out_file = tmp_path / "out.vtu"
+    code, out, err = run(capsys, "mesh", SQUARE, "-n", 10, "-o", out_file)
+    assert_one_error(code, out, err)
+    assert "out of memory" in err and "44.7 GiB" in err and "fewer points" in err
+    assert not out_file.exists()
+
+
 @pytest.mark.parametrize(
     "case",
     ["missing", "self_intersecting", "n_too_small", "unknown_extension", "n_and_size",

@@ -291,6 +291,11 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
 
 
+#: (smallest extent, largest coordinate) for which :func:`_recertify` can decide
+#: the in-circle test exactly on the caller's coordinates.
+RECERTIFY_RANGE = (1e-60, 1e60)
+
+
 def _recertify(m, xy, mesh_points):
     """Make the triangulation exactly Delaunay for the points the caller gets.
 
@@ -298,10 +303,16 @@ def _recertify(m, xy, mesh_points):
     cannot hold the kernel's new points exactly, so the points returned are
     rounded images of the ones the predicates certified, and a near-cocircular
     quadruple can change sides.  The exact predicates work on any float64, so
-    the mesh is re-legalised on the returned coordinates themselves.  Should
-    rounding have turned a triangle over (a point within rounding of an edge),
-    the kernel's triangulation is kept and a warning logged.
+    the mesh is re-legalised on the returned coordinates themselves, where their
+    fourth powers stay normal floats (:data:`RECERTIFY_RANGE`; the exact
+    arithmetic needs that).  Should rounding have turned a triangle over (a point
+    within rounding of an edge), the kernel's triangulation is kept and a warning
+    logged.
     """
+    lo, hi = RECERTIFY_RANGE
+    if np.abs(mesh_points).max() > hi or np.ptp(mesh_points, axis=0).max() < lo:
+        log.debug("insert: coordinates outside %s: the kernel's mesh is kept", RECERTIFY_RANGE)
+        return
     kept = xy[: len(mesh_points)].copy()
     xy[: len(mesh_points)] = mesh_points
     if cdt.count_not_ccw(m) == 0:

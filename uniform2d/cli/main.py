@@ -137,8 +137,9 @@ def _setup_logging(quiet: bool, verbose: int):
 def main(argv=None) -> int:
     """Run the command line with ``argv`` (default ``sys.argv[1:]``); return the exit code.
 
-    Exit codes: 0 success, 2 bad input or usage (one line on stderr, no
-    traceback, no output file), 130 interrupted, 141 stdout closed early (a pipe).
+    Exit codes: 0 success, 2 bad input or usage, or too little memory for the
+    request (one line on stderr, no traceback, no output file), 130 interrupted,
+    141 stdout closed early (a pipe).
     """
     from ..errors import Uniform2dError
 
@@ -159,6 +160,11 @@ def main(argv=None) -> int:
         except (OSError, ValueError, AttributeError):
             pass
         return 141
+    except MemoryError as exc:  # e.g. an n far beyond the machine
+        logging.getLogger(__name__).debug("error details", exc_info=True)
+        why = str(exc) or "no details"
+        print(f"{PROG}: error: out of memory ({why}); ask for fewer points", file=sys.stderr)
+        return 2
     except (Uniform2dError, ValueError, OSError, ImportError) as exc:
         logging.getLogger(__name__).debug("error details", exc_info=True)
         print(f"{PROG}: error: {error_message(exc)}", file=sys.stderr)
