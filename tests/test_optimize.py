@@ -148,6 +148,21 @@ def test_scale_and_offset_keep_the_quality(s, off):
     assert qb.min_angle == pytest.approx(qa.min_angle, rel=0.1)
 
 
+@pytest.mark.parametrize("off", [1e7, 1e9])
+def test_far_from_the_origin_the_boundary_points_still_count_as_on_it(off):
+    # a unit polygon at 1e7 (site or map coordinates) carries ~2e-9 of absolute
+    # precision, above the 1e-10 relative boundary tolerance: the sliding points,
+    # recomputed on their slanted edges, used to fall "outside" (InvalidSitesError)
+    p = BENCH["star10"]
+    q = uniform2d.Polygon(p.outer + off, [h + off for h in p.holes])
+    m = optimize_mesh(q, 150)
+    assert m.n_steiner == 150 and m.info["fallback"] is None
+    # the boundary points are on their edges within rounding of 1e9-sized
+    # coordinates (~1e-7), so the area agrees to about that
+    check_mesh(m.points, m.triangles, q, area_rtol=1e-6)
+    assert m.quality().edge_ratio == pytest.approx(optimize_mesh(p, 150).quality().edge_ratio, rel=0.05)
+
+
 @pytest.mark.parametrize("name", ["lshape", "square2holes", "star10"])
 def test_relocation_keeps_the_count_and_a_valid_cdt_and_never_raises_the_objective(name):
     from uniform2d.optimize import RELOCATE, _extremes, _relocate, improve, objective_value

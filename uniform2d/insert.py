@@ -104,6 +104,18 @@ def _normaliser(polygon: Polygon):
     return np.round(centre / q) * q, scale
 
 
+def boundary_tol(polygon: Polygon) -> float:
+    """Distance within which a site counts as on P's boundary.
+
+    :data:`BOUNDARY_TOL` of the polygon's size, or more where its coordinates are
+    so large for its size (far from the origin) that rounding alone moves a point
+    computed on an edge, ``a + t (b - a)``, that far off it: a few units in the
+    last place of the coordinates.
+    """
+    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
+    return max(BOUNDARY_TOL * extent, 8 * np.finfo(float).eps * float(np.abs(polygon.vertices).max()))
+
+
 def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
     """Split sites into interior ones and boundary ones (edge index, parameter).
 
@@ -214,7 +226,7 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     sites = _check_sites(polygon, sites)
     centre, scale = _normaliser(polygon)
     extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
-    interior, boundary = _classify_sites(polygon, sites, BOUNDARY_TOL * extent)
+    interior, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
 
     V = polygon.vertices
     nV = len(V)

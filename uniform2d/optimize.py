@@ -58,7 +58,7 @@ from scipy.spatial import cKDTree
 from ._kernel import cdt, relax
 from ._kernel.distance import to_segments
 from .errors import InsufficientPointsError
-from .insert import BOUNDARY_TOL, _normaliser, _size_grid, insert
+from .insert import _normaliser, _size_grid, boundary_tol, insert
 from .mesh import Mesh
 from .polygon import Polygon
 from .quality import edge_lengths
@@ -570,14 +570,13 @@ class _Loaded(NamedTuple):
 
 def _load(polygon: Polygon, res, size, href, frozen) -> _Loaded:
     """Load an :class:`~uniform2d.insert.InsertResult` (polygon + sites) into a Tri."""
-    from .insert import BOUNDARY_TOL, _classify_sites
+    from .insert import _classify_sites
 
     nV = len(polygon.vertices)
     P0 = np.array(res.mesh_points, dtype=np.float64)
     T0 = np.array(res.triangles, dtype=np.int32)
     N = len(P0)
-    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
-    _, boundary = _classify_sites(polygon, P0[nV:], BOUNDARY_TOL * extent)
+    _, boundary = _classify_sites(polygon, P0[nV:], boundary_tol(polygon))
     a, d, _ = _edge_geometry(polygon)
     centre, scale = _normaliser(polygon)
 
@@ -636,8 +635,7 @@ def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, opti
     """
     nV = len(polygon.vertices)
     a, d, _ = _edge_geometry(polygon)
-    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
-    on_edge = BOUNDARY_TOL * extent
+    on_edge = boundary_tol(polygon)
     value = objective_value(objective, *_extremes(pts, tri), h)
     fixed = np.asarray(frozen, dtype=bool).copy()
     failed = set()
