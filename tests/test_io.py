@@ -310,6 +310,9 @@ def test_dxf_mirrored_ocs_uses_world_coordinates(tmp_path):
         ("point.wkt", "POINT (1 2)", "contains a Point; expected a POLYGON"),
         ("empty.wkt", "  \n", "the file is empty"),
         ("latin1.wkt", None, "not a UTF-8 text file"),
+        ("curve.wkt", "CURVEPOLYGON ((0 0, 1 0, 1 1, 0 0))", "unsupported WKT geometry"),
+        ("deep.json", "[" * 100000 + "]" * 100000, "nested too deeply"),
+        ("truncated.dxf", "0\nSECTION\n", "not a readable DXF file"),
     ],
 )
 def test_bad_polygon_file_format(tmp_path, name, text, fragment):
@@ -574,6 +577,7 @@ def test_truss_csv_hand_made_ids_and_comments(tmp_path):
          '"nodes" must be'),
         ("k.truss.json", '{"nodes": [[0, 0], [1, 0], [0, 1]], "triangles": [[0, 1, 2.5]]}',
          "integer node indices"),
+        ("l.truss.json", "[" * 100000 + "]" * 100000, "nested too deeply"),
     ],
 )
 def test_bad_truss_files(tmp_path, name, text, fragment):
@@ -737,3 +741,14 @@ def test_engineering_examples_are_what_the_readme_says():
     assert panel.bounds == (0.0, 0.0, 12.0, 3.0) and panel.n_holes == 1
     bracket = POLYGONS["l_bracket"]
     assert bracket.bounds == (0.0, 0.0, 120.0, 80.0) and bracket.n_holes == 2
+
+
+def test_atomic_write_errors_name_the_users_file_not_the_temporary_one(tmp_path):
+    from uniform2d.io.atomic import atomic_write
+
+    target = tmp_path / "mesh.vtu"
+    target.mkdir()  # replacing a directory fails
+    with pytest.raises(IsADirectoryError) as e:
+        atomic_write(target, lambda tmp: tmp.write_text("x"), extension=".vtu")
+    assert e.value.filename == str(target) and ".tmp-" not in str(e.value)
+    assert [p.name for p in tmp_path.iterdir()] == ["mesh.vtu"]

@@ -57,6 +57,8 @@ def _as_ring(coords, name: str) -> np.ndarray:
         raise InvalidPolygonError(
             f"{name}: coordinates must be numbers in a (k, 2) array-like ({exc})"
         ) from None
+    if ring.size == 0:
+        raise InvalidPolygonError(f"{name}: the ring has no vertices; give at least 3 (x, y) points")
     if ring.ndim != 2 or ring.shape[1] != 2:
         raise InvalidPolygonError(
             f"{name}: expected a (k, 2) array of (x, y) coordinates, got shape {ring.shape}"

@@ -171,6 +171,8 @@ def _load_json(path):
         return json.loads(text)
     except json.JSONDecodeError as exc:
         _fail(path, f"invalid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}")
+    except RecursionError:
+        _fail(path, "invalid JSON: nested too deeply to be a polygon or a mesh")
 
 
 # -- .json (our format) -------------------------------------------------------------
@@ -343,6 +345,8 @@ def read_wkt(path) -> Polygon:
         _fail(path, "the file is empty; expected a WKT POLYGON ((x y, ...), ...)")
     try:
         geom = shapely.wkt.loads(text)
+    except NotImplementedError as exc:  # e.g. CURVEPOLYGON: curved geometry
+        _fail(path, f"unsupported WKT geometry ({exc}); give a POLYGON with straight edges")
     except shapely.errors.ShapelyError as exc:
         _fail(path, f"not valid WKT ({exc})")
     if geom.geom_type == "MultiPolygon":
@@ -616,6 +620,8 @@ def read_dxf(path) -> Polygon:
         raise
     except (OSError, UnicodeDecodeError) as exc:
         _fail(path, f"not a readable DXF file ({exc})")
+    except (StopIteration, EOFError, IndexError, ValueError) as exc:  # truncated files
+        _fail(path, f"not a readable DXF file (truncated or malformed: {type(exc).__name__})")
 
     rings, labels, ignored = [], [], Counter()
     number = 0

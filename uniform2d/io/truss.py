@@ -306,6 +306,8 @@ def read_truss_json(path):
         _fail(path, f"not a UTF-8 text file ({exc.reason} at byte {exc.start})")
     except json.JSONDecodeError as exc:
         _fail(path, f"invalid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}")
+    except RecursionError:
+        _fail(path, "invalid JSON: nested too deeply to be a truss mesh")
     if not isinstance(data, dict):
         _fail(path, "expected a JSON object with \"nodes\" and \"triangles\"")
     if "outer" in data:
