@@ -162,6 +162,28 @@ def _bad_polygon(tmp_path):
     return bad
 
 
+def test_mesh_plot_into_a_missing_directory_writes_nothing(capsys, tmp_path):
+    out_file = tmp_path / "x.vtu"
+    code, out, err = run(capsys, "mesh", SQUARE, "-n", 10, "-o", out_file,
+                         "--plot", tmp_path / "nodir" / "p.png")
+    assert_one_error(code, out, err)
+    assert "nodir" in err and "does not exist" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_mesh_and_figure_are_written_both_or_neither(capsys, tmp_path, monkeypatch):
+    import uniform2d.mesh
+
+    def broken(self, path, **kwargs):
+        raise OSError(28, "No space left on device", str(path))
+
+    monkeypatch.setattr(uniform2d.mesh.Mesh, "write", broken)
+    code, out, err = run(capsys, "mesh", SQUARE, "-n", 10, "-o", tmp_path / "x.vtu",
+                         "--plot", tmp_path / "p.png")
+    assert_one_error(code, out, err)
+    assert list(tmp_path.iterdir()) == [], "the figure (or its temporary file) was left behind"
+
+
 def test_mesh_out_of_memory_is_one_line(capsys, tmp_path, monkeypatch):
     import uniform2d.uniform
 

@@ -95,6 +95,14 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
             raise UnsupportedFormatError(
                 f"cannot save a figure as '{plot}'; use one of {', '.join(PLOT_FORMATS)}"
             )
+        if plot.is_dir():
+            raise ValueError(f"--plot '{plot}' is a directory; give a file name such as mesh.png")
+        if not (plot.parent if str(plot.parent) else Path(".")).is_dir():
+            raise FileNotFoundError(
+                f"cannot save the figure '{plot}': directory '{plot.parent}' does not exist"
+            )
+    if plot is not None and several and plot.exists() and not plot.is_dir():
+        raise ValueError(f"with several inputs, --plot must be a directory, got the file '{plot}'")
 
     plan = []
     for src in inputs:
@@ -134,6 +142,36 @@ def _mesh_one(polygon, args):
     return tplus(polygon, n)
 
 
+def _write_both(mesh, dst: Path, fig: Path | None) -> None:
+    """The mesh file and its figure, both or neither: the figure is drawn to a
+    temporary file next to ``fig`` first and moved into place after the mesh is
+    written (each write is atomic on its own)."""
+    import os
+    import secrets
+
+    if fig is None:
+        mesh.write(dst)
+        return
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tmp = fig.with_name(f".{fig.stem}.tmp-{secrets.token_hex(4)}{fig.suffix}")
+    existed = dst.exists()
+    try:
+        plt.close(mesh.plot(tmp))
+        mesh.write(dst)
+        try:
+            os.replace(tmp, fig)
+        except OSError:
+            if not existed:
+                dst.unlink(missing_ok=True)
+            raise
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
 def run(args) -> int:
     from ..io import read_polygon
 
@@ -149,16 +187,9 @@ def run(args) -> int:
             quality = mesh.quality() if (args.stats or args.json) else None
             if several:
                 dst.parent.mkdir(parents=True, exist_ok=True)
-            mesh.write(dst)
-            if fig is not None:
-                import matplotlib
-
-                matplotlib.use("Agg")
-                import matplotlib.pyplot as plt
-
-                if several:
+                if fig is not None:
                     fig.parent.mkdir(parents=True, exist_ok=True)
-                plt.close(mesh.plot(fig))
+            _write_both(mesh, dst, fig)
         except (ValueError, OSError) as exc:
             if several and str(src) not in str(exc):
                 exc.args = (f"{src}: {exc}",) if not isinstance(exc, OSError) else exc.args

@@ -79,14 +79,25 @@ def atomic_write(path, write: Callable[[Path], object], *, extension: str = "") 
             fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
         except FileExistsError:  # pragma: no cover - 32 random bits collided
             continue
+        except OSError as exc:  # e.g. a read-only directory: name the user's file
+            raise _named(exc, tmp, path) from None
         os.close(fd)
         break
     try:
         write(tmp)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:  # pragma: no cover
             pass
+        if isinstance(exc, OSError):
+            raise _named(exc, tmp, path) from None
         raise
+
+
+def _named(exc: OSError, tmp: Path, path: Path) -> OSError:
+    """``exc`` about the hidden temporary file, retold about the user's ``path``."""
+    if exc.filename is not None and Path(exc.filename) == tmp and exc.errno is not None:
+        return type(exc)(exc.errno, exc.strerror, str(path))
+    return exc
