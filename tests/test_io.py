@@ -348,6 +348,7 @@ POLY_SQUARE = "4 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n"
         ("4 3 0 0\n", "must be 2-D"),
         ("", "the file ends before the vertex count"),
         (POLY_SQUARE + "0 0\n0\n", "has no segments"),
+        ("1e15 2 0 0\n0 0 0\n", "counts 1000000000000000 vertices, but only 1 lines follow"),
     ],
 )
 def test_bad_poly(tmp_path, text, fragment):
@@ -752,3 +753,24 @@ def test_atomic_write_errors_name_the_users_file_not_the_temporary_one(tmp_path)
         atomic_write(target, lambda tmp: tmp.write_text("x"), extension=".vtu")
     assert e.value.filename == str(target) and ".tmp-" not in str(e.value)
     assert [p.name for p in tmp_path.iterdir()] == ["mesh.vtu"]
+
+
+def test_every_mesh_format_writes_the_same_bytes_every_time(tmp_path):
+    # meshio stamps OBJ and PLY headers with the time, and gzip stores a time and
+    # a file name: none of that may reach the output
+    import time
+
+    from uniform2d.io.registry import MESH_FORMATS
+
+    for run_ in ("a", "b"):
+        for ext in MESH_FORMATS:
+            write_mesh(tmp_path / f"{run_}{ext}", SQUARE_PTS, SQUARE_TRI)
+        if run_ == "a":
+            time.sleep(1.1)
+    for ext in MESH_FORMATS:
+        a = (tmp_path / f"a{ext}").read_bytes()
+        assert a == (tmp_path / f"b{ext}").read_bytes(), ext
+        if ext.endswith(".gz"):
+            assert a[:2] == b"\x1f\x8b", f"{ext} is not gzip-compressed"
+        points, triangles = read_mesh(tmp_path / f"a{ext}")
+        assert np.array_equal(points, SQUARE_PTS) and np.array_equal(triangles, SQUARE_TRI)

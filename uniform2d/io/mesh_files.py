@@ -30,11 +30,14 @@ Examples
 from __future__ import annotations
 
 import contextlib
+import gzip
 import io
 import logging
 import os
+import re
 import shutil
 import tempfile
+import zlib
 from collections import Counter
 
 import numpy as np
@@ -64,6 +67,19 @@ def _meshio_messages(path):
 @contextlib.contextmanager
 def _lower_case_name(path, extension):
     name = str(path)
+    if extension and extension.endswith(".gz") and name.lower().endswith(extension):
+        # decompressed here: meshio's PERMAS reader does not read gzip at all
+        with tempfile.TemporaryDirectory() as tmp:
+            plain = os.path.join(tmp, "mesh" + extension[: -len(".gz")])
+            try:
+                with gzip.open(name, "rb") as src, open(plain, "wb") as dst:
+                    shutil.copyfileobj(src, dst)
+            except (OSError, EOFError, zlib.error) as exc:
+                if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
+                    raise
+                raise FileFormatError(f"{path}: not a readable gzip file ({exc})") from None
+            yield plain
+        return
     if not extension or name.endswith(extension) or not name.lower().endswith(extension):
         yield name
         return
@@ -153,6 +169,22 @@ def meshio_reader(file_format: str, extension: str | None = None):
     return read
 
 
+_STAMP = re.compile(rb"(Created by meshio v[^,\r\n]*), [^\r\n]*")
+
+
+def _drop_timestamp(name: str) -> None:
+    """Remove the time meshio writes into some headers (OBJ, PLY): same input, same bytes."""
+    with open(name, "rb") as f:
+        head = f.read(4096)
+    if b"Created by meshio" not in head:
+        return
+    with open(name, "rb") as f:
+        data = f.read()
+    cut = len(head)
+    with open(name, "wb") as f:
+        f.write(_STAMP.sub(rb"\1", data[:cut], count=1) + data[cut:])
+
+
 def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False, **options):
     """A writer ``(path, points, triangles, point_data=None)`` for one meshio format.
 
@@ -180,8 +212,20 @@ def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False,
             [("triangle", tri)],
             point_data={k: np.asarray(v) for k, v in (point_data or {}).items()},
         )
-        with _meshio_messages(path):
-            meshio.write(path, mesh, file_format=file_format, **options)
+        name = str(path)
+        gz = name.lower().endswith(".gz")
+        plain = name[: -len(".gz")] if gz else name
+        try:
+            with _meshio_messages(path):
+                meshio.write(plain, mesh, file_format=file_format, **options)
+            _drop_timestamp(plain)
+            if gz:  # compressed here, with no name or time in the header: same bytes each run
+                with open(plain, "rb") as src, open(name, "wb") as raw:
+                    with gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0) as dst:
+                        shutil.copyfileobj(src, dst)
+        finally:
+            if gz and os.path.exists(plain):
+                os.unlink(plain)
 
     write.__name__ = f"write_{file_format}"
     write.__doc__ = f"Write a triangle mesh with meshio's {file_format!r} writer."

@@ -422,6 +422,9 @@ def _read_vertices(lines: _PolyLines, count_line=None):
         _fail(lines.path, f"line {n}: dimension is {dim}; a .poly polygon must be 2-D")
     if nv < 0:
         _fail(lines.path, f"line {n}: negative vertex count {nv}")
+    left = len(lines.lines) - lines.i
+    if nv > left:  # before allocating: a corrupt count must not look like a memory problem
+        _fail(lines.path, f"line {n}: the header counts {nv} vertices, but only {left} lines follow")
     xy = np.empty((nv, 2), dtype=np.float64)
     base = 0
     for k in range(nv):
