@@ -774,3 +774,21 @@ def test_every_mesh_format_writes_the_same_bytes_every_time(tmp_path):
             assert a[:2] == b"\x1f\x8b", f"{ext} is not gzip-compressed"
         points, triangles = read_mesh(tmp_path / f"a{ext}")
         assert np.array_equal(points, SQUARE_PTS) and np.array_equal(triangles, SQUARE_TRI)
+
+
+def test_every_polygon_format_writes_the_same_bytes_every_time(tmp_path):
+    import time
+
+    from uniform2d.io import write_polygon
+    from uniform2d.io.registry import POLYGON_FORMATS
+
+    P = Polygon([(0, 0), (4, 0), (4, 3), (0, 3)], [[(1, 1), (2, 1), (2, 2)]])
+    exts = [e for e, f in POLYGON_FORMATS.items() if f.writer is not None]
+    for run_ in ("a", "b"):
+        for ext in exts:
+            write_polygon(tmp_path / f"{run_}{ext}", P)
+        if run_ == "a":
+            time.sleep(1.1)
+    for ext in exts:
+        assert (tmp_path / f"a{ext}").read_bytes() == (tmp_path / f"b{ext}").read_bytes(), ext
+        assert np.array_equal(read_polygon(tmp_path / f"a{ext}").vertices, P.vertices), ext

@@ -700,14 +700,22 @@ def write_dxf(path, polygon: Polygon) -> None:
     """Write the rings as closed LWPOLYLINEs (layer OUTER, then layer HOLES)."""
     import ezdxf
 
-    doc = ezdxf.new("R2010")
-    doc.layers.add("OUTER", color=7)
-    doc.layers.add("HOLES", color=1)
-    msp = doc.modelspace()
-    for k, ring in enumerate(polygon.rings):
-        msp.add_lwpolyline(
-            [(float(x), float(y)) for x, y in ring],
-            close=True,
-            dxfattribs={"layer": "OUTER" if k == 0 else "HOLES"},
-        )
-    doc.saveas(path)
+    # ezdxf stamps the time and random GUIDs into every file unless told to write
+    # its fixed ones (when the document is made and when it is saved): same
+    # polygon, same bytes
+    fixed = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        doc = ezdxf.new("R2010")
+        doc.layers.add("OUTER", color=7)
+        doc.layers.add("HOLES", color=1)
+        msp = doc.modelspace()
+        for k, ring in enumerate(polygon.rings):
+            msp.add_lwpolyline(
+                [(float(x), float(y)) for x, y in ring],
+                close=True,
+                dxfattribs={"layer": "OUTER" if k == 0 else "HOLES"},
+            )
+        doc.saveas(path)
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = fixed
