@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
+import uniform2d
 import uniform2d.io.polygon_files as polygon_files
 import uniform2d.io.truss as truss
 from uniform2d import Polygon
@@ -792,3 +793,20 @@ def test_every_polygon_format_writes_the_same_bytes_every_time(tmp_path):
     for ext in exts:
         assert (tmp_path / f"a{ext}").read_bytes() == (tmp_path / f"b{ext}").read_bytes(), ext
         assert np.array_equal(read_polygon(tmp_path / f"a{ext}").vertices, P.vertices), ext
+
+
+@pytest.mark.parametrize(
+    "name, text",
+    [("nan.wkt", "POLYGON ((0 0, nan 0, 1 1, 0 0))"),
+     ("nan.poly", "3 2 0 0\n1 0 0\n2 nan 0\n3 1 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n")],
+)
+def test_non_finite_coordinates_give_one_error_and_no_warnings(tmp_path, name, text):
+    # numpy and shapely warn about NaN on the way; the CLI must print one line only
+    import warnings
+
+    path = tmp_path / name
+    path.write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(uniform2d.InvalidPolygonError, match="non-finite coordinate"):
+            read_polygon(path)

@@ -170,7 +170,7 @@ def _check_sites(polygon: Polygon, sites) -> np.ndarray:
         raise InvalidSitesError("sites must be a (k, 2) array of coordinates") from None
     if not np.isfinite(s).all():
         i = int(np.flatnonzero(~np.isfinite(s).all(axis=1))[0])
-        raise InvalidSitesError(f"site {i} has a non-finite coordinate {tuple(s[i])}")
+        raise InvalidSitesError(f"site {i} has a non-finite coordinate {s[i].tolist()}")
     _, first, counts = np.unique(s, axis=0, return_index=True, return_counts=True)
     if (counts > 1).any():
         i = int(first[np.flatnonzero(counts > 1)[0]])

@@ -67,7 +67,7 @@ def _as_ring(coords, name: str) -> np.ndarray:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise InvalidPolygonError(
-            f"{name}: vertex {i} has a non-finite coordinate {tuple(ring[i])}; "
+            f"{name}: vertex {i} has a non-finite coordinate {_fmt(ring[i])}; "
             "remove NaN/inf values"
         )
     big = float(np.abs(ring).max())

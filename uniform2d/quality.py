@@ -43,7 +43,7 @@ def _as_points(points) -> np.ndarray:
         raise ValueError(f"points: expected a (N, 2) array, got shape {pts.shape}")
     if not np.isfinite(pts).all():
         i = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
-        raise ValueError(f"points: point {i} has a non-finite coordinate {tuple(pts[i])}")
+        raise ValueError(f"points: point {i} has a non-finite coordinate {pts[i].tolist()}")
     return pts
 
 

@@ -74,7 +74,10 @@ def read_polygon(path) -> Polygon:
     """
     fmt = find_polygon_format(path, "read")
     p = _existing_file(path, "polygon")
-    polygon = fmt.reader(p)
+    # NaN, inf or huge coordinates would make numpy and shapely warn on the way to
+    # the polygon's own checks, which then say what is wrong in one message
+    with np.errstate(all="ignore"):
+        polygon = fmt.reader(p)
     logger.debug("read %r from %s", polygon, p)
     return polygon
 
