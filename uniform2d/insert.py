@@ -104,16 +104,27 @@ def _normaliser(polygon: Polygon):
     return np.round(centre / q) * q, scale
 
 
+def _extent(polygon: Polygon) -> float:
+    """The larger side of P's bounding box."""
+    xmin, ymin, xmax, ymax = polygon.bounds
+    return max(xmax - xmin, ymax - ymin)
+
+
+def _rounding(polygon: Polygon) -> float:
+    """How far rounding alone can move a point computed near P's coordinates (a
+    few units in their last place): far from the origin that exceeds the
+    relative tolerances below."""
+    return 8 * np.finfo(float).eps * float(np.abs(polygon.vertices).max())
+
+
 def boundary_tol(polygon: Polygon) -> float:
     """Distance within which a site counts as on P's boundary.
 
     :data:`BOUNDARY_TOL` of the polygon's size, or more where its coordinates are
     so large for its size (far from the origin) that rounding alone moves a point
-    computed on an edge, ``a + t (b - a)``, that far off it: a few units in the
-    last place of the coordinates.
+    computed on an edge, ``a + t (b - a)``, that far off it.
     """
-    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
-    return max(BOUNDARY_TOL * extent, 8 * np.finfo(float).eps * float(np.abs(polygon.vertices).max()))
+    return max(BOUNDARY_TOL * _extent(polygon), _rounding(polygon))
 
 
 def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
@@ -225,7 +236,7 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     n = int(n)
     sites = _check_sites(polygon, sites)
     centre, scale = _normaliser(polygon)
-    extent = max(polygon.bounds[2] - polygon.bounds[0], polygon.bounds[3] - polygon.bounds[1])
+    extent = _extent(polygon)
     interior, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
 
     V = polygon.vertices
@@ -272,7 +283,7 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
 
     # points nearer the boundary than this go on it: SNAP of the size, or more if
     # rounding the result back to the caller's coordinates could move a point that far
-    snap = max(SNAP * extent, 8 * np.finfo(float).eps * float(np.abs(V).max()))
+    snap = max(SNAP * extent, _rounding(polygon))
     M = heap.new_heap(tmax + tmax // 2 + 64)  # ~1.9 n entries live; grows if needed
     kinsert.push_initial(m, M)
     P = kinsert.new_pool(64)

@@ -783,9 +783,9 @@ def optimize_mesh(
         "after": summary(q_new),
         "objective_value": v_new,
     }
-    if tp is None and len(pts) != nV + n:
-        raise RuntimeError(f"uniform: {len(pts) - nV} Steiner points instead of {n} (a bug)")
-    if tp is not None and (not (v_new <= v_tp) or len(pts) != nV + n):
+    if not (v_new <= v_tp) or len(pts) != nV + n:  # v_tp is inf without a T+
+        if tp is None:
+            raise RuntimeError(f"uniform: {len(pts) - nV} Steiner points instead of {n} (a bug)")
         info["fallback"] = "tplus"
         info["after"] = summary(q_tp)
         info["objective_value"] = v_tp

@@ -97,7 +97,7 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
             )
         if plot.is_dir():
             raise ValueError(f"--plot '{plot}' is a directory; give a file name such as mesh.png")
-        if not (plot.parent if str(plot.parent) else Path(".")).is_dir():
+        if not plot.parent.is_dir():
             raise FileNotFoundError(
                 f"cannot save the figure '{plot}': directory '{plot.parent}' does not exist"
             )

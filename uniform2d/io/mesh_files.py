@@ -65,7 +65,10 @@ def _meshio_messages(path):
 
 
 @contextlib.contextmanager
-def _lower_case_name(path, extension):
+def _readable_name(path, extension):
+    """A name meshio's reader understands for ``path``: the path itself; a
+    lower-case link to it (some readers only know lower-case extensions); or,
+    for a ``.gz`` extension, a decompressed copy."""
     name = str(path)
     if extension and extension.endswith(".gz") and name.lower().endswith(extension):
         # decompressed here: meshio's PERMAS reader does not read gzip at all
@@ -131,9 +134,10 @@ def meshio_reader(file_format: str, extension: str | None = None):
     ``meshio.vtu.read``).  The submodule's reader is called directly:
     :func:`meshio.read` prints to stderr and calls ``sys.exit`` when a file does
     not parse, which a library must not do.  Some meshio readers look at the
-    file name (``.meshb`` is binary, ``.vol.gz`` compressed) and only
-    understand lower case; a file named ``MESH.MESHB`` is read through a
-    temporary link named with the lower-case `extension`.
+    file name (``.meshb`` is binary) and only understand lower case; a file
+    named ``MESH.MESHB`` is read through a temporary link named with the
+    lower-case `extension`.  ``.gz`` files are decompressed here first (the
+    PERMAS reader reads no gzip; see :func:`_readable_name`).
     """
 
     def read(path):
@@ -141,7 +145,7 @@ def meshio_reader(file_format: str, extension: str | None = None):
 
         reader = getattr(meshio, file_format).read
         try:
-            with _meshio_messages(path), _lower_case_name(path, extension) as name:
+            with _meshio_messages(path), _readable_name(path, extension) as name:
                 mesh = reader(name)
         except (FileNotFoundError, PermissionError, IsADirectoryError):
             raise
@@ -176,13 +180,11 @@ def _drop_timestamp(name: str) -> None:
     """Remove the time meshio writes into some headers (OBJ, PLY): same input, same bytes."""
     with open(name, "rb") as f:
         head = f.read(4096)
-    if b"Created by meshio" not in head:
-        return
-    with open(name, "rb") as f:
-        data = f.read()
-    cut = len(head)
+        if b"Created by meshio" not in head:
+            return
+        rest = f.read()
     with open(name, "wb") as f:
-        f.write(_STAMP.sub(rb"\1", data[:cut], count=1) + data[cut:])
+        f.write(_STAMP.sub(rb"\1", head, count=1) + rest)
 
 
 def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False, **options):
