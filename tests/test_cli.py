@@ -171,6 +171,20 @@ def test_mesh_plot_into_a_missing_directory_writes_nothing(capsys, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_mesh_plot_paths_are_checked_before_meshing(capsys, tmp_path):
+    (tmp_path / "adir.png").mkdir()
+    code, out, err = run(capsys, "mesh", SQUARE, "-n", 10, "-o", tmp_path / "x.vtu",
+                         "--plot", tmp_path / "adir.png")
+    assert_one_error(code, out, err)
+    assert "is a directory" in err
+    (tmp_path / "afile").write_text("")
+    code, out, err = run(capsys, "mesh", SQUARE, BRACKET, "-n", 10, "-o", tmp_path / "out",
+                         "--plot", tmp_path / "afile")
+    assert_one_error(code, out, err)
+    assert "--plot must be a directory" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["adir.png", "afile"]
+
+
 def test_mesh_and_figure_are_written_both_or_neither(capsys, tmp_path, monkeypatch):
     import uniform2d.mesh
 
