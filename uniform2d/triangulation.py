@@ -1,0 +1,240 @@
+"""Loading a polygon and its sites into the kernel's constrained Delaunay triangulation.
+
+The service INSERT, the optimiser and the surface layer share: sites checked
+and sorted into interior and boundary ones, coordinates normalised exactly for
+the kernel, the rings triangulated and made exactly Delaunay, and the result
+re-certified on the caller's coordinates.
+"""
+
+from __future__ import annotations
+
+import logging
+import numbers
+
+import numpy as np
+import shapely
+
+from ._kernel import cdt
+from ._kernel.distance import to_segments
+from .errors import InvalidSitesError
+from .polygon import Polygon
+from .sizefield import SizeField
+
+log = logging.getLogger(__name__)
+
+#: A site closer than this (relative to the polygon size) to the boundary is on it.
+BOUNDARY_TOL = 1e-10
+
+
+def _normaliser(polygon: Polygon):
+    """(centre, scale) with x_norm = (x - centre) / scale, exact both ways when possible.
+
+    ``scale`` is the power of two nearest max(width, height), so dividing by it
+    and multiplying back are exact.  A polygon near the origin (bounding-box
+    centre within 2 sizes of it) is not translated: the kernel then works on an
+    exact image of the caller's coordinates and the returned mesh is exactly the
+    one the predicates certified.  A polygon far from the origin is translated by
+    its centre rounded to a multiple of 2**-20 scale, which keeps the subtraction
+    exact for coordinates on that scale; mapping the points back then rounds
+    them to what the caller's coordinates can represent there, and the mesh is
+    re-legalised on those (:func:`_recertify`).
+    """
+    xmin, ymin, xmax, ymax = polygon.bounds
+    size = max(xmax - xmin, ymax - ymin)
+    scale = 2.0 ** round(np.log2(size))
+    centre = np.array([(xmin + xmax) / 2.0, (ymin + ymax) / 2.0])
+    if np.abs(centre).max() <= 2.0 * size:
+        return np.zeros(2), scale
+    q = scale * 2.0**-20
+    return np.round(centre / q) * q, scale
+
+
+def _extent(polygon: Polygon) -> float:
+    """The larger side of P's bounding box."""
+    xmin, ymin, xmax, ymax = polygon.bounds
+    return max(xmax - xmin, ymax - ymin)
+
+
+def _rounding(polygon: Polygon) -> float:
+    """How far rounding alone can move a point computed near P's coordinates (a
+    few units in their last place): far from the origin that exceeds the
+    relative tolerances below."""
+    return 8 * np.finfo(float).eps * float(np.abs(polygon.vertices).max())
+
+
+def boundary_tol(polygon: Polygon) -> float:
+    """Distance within which a site counts as on P's boundary.
+
+    :data:`BOUNDARY_TOL` of the polygon's size, or more where its coordinates are
+    so large for its size (far from the origin) that rounding alone moves a point
+    computed on an edge, ``a + t (b - a)``, that far off it.
+    """
+    return max(BOUNDARY_TOL * _extent(polygon), _rounding(polygon))
+
+
+def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
+    """Split sites into interior ones and boundary ones (edge index, parameter).
+
+    Vectorised: one compiled point-to-edges distance and one GEOS point-in-polygon
+    query per site; only the few sites within ``tol`` of the boundary are matched
+    to their edge.
+    """
+    if len(sites) == 0:
+        return [], []
+    V = polygon.vertices
+    edges = polygon.edges
+    a = V[edges[:, 0]]
+    d = V[edges[:, 1]] - a
+    # only "within tol or not" is asked: distances beyond 2 tol come back as 2 tol
+    cap = 2.0 * tol if tol > 0 else np.inf
+    dist = to_segments(np.ascontiguousarray(sites, dtype=np.float64), a, V[edges[:, 1]], cap)
+    near = np.flatnonzero(dist <= tol)
+    inside = shapely.contains_xy(polygon.to_shapely(), sites[:, 0], sites[:, 1])
+    outside = np.flatnonzero((dist > tol) & ~inside)
+    if len(outside):
+        i = int(outside[0])
+        raise InvalidSitesError(
+            f"site {i} {tuple(sites[i])} lies outside the polygon; sites must be inside P "
+            "or on its boundary"
+        )
+    L2 = (d * d).sum(axis=1)
+    boundary = []
+    for i in near:
+        s = sites[i]
+        rel = s - a
+        t = np.clip((rel * d).sum(axis=1) / L2, 0.0, 1.0)
+        e = int(np.argmin(np.hypot(*(rel - t[:, None] * d).T)))
+        if t[e] * np.sqrt(L2[e]) <= tol or (1 - t[e]) * np.sqrt(L2[e]) <= tol:
+            k = edges[e, 0] if t[e] < 0.5 else edges[e, 1]
+            raise InvalidSitesError(
+                f"site {int(i)} {tuple(s)} coincides with polygon vertex {int(k)}; "
+                "polygon vertices are sites already, remove it"
+            )
+        boundary.append((int(i), e, float(t[e])))
+    near_set = np.zeros(len(sites), bool)
+    near_set[near] = True
+    interior = np.flatnonzero(~near_set).tolist()
+    return interior, boundary
+
+
+def _check_sites(polygon: Polygon, sites) -> np.ndarray:
+    if sites is None:
+        return np.empty((0, 2), np.float64)
+    try:
+        s = np.array(sites, dtype=np.float64).reshape(-1, 2)
+    except (TypeError, ValueError):
+        raise InvalidSitesError("sites must be a (k, 2) array of coordinates") from None
+    if not np.isfinite(s).all():
+        i = int(np.flatnonzero(~np.isfinite(s).all(axis=1))[0])
+        raise InvalidSitesError(f"site {i} has a non-finite coordinate {s[i].tolist()}")
+    _, first, counts = np.unique(s, axis=0, return_index=True, return_counts=True)
+    if (counts > 1).any():
+        i = int(first[np.flatnonzero(counts > 1)[0]])
+        raise InvalidSitesError(f"site {i} {tuple(s[i])} is given more than once")
+    return s
+
+
+#: (smallest extent, largest coordinate) for which :func:`_recertify` can decide
+#: the in-circle test exactly on the caller's coordinates.
+RECERTIFY_RANGE = (1e-60, 1e60)
+
+
+def _recertify(m, xy, mesh_points):
+    """Make the triangulation exactly Delaunay for the points the caller gets.
+
+    Far from the origin (:func:`_normaliser` translated) the caller's coordinates
+    cannot hold the kernel's new points exactly, so the points returned are
+    rounded images of the ones the predicates certified, and a near-cocircular
+    quadruple can change sides.  The exact predicates work on any float64, so
+    the mesh is re-legalised on the returned coordinates themselves, where their
+    fourth powers stay normal floats (:data:`RECERTIFY_RANGE`; the exact
+    arithmetic needs that).  Should rounding have turned a triangle over (a point
+    within rounding of an edge), the kernel's triangulation is kept and a warning
+    logged.
+    """
+    lo, hi = RECERTIFY_RANGE
+    if np.abs(mesh_points).max() > hi or np.ptp(mesh_points, axis=0).max() < lo:
+        log.debug("insert: coordinates outside %s: the kernel's mesh is kept", RECERTIFY_RANGE)
+        return
+    kept = xy[: len(mesh_points)].copy()
+    xy[: len(mesh_points)] = mesh_points
+    if cdt.count_not_ccw(m) == 0:
+        cdt.legalize_all(m)
+    else:
+        xy[: len(mesh_points)] = kept
+        log.warning(
+            "insert: rounding the points to the caller's coordinates turned a triangle "
+            "over; the triangulation is the one certified before rounding"
+        )
+
+
+def _size_grid(size, centre, scale):
+    """The size field in the kernel's coordinates, or None for a constant one."""
+    if size is None or isinstance(size, numbers.Real):
+        if size is not None and not (np.isfinite(size) and size > 0):
+            raise ValueError(f"size must be a positive number or a SizeField, got {size!r}")
+        return None
+    if not isinstance(size, SizeField):
+        raise TypeError(f"size must be a SizeField or a number, got {type(size).__name__}")
+    if np.all(size.values == size.values.flat[0]):
+        return None
+    return ((size.x - centre[0]) / scale, (size.y - centre[1]) / scale, size.values / scale)
+
+
+def hilbert_order(points: np.ndarray, bits: int = 16) -> np.ndarray:
+    """Indices sorting points (K, 2) along a Hilbert curve over their bounding box."""
+    lo = points.min(axis=0)
+    span = max(float((points.max(axis=0) - lo).max()), 1e-300)
+    side = 1 << bits
+    q = np.minimum(((points - lo) / span * (side - 1)).astype(np.int64), side - 1)
+    x, y = q[:, 0].copy(), q[:, 1].copy()
+    d = np.zeros(len(points), np.int64)
+    s = side >> 1
+    while s > 0:
+        rx = (x & s) > 0
+        ry = (y & s) > 0
+        d += s * s * ((3 * rx) ^ ry)
+        # rotate the quadrant
+        flip = ~ry
+        swap_x = np.where(flip & rx, s - 1 - x, x)
+        swap_y = np.where(flip & rx, s - 1 - y, y)
+        x, y = np.where(flip, swap_y, swap_x), np.where(flip, swap_x, swap_y)
+        s >>= 1
+    return np.argsort(d, kind="stable")
+
+
+def _complex_key(p: np.ndarray) -> np.ndarray:
+    """(K,) complex128 holding the points (K, 2) bit for bit (no arithmetic)."""
+    out = np.empty(len(p), dtype=np.complex128)
+    out.real = p[:, 0]
+    out.imag = p[:, 1]
+    return out
+
+
+def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
+    """Constrained Delaunay triangles of the rings (GEOS), as CCW vertex indices.
+
+    GEOS returns the input coordinates unchanged, so vertices are matched exactly.
+    Its in-circle decisions are not exact; :func:`cdt.legalize_all` fixes that.
+    """
+    shell = xy[rings[0]]
+    holes = [xy[r] for r in rings[1:]]
+    geom = shapely.constrained_delaunay_triangles(shapely.Polygon(shell, holes))
+    rings_ = shapely.get_exterior_ring(shapely.get_parts(geom))
+    corners = shapely.get_coordinates(rings_).reshape(len(rings_), 4, 2)[:, :3]
+    # exact matching on (x, y) through a complex key (ordered by x, then y)
+    idx = np.concatenate([np.asarray(r, dtype=np.int64) for r in rings])
+    key = _complex_key(xy[idx])
+    order = np.argsort(key, kind="stable")
+    want = _complex_key(corners.reshape(-1, 2))
+    pos = np.minimum(np.searchsorted(key[order], want), len(key) - 1)
+    if not np.array_equal(key[order][pos], want):
+        raise RuntimeError("GEOS returned a vertex that is not a polygon vertex")
+    tris = idx[order[pos]].astype(np.int32).reshape(-1, 3)
+    p = xy[tris]
+    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
+        p[:, 1, 1] - p[:, 0, 1]
+    ) * (p[:, 2, 0] - p[:, 0, 0])
+    flip = cross < 0
+    tris[flip] = tris[flip][:, ::-1]
+    return np.ascontiguousarray(tris)
