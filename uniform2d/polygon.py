@@ -15,23 +15,13 @@ import shapely
 from scipy.spatial import cKDTree
 
 from .errors import InvalidPolygonError
+from .geometry import signed_area
 
 __all__ = ["Polygon"]
 
 
 def _fmt(p) -> str:
     return f"({p[0]:.17g}, {p[1]:.17g})"
-
-
-def _signed_area(ring: np.ndarray) -> float:
-    """Shoelace area of a ring (positive if counter-clockwise), (k, 2) float64.
-
-    Summed relative to the ring's first vertex, so the rounding error scales with
-    the ring's size, not with its distance from the origin (absolute coordinates
-    lose about 1e-9 of the area of a unit ring 1000 units away)."""
-    x = ring[:, 0] - ring[0, 0]
-    y = ring[:, 1] - ring[0, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
 def _collinear(ring: np.ndarray) -> bool:
@@ -97,7 +87,7 @@ def _as_ring(coords, name: str) -> np.ndarray:
             f"{name}: vertices {i} and {j} are the same point {_fmt(ring[i])}; "
             "remove the repeated vertex"
         )
-    if _signed_area(ring) == 0.0 and _collinear(ring):
+    if signed_area(ring) == 0.0 and _collinear(ring):
         raise InvalidPolygonError(f"{name}: the ring has zero area (all vertices are collinear)")
     lr = shapely.LinearRing(ring)
     if not lr.is_simple:
@@ -157,9 +147,9 @@ class Polygon:
         hole_rings = [_as_ring(h, f"hole {i}") for i, h in enumerate(holes)]
 
         # Reverse where needed, keeping each ring's first vertex first.
-        if _signed_area(outer_ring) < 0:
+        if signed_area(outer_ring) < 0:
             outer_ring = np.roll(outer_ring[::-1], 1, axis=0)
-        hole_rings = [np.roll(h[::-1], 1, axis=0) if _signed_area(h) > 0 else h for h in hole_rings]
+        hole_rings = [np.roll(h[::-1], 1, axis=0) if signed_area(h) > 0 else h for h in hole_rings]
 
         shell = shapely.Polygon(outer_ring)
         hole_polys = [shapely.Polygon(h) for h in hole_rings]
@@ -190,7 +180,7 @@ class Polygon:
         self._vertices.setflags(write=False)
         self._offsets = np.cumsum([0] + [len(r) for r in rings])
         self._offsets.setflags(write=False)
-        self._area = _signed_area(outer_ring) + sum(_signed_area(h) for h in hole_rings)
+        self._area = signed_area(outer_ring) + sum(signed_area(h) for h in hole_rings)
         self._perimeter = float(
             sum(np.linalg.norm(np.roll(r, -1, axis=0) - r, axis=1).sum() for r in rings)
         )

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .geometry import unique_edges
 from .polygon import Polygon
 
 __all__ = ["quality", "Quality", "Bound", "edge_lengths"]
@@ -74,12 +75,7 @@ def _as_polygon(polygon) -> Polygon:
 # -- edges ---------------------------------------------------------------------
 def _unique_edges(tri: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     """Unique undirected edges (E, 2) int64 with i < j, sorted, and how many triangles use each."""
-    e = tri[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    lo = np.minimum(e[:, 0], e[:, 1])
-    hi = np.maximum(e[:, 0], e[:, 1])
-    keys, counts = np.unique(lo * np.int64(n_points) + hi, return_counts=True)
-    edges = np.stack([keys // n_points, keys % n_points], axis=1)
-    return edges, counts
+    return unique_edges(tri, n_points, return_counts=True)
 
 
 def edge_lengths(points, triangles) -> tuple[np.ndarray, np.ndarray]:

@@ -6,6 +6,7 @@ import math
 import numbers
 
 from .errors import InsufficientPointsError
+from .geometry import vertex_count
 from .mesh import Mesh
 from .polygon import Polygon
 
@@ -15,10 +16,8 @@ __all__ = ["uniform_mesh", "steiner_count_for_size"]
 def steiner_count_for_size(polygon: Polygon, size: float) -> int:
     """Number of Steiner points n for a target edge length ``size``.
 
-    A mesh of equilateral triangles of side h has T = A / (√3/4 · h²) triangles
-    and about B/h boundary vertices; Euler's formula for a polygon with h_P holes,
-    T = 2N − N_b − 2 + 2 h_P, then gives the vertex count
-    N = (T + N_b + 2 − 2 h_P) / 2, and n = N − |V| (at least 0).
+    n = N − |V| (at least 0), N the vertex count of a mesh of equilateral
+    triangles of side ``size`` (:func:`uniform2d.geometry.vertex_count`).
 
     Examples
     --------
@@ -28,9 +27,7 @@ def steiner_count_for_size(polygon: Polygon, size: float) -> int:
     """
     if not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
         raise ValueError(f"size must be a positive finite number, got {size!r}")
-    T = polygon.area / (math.sqrt(3) / 4 * size * size)
-    Nb = polygon.perimeter / size
-    N = (T + Nb + 2 - 2 * polygon.n_holes) / 2
+    N = vertex_count(polygon.area, polygon.perimeter, size, polygon.n_holes)
     return max(0, round(N) - len(polygon.vertices))
 
 

@@ -71,7 +71,8 @@ import shapely
 import shapely.wkt
 
 from ..errors import FileFormatError, InvalidPolygonError
-from ..polygon import Polygon, _signed_area
+from ..geometry import signed_area
+from ..polygon import Polygon
 
 __all__ = [
     "read_json",
@@ -679,7 +680,7 @@ def read_dxf(path) -> Polygon:
             f"no closed polylines in modelspace (found {found}); draw the outline and the "
             "holes as closed LWPOLYLINE or POLYLINE entities",
         )
-    outer_i = int(np.argmax([abs(_signed_area(r)) for r in rings]))
+    outer_i = int(np.argmax([abs(signed_area(r)) for r in rings]))
     order = [outer_i] + [i for i in range(len(rings)) if i != outer_i]
     outer_shape = shapely.Polygon(rings[outer_i]) if len(rings[outer_i]) >= 3 else None
     for i in order[1:]:

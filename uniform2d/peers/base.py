@@ -33,6 +33,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..geometry import size_for_count
+
 log = logging.getLogger(__name__)
 
 __all__ = [
@@ -155,24 +157,6 @@ def describe(name: str) -> dict:
 def mesh(name: str, domain, n_vertices: int) -> PeerMesh:
     """Run peer ``name`` on ``domain`` aiming at ``n_vertices`` vertices."""
     return load(name).mesh(domain, int(n_vertices))
-
-
-def size_for_count(area: float, perimeter: float, n_vertices: int, n_holes: int = 0) -> float:
-    """Edge length h at which a mesh of equilateral triangles has ``n_vertices`` vertices.
-
-    Inverts the estimate of :func:`uniform2d.steiner_count_for_size`:
-    N = (A / (sqrt(3)/4 h^2) + B / h + 2 - 2 h_P) / 2, a quadratic in 1/h.
-
-    Examples
-    --------
-    >>> round(size_for_count(1.0, 4.0, 133), 2)     # steiner_count_for_size(square, 0.1) + 4
-    0.1
-    """
-    a = 4.0 * area / math.sqrt(3.0)
-    c = 2.0 - 2.0 * n_holes - 2.0 * n_vertices
-    disc = perimeter * perimeter - 4.0 * a * c
-    u = (-perimeter + math.sqrt(max(disc, 0.0))) / (2.0 * a)
-    return 1.0 / u if u > 0 else math.inf
 
 
 def tune(

@@ -1,0 +1,145 @@
+"""Small geometric facts shared by the core, the peers and the surface layer.
+
+* how many vertices an equilateral mesh of a given edge length has, and the
+  edge length for a given count (:func:`vertex_count`, :func:`size_for_count`);
+* a polygon's edges as start points and vectors (:func:`polygon_edges`);
+* the unique and the boundary edges of a triangle list (:func:`unique_edges`,
+  :func:`boundary_edges`);
+* distances from points to segments, in any dimension (:func:`segment_distance`,
+  :func:`nearest_segment`);
+* the signed area of a ring (:func:`signed_area`).
+
+Everything here is plain numpy on the caller's arrays (never modified).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "vertex_count",
+    "size_for_count",
+    "polygon_edges",
+    "unique_edges",
+    "boundary_edges",
+    "segment_distance",
+    "nearest_segment",
+    "signed_area",
+]
+
+
+def vertex_count(area: float, perimeter: float, size: float, n_holes: int = 0) -> float:
+    """Vertices N of a mesh of equilateral triangles of side ``size`` (not rounded).
+
+    Such a mesh has T = A / (√3/4 · h²) triangles and about B/h boundary
+    vertices; Euler's formula for a domain with h_P holes,
+    T = 2N − N_b − 2 + 2 h_P, then gives N = (T + N_b + 2 − 2 h_P) / 2.
+
+    Examples
+    --------
+    >>> round(vertex_count(1.0, 4.0, 0.1), 3)
+    136.47
+    """
+    T = area / (math.sqrt(3) / 4 * size * size)
+    Nb = perimeter / size
+    return (T + Nb + 2 - 2 * n_holes) / 2
+
+
+def size_for_count(area: float, perimeter: float, n_vertices: int, n_holes: int = 0) -> float:
+    """Edge length h at which a mesh of equilateral triangles has ``n_vertices`` vertices.
+
+    The inverse of :func:`vertex_count`, a quadratic in 1/h; ``inf`` if no
+    positive length gives that many.
+
+    Examples
+    --------
+    >>> round(size_for_count(1.0, 4.0, 133), 2)
+    0.1
+    """
+    a = 4.0 * area / math.sqrt(3.0)
+    c = 2.0 - 2.0 * n_holes - 2.0 * n_vertices
+    disc = perimeter * perimeter - 4.0 * a * c
+    u = (-perimeter + math.sqrt(max(disc, 0.0))) / (2.0 * a)
+    return 1.0 / u if u > 0 else math.inf
+
+
+def polygon_edges(polygon) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(starts (E, 2), vectors (E, 2), lengths (E,)) of a polygon's edges, in
+    :attr:`uniform2d.Polygon.edges` order (the interior is on each edge's left)."""
+    V = polygon.vertices
+    E = polygon.edges
+    a = V[E[:, 0]]
+    d = V[E[:, 1]] - a
+    L = np.hypot(d[:, 0], d[:, 1])
+    return a, d, L
+
+
+def unique_edges(triangles, n_points: int | None = None, *, return_counts: bool = False):
+    """Unique undirected edges (E, 2) int64 of a triangle list, ``i < j``, sorted.
+
+    With ``return_counts``, also how many triangles use each edge (1 on the
+    boundary, 2 inside).  ``n_points`` (default: the largest index + 1) only
+    has to exceed every vertex index.
+    """
+    tri = np.asarray(triangles, dtype=np.int64)
+    if n_points is None:
+        n_points = int(tri.max()) + 1 if tri.size else 1
+    e = tri[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    lo = np.minimum(e[:, 0], e[:, 1])
+    hi = np.maximum(e[:, 0], e[:, 1])
+    keys, counts = np.unique(lo * np.int64(n_points) + hi, return_counts=True)
+    edges = np.stack([keys // n_points, keys % n_points], axis=1)
+    return (edges, counts) if return_counts else edges
+
+
+def boundary_edges(triangles, n_points: int) -> np.ndarray:
+    """The edges (K, 2) used by one triangle only, directed as in their triangle
+    (counter-clockwise around the mesh), in triangle order."""
+    T = np.asarray(triangles)
+    E = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]])
+    srt = np.sort(E, axis=1)
+    key = srt[:, 0].astype(np.int64) * n_points + srt[:, 1]
+    _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
+    return E[cnt[inv.ravel()] == 1]
+
+
+def segment_distance(points, a, b, chunk: int = 256) -> np.ndarray:
+    """Distance from each point (K, D) to the nearest of the segments a[i]-b[i] (E, D).
+
+    Any dimension; works in chunks of ``chunk`` points (memory K·E/chunk).
+    For many 2-D points against a polygon's edges with a cap on the distances
+    of interest, :func:`uniform2d._kernel.distance.to_segments` is faster.
+    """
+    P = np.asarray(points, dtype=np.float64)
+    out = np.full(len(P), np.inf)
+    AB = b - a
+    L2 = np.einsum("ij,ij->i", AB, AB)
+    for s in range(0, len(P), chunk):
+        p = P[s : s + chunk, None, :]
+        t = np.clip(np.einsum("kij,ij->ki", p - a[None], AB) / L2, 0.0, 1.0)
+        q = a[None] + t[..., None] * AB[None]
+        out[s : s + chunk] = np.linalg.norm(p - q, axis=2).min(axis=1)
+    return out
+
+
+def nearest_segment(q, a, b) -> tuple[int, float]:
+    """(index, parameter t in [0, 1]) of the segment a[i]-b[i] nearest to point q;
+    the nearest point is ``a[i] + t (b[i] - a[i])``."""
+    ab = b - a
+    tt = np.clip(((q - a) * ab).sum(1) / (ab * ab).sum(1), 0, 1)
+    d = np.linalg.norm(a + tt[:, None] * ab - q, axis=1)
+    e = int(np.argmin(d))
+    return e, float(tt[e])
+
+
+def signed_area(ring) -> float:
+    """Shoelace area of a ring (positive if counter-clockwise), (k, 2) float64.
+
+    Summed relative to the ring's first vertex, so the rounding error scales with
+    the ring's size, not with its distance from the origin."""
+    ring = np.asarray(ring, dtype=np.float64)
+    x = ring[:, 0] - ring[0, 0]
+    y = ring[:, 1] - ring[0, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
