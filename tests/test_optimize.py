@@ -165,7 +165,10 @@ def test_far_from_the_origin_the_boundary_points_still_count_as_on_it(off):
 
 @pytest.mark.parametrize("name", ["lshape", "square2holes", "star10"])
 def test_relocation_keeps_the_count_and_a_valid_cdt_and_never_raises_the_objective(name):
-    from uniform2d.optimize import RELOCATE, _extremes, _relocate, improve, objective_value
+    from uniform2d.optimize import improve, objective_value
+    from uniform2d.optimize.objective import extremes as _extremes
+    from uniform2d.optimize.relocate import relocate as _relocate
+    from uniform2d.optimize.schedule import RELOCATE
 
     p = BENCH[name]
     n, nV = 150, len(p.vertices)
@@ -192,13 +195,15 @@ def test_balanced_ranks_the_starts_by_the_edge_cv_too(monkeypatch):
     picks it at n = 300, the CV-weighted ranking picks the lattice along the long
     sides, whose edges are far more even, for a small cost in the extremes."""
     import uniform2d.optimize as O
+    import uniform2d.optimize.schedule as S
+    from uniform2d.geometry import polygon_edges
 
     p = BENCH["rect4x1"]
     a = optimize_mesh(p, 300)
-    monkeypatch.setattr(O, "CV_WEIGHT", 0.0)
+    monkeypatch.setattr(S, "CV_WEIGHT", 0.0)
     b = optimize_mesh(p, 300)
     check_mesh(a.points, a.triangles, p)
-    _, _, L = O._edge_geometry(p)
+    _, _, L = polygon_edges(p)
     assert a.info["lattice_edge"] == int(np.argmax(L)) != b.info["lattice_edge"]
     qa, qb = a.quality(), b.quality()
     assert qa.cv_edge < 0.75 * qb.cv_edge

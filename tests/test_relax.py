@@ -13,7 +13,9 @@ import shapely
 import uniform2d
 from uniform2d import Polygon, SizeField
 from uniform2d._kernel import cdt, relax
-from uniform2d.optimize import FLAT, _load, _unload, improve, lattice_seed, target_size
+from uniform2d.optimize import improve, lattice_seed, target_size
+from uniform2d.optimize.moves import _load, _unload
+from uniform2d.optimize.schedule import FLAT
 
 from invariants import check_mesh
 from polygen import benchmark_polygons, convex, star, with_holes
@@ -53,7 +55,7 @@ def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage):
     ok = shapely.contains_xy(p.to_shapely(), jit[:, 0], jit[:, 1])
     sites[np.flatnonzero(inner)[ok]] = jit[ok]
     res = uniform2d.insert(p, 0, sites=sites)
-    st = _load(p, res, None, None, None)
+    st = _load(p, res.mesh_points, res.triangles, None, None, None)
     before = st.xy.copy()
     args = (st.m, st.role, st.eid, st.t, st.ea, st.ed, st.hv, st.href)
     if stage == "spring":
@@ -94,7 +96,7 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
     x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
     size = SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1))) if graded else None
     res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
-    st = _load(p, res, size, None, None)
+    st = _load(p, res.mesh_points, res.triangles, size, None, None)
     tri = cdt.triangle_list(st.m)
     xy = st.xy
     E = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
@@ -205,7 +207,8 @@ def test_lattice_seed_count_inside_and_clear_of_the_boundary(name, count):
 
 @pytest.mark.parametrize("objective", ["balanced", "ratio", "max_edge", "max_perimeter"])
 def test_spread_stage_lowers_cv_and_never_the_objective(objective):
-    from uniform2d.optimize import _extremes, objective_value
+    from uniform2d.optimize import objective_value
+    from uniform2d.optimize.objective import extremes as _extremes
 
     p = BENCH["lshape"]
     sites = uniform2d.insert(p, 250).points
@@ -221,7 +224,8 @@ def test_spread_stage_lowers_cv_and_never_the_objective(objective):
 
 @pytest.mark.parametrize("name", sorted(BENCH))
 def test_corner_fans_split_each_corner_into_near_60_degree_angles(name):
-    from uniform2d.optimize import FAN_CAP, _corner_fans
+    from uniform2d.optimize.seed import FAN_CAP
+    from uniform2d.optimize.seed import corner_fans as _corner_fans
 
     p = BENCH[name]
     V, E = p.vertices, p.edges
@@ -251,7 +255,10 @@ def test_corner_fans_split_each_corner_into_near_60_degree_angles(name):
 def test_boundary_rows_are_fans_and_equilateral_apexes_clear_of_each_other(name):
     from scipy.spatial import cKDTree
 
-    from uniform2d.optimize import _boundary_counts, _boundary_rows, _corner_fans, _edge_geometry
+    from uniform2d.geometry import polygon_edges as _edge_geometry
+    from uniform2d.optimize.seed import boundary_counts as _boundary_counts
+    from uniform2d.optimize.seed import boundary_rows as _boundary_rows
+    from uniform2d.optimize.seed import corner_fans as _corner_fans
 
     p = BENCH[name]
     a, d, L = _edge_geometry(p)

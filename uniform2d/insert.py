@@ -5,15 +5,16 @@ sites -- farthest in *visible* distance, the distance to the nearest site seen
 from the point inside P (plain Euclidean distance for a convex P).  The sites
 start as the polygon vertices V (and any extra ``sites``).
 
-Contract (design notes §2): p_j is a global maximiser within a relative 1e-9;
+Contract: p_j is a global maximiser within a relative 1e-9;
 ``weights[j]`` = w_{j-1}(p_j) is its visible distance; the weights never
 increase; the same input gives bit-identical output.  Ties (weights within a
 relative 1e-9 of the best) go to the lexicographically smallest (x, y), with x
 compared to within 1e-9 of the bounding-box size, so the sequence is canonical
 and invariant under scaling and translation.  See ``uniform2d._kernel.insert``
-for how the tied group is found in O(log n) a step.  The kernel works on coordinates
-normalised exactly (see ``_normaliser``); the polygon vertices and sites are
-returned exactly as given, the inserted points mapped back.
+for how the tied group is found in O(log n) a step.  The polygon and its sites are
+loaded into the kernel by :mod:`uniform2d.triangulation`, on coordinates
+normalised exactly there; the polygon vertices and sites are returned exactly as
+given, the inserted points mapped back.
 """
 
 from __future__ import annotations
@@ -25,22 +26,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ._kernel import cdt, heap
+from ._kernel import heap
 from ._kernel import insert as kinsert
 from .errors import InsufficientPointsError
 from .polygon import Polygon
-from .triangulation import (
-    _check_sites,
-    _classify_sites,
-    _extent,
-    _initial_triangles,
-    _normaliser,
-    _recertify,
-    _rounding,
-    _size_grid,
-    boundary_tol,
-    hilbert_order,
-)
+from ._kernel.outcomes import run_failure
+from .triangulation import _extent, _rounding, load, unload
 
 __all__ = ["insert", "InsertResult"]
 
@@ -133,52 +124,11 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 0:
         raise InsufficientPointsError(f"n must be a non-negative integer, got {n!r}")
     n = int(n)
-    sites = _check_sites(polygon, sites)
-    centre, scale = _normaliser(polygon)
+    loaded = load(polygon, sites, size=size, room=n)
+    m, xy, centre, scale = loaded.m, loaded.xy, loaded.centre, loaded.scale
+    sites = loaded.sites
     extent = _extent(polygon)
-    interior, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
-
-    V = polygon.vertices
-    nV = len(V)
-    Vn = (V - centre) / scale
-    Sn = (sites - centre) / scale
-    # rings with the boundary sites spliced in, as kernel vertex indices
-    by_edge: dict[int, list[tuple[float, int]]] = {}
-    for i, e, t in boundary:
-        by_edge.setdefault(e, []).append((t, nV + i))
-    rings = []
-    for r in range(len(polygon.rings)):
-        lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
-        ring = []
-        for e in range(lo, hi):
-            ring.append(e)  # edge e starts at vertex e (Polygon.edges layout)
-            ring.extend(k for _, k in sorted(by_edge.get(e, [])))
-        rings.append(ring)
-
-    allxy = np.concatenate([Vn, Sn], axis=0)
-    n_int = len(interior)
-    nmax = nV + len(sites) + n
-    nb0 = sum(len(r) for r in rings)
-    t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
-    tmax = t0 + 2 * (n_int + n) + 4
-    m, xy = cdt.allocate(nmax, tmax, _size_grid(size, centre, scale))
-    xy[: len(allxy)] = allxy
-    cdt.set_nv(m, len(allxy))
-
-    tris = _initial_triangles(allxy, rings)
-    if len(tris) != t0:
-        raise RuntimeError(f"initial triangulation has {len(tris)} triangles, expected {t0}")
-    nbh = cdt.build_adjacency(m, tris)
-    if nbh != nb0:
-        raise RuntimeError("initial triangulation does not cover the polygon boundary")
-    cdt.legalize_all(m)
-
-    if interior:
-        idx = nV + np.asarray(interior, dtype=np.int64)
-        idx = idx[hilbert_order(allxy[idx])]
-        status = cdt.insert_sites(m, idx)
-        if status < 0:
-            raise RuntimeError(f"could not insert site {int(idx[-status - 1]) - nV}")
+    tmax = loaded.max_triangles
 
     # points nearer the boundary than this go on it: SNAP of the size, or more if
     # rounding the result back to the caller's coordinates could move a point that far
@@ -192,9 +142,9 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     xtol = kinsert.REL_TIE * extent / scale
     status = kinsert.run(m, M, P, n, out_xy, out_w, out_b, xtol, snap / scale)
     if status != n:
-        j = -status // 100
+        j, what = run_failure(status)
         raise RuntimeError(
-            f"INSERT kernel failed (status {status}) at step {j}, point {tuple(out_xy[j])}, "
+            f"INSERT kernel failed ({what}, status {status}) at step {j}, point {tuple(out_xy[j])}, "
             f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
         )
 
@@ -203,11 +153,9 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     out_xy += centre
     points = out_xy
     weights = out_w * scale
-    mesh_points = np.concatenate([V, sites, points], axis=0)
-    if centre.any():
-        _recertify(m, xy, mesh_points)
-    triangles = cdt.triangle_list(m)
-    del m, xy
+    mesh_points = np.concatenate([polygon.vertices, sites, points], axis=0)
+    triangles = unload(loaded, mesh_points)
+    del m, xy, loaded
     for arr in (points, weights, out_b, mesh_points, triangles):
         arr.setflags(write=False)
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)

@@ -4,21 +4,29 @@ The service INSERT, the optimiser and the surface layer share: sites checked
 and sorted into interior and boundary ones, coordinates normalised exactly for
 the kernel, the rings triangulated and made exactly Delaunay, and the result
 re-certified on the caller's coordinates.
+
+:func:`triangulate` is the exact CDT of P and some points; :func:`load` leaves
+it in the kernel for INSERT to continue; :func:`load_mesh` loads a mesh that is
+triangulated already (the optimiser moves its points).
 """
 
 from __future__ import annotations
 
 import logging
 import numbers
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
 from ._kernel import cdt
 from ._kernel.distance import to_segments
+from ._kernel.outcomes import failed_site
 from .errors import InvalidSitesError
 from .polygon import Polygon
 from .sizefield import SizeField
+
+__all__ = ["triangulate", "load", "unload", "load_mesh", "Loaded", "boundary_tol", "hilbert_order"]
 
 log = logging.getLogger(__name__)
 
@@ -238,3 +246,150 @@ def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
     flip = cross < 0
     tris[flip] = tris[flip][:, ::-1]
     return np.ascontiguousarray(tris)
+
+
+@dataclass(frozen=True, eq=False)
+class Loaded:
+    """P and its sites in the kernel: the exact constrained Delaunay triangulation.
+
+    Attributes
+    ----------
+    m : cdt.Tri
+        The kernel's triangulation, in normalised coordinates.
+    xy : ndarray, shape (capacity, 2)
+        Its coordinate array: the polygon vertices, then the sites, then room
+        for the points still to come.
+    sites : ndarray, shape (k, 2)
+        The checked sites, in the caller's coordinates.
+    centre, scale :
+        The normalisation: kernel coordinates are ``(x - centre) / scale``.
+    max_triangles : int
+        The triangle capacity allocated.
+    """
+
+    m: object
+    xy: np.ndarray
+    sites: np.ndarray
+    centre: np.ndarray
+    scale: float
+    max_triangles: int
+
+
+def _spliced_rings(polygon: Polygon, boundary, nV: int) -> list[list[int]]:
+    """The polygon's rings with the boundary sites spliced in, as kernel vertex indices."""
+    by_edge: dict[int, list[tuple[float, int]]] = {}
+    for i, e, t in boundary:
+        by_edge.setdefault(e, []).append((t, nV + i))
+    rings = []
+    for r in range(len(polygon.rings)):
+        lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
+        ring = []
+        for e in range(lo, hi):
+            ring.append(e)  # edge e starts at vertex e (Polygon.edges layout)
+            ring.extend(k for _, k in sorted(by_edge.get(e, [])))
+        rings.append(ring)
+    return rings
+
+
+def load(polygon: Polygon, sites=None, *, size=None, room: int = 0) -> Loaded:
+    """Build the exact constrained Delaunay triangulation of P's vertices and ``sites``.
+
+    Sites are checked (:class:`~uniform2d.errors.InvalidSitesError` if outside
+    P, repeated, non-finite or on a polygon vertex); those on the boundary are
+    spliced into their ring, so they split its edges; the rings are
+    triangulated and made exactly Delaunay, then the interior sites inserted in
+    Hilbert order.  ``room`` points more fit in the arrays (INSERT's n);
+    ``size`` is the size field the kernel reads (see :func:`uniform2d.insert`).
+    """
+    sites = _check_sites(polygon, sites)
+    centre, scale = _normaliser(polygon)
+    interior, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
+
+    V = polygon.vertices
+    nV = len(V)
+    rings = _spliced_rings(polygon, boundary, nV)
+    allxy = np.concatenate([(V - centre) / scale, (sites - centre) / scale], axis=0)
+    nb0 = sum(len(r) for r in rings)
+    t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
+    tmax = t0 + 2 * (len(interior) + room) + 4
+    m, xy = cdt.allocate(nV + len(sites) + room, tmax, _size_grid(size, centre, scale))
+    xy[: len(allxy)] = allxy
+    cdt.set_nv(m, len(allxy))
+
+    tris = _initial_triangles(allxy, rings)
+    if len(tris) != t0:
+        raise RuntimeError(f"initial triangulation has {len(tris)} triangles, expected {t0}")
+    nbh = cdt.build_adjacency(m, tris)
+    if nbh != nb0:
+        raise RuntimeError("initial triangulation does not cover the polygon boundary")
+    cdt.legalize_all(m)
+
+    if interior:
+        idx = nV + np.asarray(interior, dtype=np.int64)
+        idx = idx[hilbert_order(allxy[idx])]
+        status = cdt.insert_sites(m, idx)
+        if status < 0:
+            raise RuntimeError(f"could not insert site {int(idx[failed_site(status)]) - nV}")
+    return Loaded(m, xy, sites, centre, scale, tmax)
+
+
+def unload(loaded: Loaded, mesh_points: np.ndarray) -> np.ndarray:
+    """The triangles (M, 3) of the kernel's mesh, exactly Delaunay for ``mesh_points``
+    (its vertices in the caller's coordinates; see :func:`_recertify`)."""
+    if loaded.centre.any():
+        _recertify(loaded.m, loaded.xy, mesh_points)
+    return cdt.triangle_list(loaded.m)
+
+
+def triangulate(polygon: Polygon, sites=None) -> tuple[np.ndarray, np.ndarray]:
+    """The exact constrained Delaunay triangulation of P with extra ``sites``.
+
+    Parameters
+    ----------
+    polygon : Polygon
+    sites : array_like, shape (k, 2), optional
+        Points inside P or on its boundary (those on it split their edges).
+
+    Returns
+    -------
+    points : ndarray, shape (|V| + k, 2)
+        The polygon's vertices, then the sites, exactly as given.
+    triangles : ndarray, shape (M, 3), int64
+        Counter-clockwise, restricted to P.
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.triangulation import triangulate
+    >>> pts, tri = triangulate(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), [(0.5, 0.5)])
+    >>> pts.shape, tri.shape
+    ((5, 2), (4, 3))
+    """
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    loaded = load(polygon, sites)
+    points = np.concatenate([polygon.vertices, loaded.sites], axis=0)
+    return points, unload(loaded, points)
+
+
+def load_mesh(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, size=None):
+    """A triangulated mesh of P (polygon vertices first) loaded into the kernel.
+
+    Returns ``(m, xy, centre, scale, boundary, graded)``: the kernel's
+    triangulation made exactly Delaunay in normalised coordinates, its
+    coordinate array, the normalisation, for every point on P's boundary
+    ``(index among the points after the polygon vertices, polygon edge,
+    parameter on it)``, and whether the kernel reads a (non-constant) size field.
+    """
+    nV = len(polygon.vertices)
+    P0 = np.asarray(points, dtype=np.float64)
+    T0 = np.asarray(triangles, dtype=np.int32)
+    _, boundary = _classify_sites(polygon, P0[nV:], boundary_tol(polygon))
+    centre, scale = _normaliser(polygon)
+    grid = _size_grid(size, centre, scale)
+    m, xy = cdt.allocate(len(P0), len(T0), grid)
+    xy[:] = (P0 - centre) / scale
+    cdt.set_nv(m, len(P0))
+    cdt.build_adjacency(m, T0)
+    cdt.legalize_all(m)
+    return m, xy, centre, scale, boundary, grid is not None

@@ -71,6 +71,7 @@ from numba import njit
 from .cdt import legalize_stack, nxt, prv
 from .heap import grown
 from .insert import size_at
+from .objective import MAX_EDGE, MAX_PERIMETER, RATIO, combine
 from .predicates import orient2d
 
 __all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "spread", "measure", "refresh_sizes"]
@@ -80,14 +81,11 @@ FIXED, FREE, SLIDE = 0, 1, 2
 RELEVANT = 1e-2
 #: A descent stage ends after PATIENCE sweeps in a row none of which lowered the
 #: objective by the fraction GAIN below the last value that did (slow creep is
-#: not worth the sweeps: on plate_hole and hypar the last 20 of 40 sweeps of a
-#: stage gained under 1e-4).
+#: not worth the sweeps).
 PATIENCE = 6
 GAIN = 1e-4
 #: Halvings of the step a line search tries before the vertex gives up.
 TRIES = 8
-#: Objectives, in the order of :data:`uniform2d.optimize.OBJECTIVES`.
-BALANCED, RATIO, MAX_EDGE, MAX_PERIMETER = 0, 1, 2, 3
 
 
 @njit(cache=True)
@@ -130,16 +128,13 @@ def measure(m, hv, href):
     return lmax, lmin, pmax
 
 
+_combine = njit(cache=True)(combine)
+
+
 @njit(cache=True)
 def objective_of(objective, lmax, lmin, pmax):
-    """The scalar minimised (as :func:`uniform2d.optimize.objective_value` with h = 1)."""
-    if objective == RATIO:
-        return lmax / lmin
-    if objective == MAX_EDGE:
-        return lmax
-    if objective == MAX_PERIMETER:
-        return pmax
-    return (lmax / lmin * lmax * pmax) ** (1.0 / 3.0)
+    """The scalar minimised, from the normalised extremes (see :mod:`.objective`)."""
+    return _combine(objective, lmax / lmin, lmax, pmax)
 
 
 @njit(cache=True)
@@ -529,8 +524,8 @@ def _weights(m, hv, href, k, objective):
     S_per``.  Linearised at the present mesh (log is concave, so a decrease of the
     linearisation is a decrease of the sum) each term is weighted by its exponent
     over its present value.  Equal weights would let the term with the largest
-    sum drown the others (at p = 64 the longest edge's term outweighs the largest
-    perimeter's some 50 times).  An edge so short that ``l**p`` underflows makes
+    sum drown the others (at large p the longest edge's term outweighs the
+    largest perimeter's by far).  An edge so short that ``l**p`` underflows makes
     ``S_short`` infinite and its weight 0 for that sweep (typically a polygon
     edge far below the target size, which fixes the shortest edge anyway).
     """

@@ -1,0 +1,164 @@
+"""The optimiser's pipeline: :func:`optimize_mesh` (see the package docstring)."""
+
+from __future__ import annotations
+
+import logging
+import math
+import numbers
+
+import numpy as np
+
+from .._kernel.distance import to_segments
+from ..errors import InsufficientPointsError
+from ..geometry import polygon_edges
+from ..insert import insert
+from ..mesh import Mesh
+from ..polygon import Polygon
+from ..quality import edge_lengths, quality
+from ..tplus import tplus
+from . import schedule as S
+from .moves import improve
+from .objective import extremes, objective_code, objective_value, quality_objective
+from .relocate import relocate
+from .seed import boundary_counts, boundary_points, boundary_rows, seed_interior, target_size, variants
+
+__all__ = ["optimize_mesh"]
+
+log = logging.getLogger(__name__)
+
+
+def _start(polygon: Polygon, n: int, h: float, variant):
+    """The sites of one start (boundary points, then the lattice) and which stay put."""
+    spacing, edge, layered = variant
+    a, d, L = polygon_edges(polygon)
+    m = boundary_counts(L, spacing * h, n)
+    bpts, _, _ = boundary_points(a, d, m)
+    rows = boundary_rows(polygon, m, spacing * h) if layered else None
+    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
+    # the lattice deeper than BAND sizes inside P is uniform already: it stays
+    deep = to_segments(ipts, a, a + d, 2.0 * S.BAND * h) > S.BAND * h
+    frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
+    return np.concatenate([bpts, ipts]), frozen, len(bpts)
+
+
+def _trial_value(polygon: Polygon, sites, frozen, objective: str, h: float, options):
+    """A short run from a start: (its sites after the run, its rank; lower is better)."""
+    nV = len(polygon.vertices)
+    pts, tri, _ = improve(
+        polygon, sites, objective=objective, href=h, frozen=frozen, **{**options, **S.TRIAL}
+    )
+    val = objective_value(objective, *extremes(pts, tri), h)
+    if objective == "balanced" and S.CV_WEIGHT:
+        _, Ls = edge_lengths(pts, tri)
+        val *= (Ls.std() / Ls.mean()) ** S.CV_WEIGHT
+    return pts[nV:], val
+
+
+def _best_start(polygon: Polygon, n: int, h: float, objective: str, options):
+    """Every start of :func:`~uniform2d.optimize.seed.variants`, ranked by a short run
+    when there are several: (sites, frozen, boundary points, variant) of the best."""
+    tried = variants(polygon, n)
+    best = None
+    for variant in tried:
+        sites, frozen, k = _start(polygon, n, h, variant)
+        val = 0.0
+        if len(tried) > 1:
+            sites, val = _trial_value(polygon, sites, frozen, objective, h, options)
+        if best is None or val < best[0]:
+            best = (val, sites, frozen, k, variant)
+    return best[1:]
+
+
+def _reference(polygon: Polygon, n: int, start):
+    """(T+ mesh or None, its quality or None, d_n) to compare the optimised mesh with."""
+    tp = start
+    if tp is None:
+        try:
+            tp = tplus(polygon, n)
+        except InsufficientPointsError as exc:  # too few points for T+, not for this method
+            log.info("uniform: no T+ to compare with (%s)", exc)
+    if tp is None:  # d_n for the certificates comes from INSERT alone
+        return None, None, insert(polygon, n).min_distance()
+    d_n = tp.info.get("d_n")
+    return tp, tp.quality(d_n=d_n if d_n is not None else False), d_n
+
+
+def _summary(q):
+    if q is None:
+        return None
+    return {
+        "edge_ratio": q.edge_ratio,
+        "longest_edge": q.longest_edge,
+        "max_perimeter": q.max_perimeter,
+        "cv_edge": q.cv_edge,
+        "min_angle": q.min_angle,
+    }
+
+
+def optimize_mesh(
+    polygon: Polygon,
+    n: int,
+    *,
+    objective: str = "balanced",
+    start: Mesh | None = None,
+    **options,
+) -> Mesh:
+    """The most uniform mesh with exactly ``n`` Steiner points (see :mod:`uniform2d.optimize`).
+
+    ``start`` is the T+ mesh to beat (computed if not given); ``options`` go to
+    :func:`~uniform2d.optimize.improve`.  If n is too small for T+
+    (:func:`uniform2d.tplus` raises
+    :class:`~uniform2d.errors.InsufficientPointsError`), there is nothing to
+    compare with: the optimised mesh is returned with ``info["start"]`` None, and
+    d_n for its certificates comes from :func:`uniform2d.insert`.
+    """
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+        raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+    objective_code(objective)
+    n = int(n)
+    nV = len(polygon.vertices)
+    tp, q_tp, d_n = _reference(polygon, n, start)
+
+    h = target_size(polygon, n)
+    sites, frozen, k, (spacing, edge, layered) = _best_start(polygon, n, h, objective, options)
+    pts, tri, run = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **options)
+    moved = 0
+    if n + nV <= S.RELOCATE_MAX:
+        pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options)
+    q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
+    v_new = quality_objective(objective, q_new, h)
+    v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
+
+    info = {
+        "method": "uniform",
+        "objective": objective,
+        "d_n": d_n,
+        "h": h,
+        "k": int(k),
+        "boundary_spacing": spacing,
+        "lattice_edge": edge,
+        "boundary_rows": layered,
+        "relax_iterations": run["spring_rounds"],
+        "sweeps": run["sweeps"],
+        "relocated": moved,
+        "start": (
+            None
+            if tp is None
+            else {"method": tp.info.get("method"), **_summary(q_tp), "objective": v_tp}
+        ),
+        "before": _summary(q_tp),
+        "after": _summary(q_new),
+        "objective_value": v_new,
+    }
+    if not (v_new <= v_tp) or len(pts) != nV + n:  # v_tp is inf without a T+
+        if tp is None:
+            raise RuntimeError(f"uniform: {len(pts) - nV} Steiner points instead of {n} (a bug)")
+        info["fallback"] = "tplus"
+        info["after"] = _summary(q_tp)
+        info["objective_value"] = v_tp
+        log.info("uniform: optimised mesh (%g) not better than T+ (%g); returning T+", v_new, v_tp)
+        return Mesh(np.array(tp.points), np.array(tp.triangles), polygon, n, {**tp.info, **info})
+    info["fallback"] = None
+    return Mesh(pts, tri, polygon, n, info)

@@ -1,0 +1,86 @@
+"""The optimiser's tuning: how long each stage runs and how far a move goes.
+
+Each constant is a choice measured on the benchmark polygons and patches (the
+measurements are in the commit history); the comments say what the constant
+controls and why it has the value it has.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+
+class Schedule(NamedTuple):
+    """Iteration counts of one :func:`uniform2d.optimize.improve` run."""
+
+    spring_rounds: int  # least-squares spring rounds first
+    sweeps: int  # descent sweeps per stage (at most)
+    exponents: tuple  # stage k minimises the p-norm energy with p = 2**k
+    spread_sweeps: int  # sweeps of the final stage that lowers the edge spread
+
+
+#: Meshes up to LARGE points: stages up to p = 256, which lowers the longest edge
+#: and the largest perimeter further than stopping at 64; beyond 256 the gain is
+#: small and the powers would overflow for edges off their target by 2x.
+SCHEDULE = Schedule(60, 40, (4, 5, 6, 7, 8), 20)
+#: Above LARGE points, where the work is kept near linear.
+SCHEDULE_LARGE = Schedule(30, 25, (4, 5), 5)
+#: With a size field (the surface layer) the stages stop at p = 64: the higher
+#: ones trade the bulk of the grading for the extremes, and the surface's
+#: targets are about the spread (CV) more than the extremes.  Shorter stages and
+#: a longer spread stage buy the same CV for less time.
+SCHEDULE_GRADED = Schedule(60, 25, (2, 3, 4, 5, 6), 30)
+#: Point counts (|V| + n) above which fewer starts are tried
+#: (:func:`uniform2d.optimize.seed.variants`) and SCHEDULE_LARGE is used.
+LARGE = 20000
+SMALL = 5000
+
+#: Quality guard of the moves: a triangle whose doubled area is below
+#: FLAT * target**2 may not get flatter (an equilateral one has 0.87 * target**2).
+FLAT = 0.1
+#: Spring rounds (:func:`uniform2d._kernel.relax.spring`): the step (fraction of
+#: the spring force applied per round), the pressure (rest lengths scaled so
+#: that their root mean square is this times the edges'), the relative
+#: displacement below which the rounds stop, and the cap of a move (fraction of
+#: the target length).
+SPRING_STEP = 0.2
+SPRING_PRESSURE = 1.02
+SPRING_TOL = 1e-4
+SPRING_CAP = 0.3
+#: First step of a descent or spread line search (fraction of the target length).
+SEARCH_STEP = 0.05
+
+#: Boundary spacings (relative to h) tried for small and medium meshes.
+SPACINGS = (1.0, 0.95, 1.05)
+SPACINGS_MEDIUM = (1.0, 1.05)
+#: Seeds tried: the plain lattice (False) and boundary rows + lattice (True).
+LAYERED = (False, True)
+LAYERED_MEDIUM = (True,)
+LAYERED_LARGE = True
+#: The short schedule that ranks the starts (the best one then gets the full one).
+TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5), "spread_sweeps": 0}
+#: With ``"balanced"``, the short run ranks the starts by its objective value
+#: times the edge CV to this power: the start fixes the mesh's structure, and
+#: with it the CV the moves can reach (on a rectangle, a lattice aligned with a
+#: short side meets the long sides along a row of 5-7 pairs), which the
+#: extremes alone do not see.  The weight buys a clearly lower CV for a small
+#: cost in the extremes.
+CV_WEIGHT = 0.5
+#: Lattice seed points farther than BAND target sizes from the boundary stay put.
+BAND = 8.0
+
+#: Relocation moves (:func:`uniform2d.optimize.relocate.relocate`), for meshes up
+#: to RELOCATE_MAX points: tries, the radius (in target sizes) re-relaxed around
+#: a move, and its schedule.  A try costs a CDT of the whole mesh and moves one
+#: point, so it pays only where one point matters: in small meshes.
+RELOCATE_MAX = 1000
+RELOCATE_TRIES = 15
+RELOCATE_RADIUS = 4.0
+RELOCATE = {"spring_rounds": 20, "sweeps": 20, "exponents": (3, 4, 5, 6), "spread_sweeps": 10}
+
+
+def schedule_for(n_points: int, graded: bool) -> Schedule:
+    """The default schedule for a mesh of ``n_points`` points, with or without a size field."""
+    if n_points > LARGE:
+        return SCHEDULE_LARGE
+    return SCHEDULE_GRADED if graded else SCHEDULE

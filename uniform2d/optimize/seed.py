@@ -1,0 +1,302 @@
+"""Starting points for the optimiser: boundary pieces and a hexagonal lattice.
+
+Boundary counts, lattice orientation and the seed's first layer fix the mesh's
+structure, which moving points cannot change; :func:`variants` lists the
+starts the pipeline tries.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from .._kernel.distance import to_segments
+from ..geometry import polygon_edges, size_for_count
+from ..polygon import Polygon
+from ..triangulation import triangulate
+from . import schedule
+
+__all__ = ["target_size", "lattice_seed", "variants", "boundary_counts", "boundary_points"]
+
+#: Corner fan points sit at most FAN_CAP target sizes from their corner.
+FAN_CAP = 1.5
+
+
+def target_size(polygon: Polygon, n: int) -> float:
+    """Side h of an equilateral mesh of P with |V| + n vertices.
+
+    The inverse of :func:`uniform2d.steiner_count_for_size`."""
+    return size_for_count(polygon.area, polygon.perimeter, n + len(polygon.vertices), polygon.n_holes)
+
+
+def boundary_counts(L: np.ndarray, h: float, n: int) -> np.ndarray:
+    """Pieces per polygon edge: round(L/h), at least 1, at most n extra points in total."""
+    m = np.maximum(1, np.rint(L / h)).astype(np.int64)
+    while (m - 1).sum() > n:
+        e = int(np.argmin(np.where(m > 1, L / m, np.inf)))  # merge on the shortest pieces
+        m[e] -= 1
+    return m
+
+
+def boundary_points(a, d, m):
+    """The points splitting polygon edge e (start a[e], vector d[e]) into m[e]
+    equal pieces: (points, their edge, their parameter on it)."""
+    pts, eid, t = [], [], []
+    for e in range(len(m)):
+        s = np.arange(1, m[e]) / m[e]
+        pts.append(a[e] + d[e] * s[:, None])
+        eid.append(np.full(len(s), e, dtype=np.int64))
+        t.append(s)
+    if not pts:
+        return np.empty((0, 2)), np.empty(0, np.int64), np.empty(0)
+    return np.concatenate(pts), np.concatenate(eid), np.concatenate(t)
+
+
+def _hex_lattice(polygon: Polygon, spacing: float, angle: float, origin) -> np.ndarray:
+    xmin, ymin, xmax, ymax = polygon.bounds
+    cx, cy = (xmin + xmax) / 2, (ymin + ymax) / 2
+    R0 = math.hypot(xmax - xmin, ymax - ymin) / 2 + 2 * spacing
+    R = R0 + math.hypot(origin[0] - cx, origin[1] - cy)
+    dy = spacing * math.sqrt(3.0) / 2
+    nr = int(math.ceil(R / dy)) + 1
+    nc = int(math.ceil(R / spacing)) + 2
+    j, i = np.meshgrid(np.arange(-nr, nr + 1), np.arange(-nc, nc + 1), indexing="ij")
+    u = (i + 0.5 * (j & 1)) * spacing
+    v = j * dy
+    c, s = math.cos(angle), math.sin(angle)
+    # lattice anchored at ``origin`` (a polygon vertex), rotated by ``angle``
+    x = origin[0] + c * u - s * v
+    y = origin[1] + s * u + c * v
+    keep = (np.abs(x - cx) <= R0) & (np.abs(y - cy) <= R0)
+    return np.stack([x[keep], y[keep]], axis=1)
+
+
+def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarray:
+    """Exactly ``count`` points of a hexagonal lattice inside P, away from its boundary.
+
+    With ``rows`` (default), the first layer is a fan at every corner of
+    90 degrees or more that is not within 30 degrees of straight (points one
+    edge length from the corner that split its angle into near-60-degree
+    parts), then one point above the middle of every polygon edge, at the apex
+    of the equilateral triangle on it (those crowding a point before them
+    dropped): the boundary's own spacing, wherever it is.  The lattice, aligned
+    with P's longest edge, fills the rest; its spacing is chosen so that the
+    count comes out (the last few are dropped near the boundary or added in the
+    largest gaps).  A structured start for :func:`uniform2d.optimize.improve`:
+    relaxing a lattice ends far more uniform than relaxing scattered points.
+
+    Parameters
+    ----------
+    polygon : Polygon
+    count : int
+    rows : bool
+
+    Returns
+    -------
+    ndarray, shape (count, 2)
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.optimize import lattice_seed
+    >>> lattice_seed(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 9).shape
+    (9, 2)
+    """
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    count = int(count)
+    h = target_size(polygon, count)
+    first = boundary_rows(polygon, np.ones(len(polygon.edges), np.int64), h) if rows else None
+    return seed_interior(polygon, count, h, np.empty((0, 2)), None, first)
+
+
+def boundary_rows(polygon: Polygon, m: np.ndarray, h: float) -> np.ndarray:
+    """One row of points along every polygon edge: above the middle of each of its
+    m[e] pieces, at the apex of the equilateral triangle on it (inside P), after
+    the corners' fans (:func:`corner_fans`), keeping only those clear of the
+    other edges and of the points before them (the fans win at corners)."""
+    a, d, L = polygon_edges(polygon)
+    rows, gaps = corner_fans(polygon, L / m, h)
+    for e in range(len(L)):
+        g = L[e] / m[e]
+        nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: into P on every ring
+        s = (np.arange(m[e]) + 0.5) / m[e]
+        rows.append(a[e] + d[e] * s[:, None] + nrm * g * math.sqrt(3) / 2)
+        gaps.append(np.full(m[e], g))
+    R, G = np.concatenate(rows), np.concatenate(gaps)
+    shp = polygon.to_shapely()
+    ok = shapely.contains_xy(shp, R[:, 0], R[:, 1])
+    ok &= to_segments(R, a, a + d, 0.6 * G.max()) >= 0.6 * G
+    R, G = R[ok], G[ok]
+    keep = []
+    tree = cKDTree(R)
+    taken = np.zeros(len(R), bool)
+    for i in range(len(R)):  # greedy, in ring order: the first of two crowded points stays
+        if taken[i]:
+            continue
+        keep.append(i)
+        taken[tree.query_ball_point(R[i], 0.75 * G[i])] = True
+    return R[keep]
+
+
+def corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
+    """Points that split every polygon corner of angle theta into
+    k = round(theta / 60 degrees) equal angles, one boundary piece away from the
+    corner (at most :data:`FAN_CAP` h: a polygon edge left whole is no guide):
+    the corner's fan of near-equilateral triangles.  Only for k = 2 and k >= 4:
+    below 90 degrees there is nothing to split, and a vertex within 30 degrees
+    of straight (k = 3) is split into three by the apexes of
+    :func:`boundary_rows` already (on the surface layer's domains, those are
+    the vertices that are not corners).
+
+    Returns lists of (1, 2) points and of their (1,) spacings."""
+    E = polygon.edges
+    V = polygon.vertices
+    theta = polygon.interior_angles()
+    _, d, L = polygon_edges(polygon)
+    e_in = np.empty(len(V), np.int64)
+    e_in[E[:, 1]] = np.arange(len(E))
+    out, gaps = [], []
+    for e in range(len(E)):  # e leaves vertex v: the interior is on its left
+        v = E[e, 0]
+        k = int(math.floor(theta[v] / (math.pi / 3) + 0.5))
+        if k < 2 or k == 3:  # k = 3: a near-straight vertex, the rows' apexes split it
+            continue
+        g = min(0.5 * (piece[e] + piece[e_in[v]]), FAN_CAP * h)
+        u = d[e] / L[e]
+        for j in range(1, k):
+            phi = j * theta[v] / k
+            c, s = math.cos(phi), math.sin(phi)
+            out.append(V[v] + g * np.array([[c * u[0] - s * u[1], s * u[0] + c * u[1]]]))
+            gaps.append(np.full(1, g))
+    return out, gaps
+
+
+class _Candidates:
+    """Lattice points of a given spacing inside P, clear of its boundary and of
+    the first rows (when given): the candidates :func:`seed_interior` counts."""
+
+    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows):
+        a, d, L = polygon_edges(polygon)
+        e = int(np.argmax(L)) if edge is None else int(edge)
+        self.polygon = polygon
+        self.angle = math.atan2(d[e, 1], d[e, 0])
+        # anchor a lattice row at distance h·√3/2 inside the chosen edge
+        nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: inside for the CCW outer ring
+        self.origin = a[e] + nrm * h * math.sqrt(3) / 2 + d[e] / L[e] * (h / 2)
+        self.shape = polygon.to_shapely()
+        shapely.prepare(self.shape)
+        self.sa, self.sb = a, a + d
+        self.rows = rows
+        if rows is not None:
+            self.rtree = cKDTree(rows)
+            self.band = h * math.sqrt(3) / 2
+
+    def __call__(self, sp):
+        P = _hex_lattice(self.polygon, sp, self.angle, self.origin)
+        inside = shapely.contains_xy(self.shape, P[:, 0], P[:, 1])
+        P = P[inside]
+        rows = self.rows is not None
+        # only distances below the cap matter, here and in the drop below
+        cap = (2.0 * self.band + 2.0 * sp) if rows else 2.0 * sp
+        dist = to_segments(P, self.sa, self.sb, cap)
+        ok = dist >= 0.5 * sp
+        if rows:  # rows lie within ~band of the boundary: test only near ones
+            ok &= dist >= self.band + 0.5 * sp
+            near = np.flatnonzero(ok & (dist < 2.0 * self.band + sp))
+            ok[near] = self.rtree.query(P[near])[0] >= 0.75 * sp
+        return P[ok], dist[ok]
+
+
+def _closest_count(cand: _Candidates, count: int, h: float):
+    """Bisection on the lattice spacing for ``count`` candidates (the count
+    decreases with the spacing); the best (points, distances) found."""
+    lo, hi = 0.5 * h, 1.5 * h
+    best = None
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        P, dist = cand(mid)
+        if best is None or abs(len(P) - count) < abs(len(best[0]) - count) or (
+            abs(len(P) - count) == abs(len(best[0]) - count) and len(P) >= count
+        ):
+            best = (P, dist)
+        if abs(len(P) - count) <= count // 500:  # close: the fix-up after it is exact
+            break
+        if len(P) > count:
+            lo = mid
+        else:
+            hi = mid
+    return best
+
+
+def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int) -> np.ndarray:
+    """Add the centroids of the largest triangles until there are ``count`` points."""
+    while len(P) < count:
+        allp = np.concatenate([polygon.vertices, bpts, P])
+        _, tri = triangulate(polygon, allp[len(polygon.vertices):])
+        q = allp[tri]
+        u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
+        area = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
+        need = count - len(P)
+        order = np.lexsort((np.arange(len(tri)), -area))[:need]
+        P = np.concatenate([P, q[order].mean(axis=1)])
+    return P
+
+
+def seed_interior(
+    polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
+    rows: np.ndarray | None = None,
+) -> np.ndarray:
+    """``count`` interior points on a hexagonal lattice aligned with polygon edge
+    ``edge`` (default: the longest), deterministic.  With ``rows`` (from
+    :func:`boundary_rows`) those come first and the lattice fills the rest,
+    clear of them."""
+    if count <= 0:
+        return np.empty((0, 2))
+    if rows is not None and len(rows) >= count:
+        rows = None
+    cand = _Candidates(polygon, h, edge, rows)
+    total = count
+    if rows is not None:
+        count = total - len(rows)
+    P, dist = _closest_count(cand, count, h)
+    if len(P) > count:  # drop the points nearest to the boundary
+        if np.count_nonzero(dist < dist.max()) < len(P) - count:  # capped ones would go
+            dist = to_segments(P, cand.sa, cand.sb, np.inf)
+        order = np.lexsort((np.arange(len(P)), dist))
+        P = P[np.sort(order[len(P) - count :])]
+    if rows is not None:
+        P = np.concatenate([rows, P])
+        count = total
+    return _fill_largest_gaps(polygon, bpts, P, count)
+
+
+def variants(polygon: Polygon, n: int):
+    """The starts tried: (boundary spacing / h, lattice edge, boundary rows).
+
+    Boundary counts, lattice orientation and the seed's first layer decide the
+    mesh's structure, which the point moves cannot change, and the best choice
+    depends on the polygon.  Small meshes (up to ``schedule.SMALL`` points) try
+    the lattice aligned with the longest edge and with the longest one at
+    another angle (modulo 60 degrees), each with every boundary spacing of
+    ``schedule.SPACINGS``, with and without a row of points on every edge
+    (:func:`boundary_rows`); up to ``schedule.LARGE`` points the
+    ``schedule.SPACINGS_MEDIUM`` with rows; beyond, where a start costs most,
+    one start.
+    """
+    _, d, L = polygon_edges(polygon)
+    first = int(np.argmax(L))
+    if n + len(polygon.vertices) > schedule.LARGE:
+        return [(1.0, first, schedule.LAYERED_LARGE)]
+    ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+    off = np.abs((ang - ang[first] + 30.0) % 60.0 - 30.0)
+    other = [e for e in np.lexsort((np.arange(len(L)), -L)) if off[e] > 5.0]
+    edges = [first] + ([int(other[0])] if other else [])
+    if n + len(polygon.vertices) <= schedule.SMALL:
+        spacings, layers = schedule.SPACINGS, schedule.LAYERED
+    else:
+        spacings, layers = schedule.SPACINGS_MEDIUM, schedule.LAYERED_MEDIUM
+    return [(c, e, lay) for lay in layers for e in edges for c in spacings]
