@@ -16,7 +16,8 @@ Cases:
 * the surface patches (``data/patches/*.obj``, and any ``--patches`` given):
   ``surface.remesh`` at 600 vertices, lattice + optimiser (default) and INSERT
   alone (``optimize=False``), and the MeshLab peer's isotropic remeshing at the
-  patch's size for 600 vertices (skipped if the surface extra is missing).
+  patch's size for 600 vertices (skipped if the surface extra is missing);
+  with ``--tuned`` also the MeshLab peer tuned to 600 vertices.
 
 Run:  python benchmarks/hash_meshes.py [--n 200 1000 10000] [--patches DIR ...] > hashes.txt
 """
@@ -62,7 +63,7 @@ def planar(name: str, poly, ns, small: int = 200) -> None:
     emit(f"{name} insert n={small}", r.mesh_points, r.triangles, f"last weight {r.weights[-1]:.9g}")
 
 
-def patches(paths) -> None:
+def patches(paths, tuned: bool) -> None:
     try:
         import surface
         from uniform2d.peers import meshlab_peer
@@ -80,12 +81,16 @@ def patches(paths) -> None:
         size = uniform2d.peers.size_for_count(patch.area, 0.0, 600)
         V, F = meshlab_peer.mesh_with_size(patch.vertices, patch.faces, size)
         emit(f"{path.stem} meshlab size={size:.6g}", V, F)
+        if tuned:
+            pm = meshlab_peer.mesh((patch.vertices, patch.faces), 600)
+            emit(f"{path.stem} meshlab tuned to 600", pm.points, pm.triangles, f"size {pm.size!r}")
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, nargs="*", default=[200, 1000, 10000])
     ap.add_argument("--patches", type=Path, nargs="*", default=[], help="more folders of .obj patches")
+    ap.add_argument("--tuned", action="store_true", help="also the MeshLab peer tuned to 600 vertices")
     args = ap.parse_args(argv)
     for path in sorted((DATA / "benchmarks").glob("*.json")):
         planar(path.stem, read_polygon(path), args.n)
@@ -96,7 +101,7 @@ def main(argv=None) -> int:
     found = sorted((DATA / "patches").glob("*.obj"))
     for folder in args.patches:
         found += sorted(folder.glob("*.obj"))
-    patches(found)
+    patches(found, args.tuned)
     return 0
 
 

@@ -18,7 +18,7 @@ from .errors import CrossCheckError, InvalidPatchError, ParameterizationError
 from .io import read_patch, write_patch
 from .parameterize import Parameterization, parameterize
 from .patch import Patch, as_patch
-from .remesh import RemeshResult, isotropic_remesh, remesh
+from .remesh import RemeshResult, remesh
 from .report import Report
 
 __all__ = [
@@ -31,7 +31,6 @@ __all__ = [
     "as_patch",
     "parameterize",
     "Parameterization",
-    "isotropic_remesh",
     "InvalidPatchError",
     "ParameterizationError",
     "CrossCheckError",

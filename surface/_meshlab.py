@@ -1,18 +1,14 @@
-"""The one adapter around pymeshlab (no other module imports :mod:`pymeshlab`).
+"""The surface layer's adapter around pymeshlab: the cross-check and Hausdorff distances.
 
-Facts about pymeshlab 2025.7 this module relies on (measured): meshes are stored
-in double precision, so per-face edge lengths computed by MeshLab's muparser
-agree with numpy to rounding; ``get_geometric_measures`` reports
-``avg_edge_length`` and ``total_edge_length`` in double precision but
-``surface_area`` in single precision (not used for the cross-check);
-``get_hausdorff_distance`` reports single-precision distances;
-``meshing_isotropic_explicit_remeshing`` takes ``targetlen`` as a
-``PercentageValue`` by default, an absolute length is passed as ``PureValue``;
-its ``maxsurfdist`` default (1 % of the bounding-box diagonal) is not reliably
-computed on the input: in some processes the same call behaved as if the
-surface-distance check were off (the bundled cap60 at target length 0.34 gave
-41 vertices instead of 56, exactly what ``checksurfdist=False`` gives), so the
-default is passed explicitly.
+(MeshLab's own remeshing, a comparison baseline, is the peer
+:mod:`uniform2d.peers.meshlab_peer`.)
+
+Facts about pymeshlab 2025.7 this module relies on: meshes are stored in double
+precision, so per-face edge lengths computed by MeshLab's muparser agree with
+numpy to rounding; ``get_geometric_measures`` reports ``avg_edge_length`` and
+``total_edge_length`` in double precision but ``surface_area`` in single
+precision (not used for the cross-check); ``get_hausdorff_distance`` reports
+single-precision distances.
 """
 
 from __future__ import annotations
@@ -21,11 +17,7 @@ import numpy as np
 
 import pymeshlab
 
-__all__ = ["edge_measures", "hausdorff", "isotropic_remesh"]
-
-#: MeshLab's own default for the remeshing's surface-distance check, as a
-#: fraction of the input's bounding-box diagonal (passed explicitly, see above).
-MAX_SURFACE_DISTANCE = 0.01
+__all__ = ["edge_measures", "hausdorff"]
 
 _L = [
     "sqrt((x1-x0)^2+(y1-y0)^2+(z1-z0)^2)",
@@ -111,36 +103,3 @@ def hausdorff(Va, Fa, Vb, Fb, samples: int) -> dict:
         "rms": float(r["RMS"]),
         "n_samples": int(r["n_samples"]),
     }
-
-
-def isotropic_remesh(V, F, target_length: float, iterations: int = 10):
-    """MeshLab's isotropic explicit remeshing with an absolute target edge length.
-
-    MeshLab's defaults otherwise, with its surface-distance check at
-    :data:`MAX_SURFACE_DISTANCE` of the bounding-box diagonal passed explicitly.
-
-    Parameters
-    ----------
-    V : (N, 3) float64
-    F : (M, 3) int
-    target_length : float
-        Target edge length in model units.
-    iterations : int
-
-    Returns
-    -------
-    vertices : (N', 3) float64
-    faces : (M', 3) int64
-    """
-    ms = _meshset((V, F))
-    diag = float(np.linalg.norm(np.ptp(np.asarray(V, dtype=np.float64), axis=0)))
-    ms.meshing_isotropic_explicit_remeshing(
-        iterations=int(iterations),
-        targetlen=pymeshlab.PureValue(float(target_length)),
-        maxsurfdist=pymeshlab.PureValue(MAX_SURFACE_DISTANCE * diag),
-    )
-    m = ms.current_mesh()
-    return (
-        np.array(m.vertex_matrix(), dtype=np.float64),
-        np.array(m.face_matrix(), dtype=np.int64),
-    )

@@ -1,7 +1,7 @@
 """Point location in a planar triangle mesh by walking from a nearby face.
 
 For queries that each come with a face they are known to be near (the chord
-ends of :func:`surface.domain.interior_chord_error` lie about half an output
+ends of :func:`surface.chord.interior_chord_error` lie about half an output
 edge from an input vertex), a walk across a few faces beats a tree search over
 the whole mesh.  The walk (a *visibility walk*): at face ``f`` with
 counter-clockwise corners ``(v0, v1, v2)``, if the query ``q`` lies strictly to

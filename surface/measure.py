@@ -17,15 +17,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from uniform2d.quality import _unique_edges
+from uniform2d.geometry import unique_edges
 
 __all__ = ["unique_edges", "edge_lengths", "face_edge_lengths", "corner_angles", "edge_stats"]
-
-
-def unique_edges(F) -> np.ndarray:
-    """Unique undirected edges of faces (M, 3) -> (E, 2) int64, sorted, ``e[:, 0] < e[:, 1]``."""
-    F = np.asarray(F, dtype=np.int64)
-    return _unique_edges(F, int(F.max()) + 1 if F.size else 1)[0]
 
 
 def edge_lengths(V, E) -> np.ndarray:

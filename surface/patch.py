@@ -160,6 +160,14 @@ class Patch:
         return float(self.face_areas.sum())
 
     @property
+    def boundary_length(self) -> float:
+        """Total 3-D length of the boundary loops."""
+        V = self._vertices
+        return float(
+            sum(np.linalg.norm(V[np.roll(lp, -1)] - V[lp], axis=1).sum() for lp in self.boundary_loops)
+        )
+
+    @property
     def diagonal(self) -> float:
         """Length of the bounding-box diagonal."""
         return float(np.linalg.norm(self._vertices.max(axis=0) - self._vertices.min(axis=0)))

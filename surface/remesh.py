@@ -19,7 +19,10 @@ import time
 
 import numpy as np
 
+from uniform2d import insert
 from uniform2d.errors import InsufficientPointsError
+from uniform2d.geometry import boundary_edges, nearest_segment, segment_distance
+from uniform2d.optimize import improve, lattice_seed
 
 from . import _igl, _meshlab
 from .domain import CORNER_ANGLE, Domain, boundary_domain
@@ -32,7 +35,7 @@ from .sizing import (
     compensation_field, size_variation, target_size, vertex_count, vertex_scale
 )
 
-__all__ = ["RemeshResult", "remesh", "isotropic_remesh"]
+__all__ = ["RemeshResult", "remesh"]
 
 log = logging.getLogger(__name__)
 
@@ -107,9 +110,6 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
     mesher : str
         What produced the mesh (goes into the report).
     """
-    from uniform2d import insert
-    from uniform2d.optimize import improve, lattice_seed
-
     graded = "" if size_field is None else " with size field"
     if optimize and n_interior:
         P, T, _ = improve(polygon, lattice_seed(polygon, n_interior), size=size_field)
@@ -125,30 +125,6 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
             f"planar mesher broke its contract: {len(P)} points for {K} + {n_interior}"
         )
     return P, T, desc
-
-
-def _boundary_mask(T, n):
-    E = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]])
-    srt = np.sort(E, axis=1)
-    key = srt[:, 0].astype(np.int64) * n + srt[:, 1]
-    _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
-    once = cnt[inv.ravel()] == 1
-    mask = np.zeros(n, dtype=bool)
-    mask[E[once].ravel()] = True
-    return mask, E[once]  # boundary edges keep their triangle direction
-
-
-def _segment_distance(P, A, B):
-    """Distance from each point (K, 3) to the nearest of segments A[i]-B[i] (E, 3)."""
-    out = np.full(len(P), np.inf)
-    AB = B - A
-    L2 = np.einsum("ij,ij->i", AB, AB)
-    for s in range(0, len(P), 256):
-        p = P[s : s + 256, None, :]
-        t = np.clip(np.einsum("kij,ij->ki", p - A[None], AB) / L2, 0.0, 1.0)
-        q = A[None] + t[..., None] * AB[None]
-        out[s : s + 256] = np.linalg.norm(p - q, axis=2).min(axis=1)
-    return out
 
 
 def _as_count(n) -> int:
@@ -205,7 +181,7 @@ def remesh(
         input vertices, edges shortened down to 0.8 of the spacing; see
         :func:`surface.domain.boundary_domain`).  ``"auto"`` (default): the larger
         of 1/128 and the chord error the interior of the mesh has anyway
-        (:func:`surface.domain.interior_chord_error`).  None: evenly spaced boundary.
+        (:func:`surface.chord.interior_chord_error`).  None: evenly spaced boundary.
     check : bool
         Run the pymeshlab cross-check (raises CrossCheckError on disagreement).
     hausdorff : bool
@@ -233,16 +209,78 @@ def remesh(
     times = {}
     t0 = time.perf_counter()
     P: Patch = as_patch(patch)
-    V, F = P.vertices, P.faces
     times["check"] = time.perf_counter() - t0
 
     t = time.perf_counter()
     prm = parameterize(P, param)
     times["parameterize"] = time.perf_counter() - t
 
-    A = P.area
-    Bl = float(sum(np.linalg.norm(V[np.roll(lp, -1)] - V[lp], axis=1).sum() for lp in P.boundary_loops))
-    chi = P.euler_characteristic
+    N, h = _count_and_size(P, n_vertices, size)
+    t = time.perf_counter()
+    measure = "3d" if compensate else "uv"
+
+    def domain_at(hm):
+        return boundary_domain(
+            P, prm.uv, hm, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol
+        )
+
+    domain = domain_at(h)
+    times["domain"] = time.perf_counter() - t
+    K = len(domain.polygon.vertices)
+    if N < K:
+        raise _too_few(P, N, size, K, domain.n_corners, domain_at)
+
+    t = time.perf_counter()
+    sv = vertex_scale(P.vertices, P.faces, prm.area_scale)
+    field = None  # a constant size: no field
+    if size_variation(sv) > UNIFORM_SIZE:
+        field = compensation_field(P.vertices, P.faces, prm.uv, prm.area_scale, h, scale=sv)
+    times["size_field"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    pts, tris, mesher = _mesh_domain(
+        domain.polygon, N - K, field if compensate else None, optimize=optimize
+    )
+    times["mesh_2d"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    xyz, bmask, lifted = _lift(P, prm, domain, pts, tris)
+    times["lift"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    stats = edge_stats(xyz, tris)
+    fidelity = _fidelity(P, xyz, tris, bmask, lifted)
+    times["measure"] = time.perf_counter() - t
+    meshlab = _meshlab_checks(P, xyz, tris, stats, fidelity, times, check, hausdorff)
+    times["total"] = time.perf_counter() - t0
+
+    dist = prm.distortion(P.face_areas)
+    dist["attempts"] = [list(a) for a in prm.attempts]
+    report = Report(
+        n_vertices=len(pts),
+        n_faces=len(tris),
+        n_boundary=int(bmask.sum()),
+        n_corners=domain.n_corners,
+        target_size=h,
+        diagonal=P.diagonal,
+        edges={k: v for k, v in stats.items() if not k.startswith("face_")},
+        edges_uv={k: v for k, v in edge_stats(pts, tris).items() if not k.startswith("face_")},
+        meshlab=meshlab,
+        parameterization=dist,
+        size_trend=_size_trend(pts, tris, xyz, field, h),
+        fidelity=fidelity,
+        timings=times,
+        mesher=mesher,
+        compensate=bool(compensate),
+    )
+    for arr in (xyz, tris, pts, bmask):
+        arr.setflags(write=False)
+    return RemeshResult(xyz, tris, pts, bmask, report, domain)
+
+
+def _count_and_size(P: Patch, n_vertices, size) -> tuple[int, float]:
+    """The vertex count N and target edge length h asked for (one gives the other)."""
+    A, Bl, chi = P.area, P.boundary_length, P.euler_characteristic
     if n_vertices is not None and size is not None:
         raise ValueError("give n_vertices or size, not both")
     if size is not None:
@@ -255,100 +293,88 @@ def remesh(
     else:
         N = P.n_vertices if n_vertices is None else _as_count(n_vertices)
         h = target_size(A, Bl, N, chi) if N - chi > 0 else float("inf")
+    return N, h
 
-    t = time.perf_counter()
-    measure = "3d" if compensate else "uv"
-    domain = boundary_domain(
-        P, prm.uv, h, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol
+
+def _too_few(P: Patch, N: int, size, K: int, n_corners: int, domain_at):
+    """The error for a count below the boundary's own K points, with the smallest
+    count m that works (the least m whose domain has at most m points)."""
+    A, Bl, chi = P.area, P.boundary_length, P.euler_characteristic
+
+    def boundary_count(m):
+        return len(domain_at(target_size(A, Bl, m, chi)).polygon.vertices)
+
+    lo, hi = N, max(2 * N, 16)
+    while boundary_count(hi) > hi:
+        lo, hi = hi, 2 * hi
+    while hi - lo > 1:  # smallest m with boundary_count(m) <= m
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if boundary_count(mid) <= mid else (mid, hi)
+    what = f"n_vertices={N}" if size is None else f"size={size} (about {N} vertices)"
+    return InsufficientPointsError(
+        f"{what} is too small: the boundary alone needs {K} points at that size "
+        f"({n_corners} corners kept); the smallest vertex count that works "
+        f"is {hi}"
     )
-    times["domain"] = time.perf_counter() - t
-    K = len(domain.polygon.vertices)
-    n_int = N - K
-    if n_int < 0:
 
-        def boundary_count(m):
-            hm = target_size(A, Bl, m, chi)
-            return len(_domain(hm).polygon.vertices)
 
-        def _domain(hm):
-            return boundary_domain(
-                P, prm.uv, hm, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol
-            )
+def _lift(P: Patch, prm, domain, pts, tris):
+    """The planar mesh on the patch: (xyz, boundary mask, the interior's lift).
 
-        lo, hi = N, max(2 * N, 16)
-        while boundary_count(hi) > hi:
-            lo, hi = hi, 2 * hi
-        while hi - lo > 1:  # smallest m with boundary_count(m) <= m
-            mid = (lo + hi) // 2
-            lo, hi = (lo, mid) if boundary_count(mid) <= mid else (mid, hi)
-        what = f"n_vertices={N}" if size is None else f"size={size} (about {N} vertices)"
-        raise InsufficientPointsError(
-            f"{what} is too small: the boundary alone needs {K} points at that size "
-            f"({domain.n_corners} corners kept); the smallest vertex count that works "
-            f"is {hi}"
-        )
-
-    t = time.perf_counter()
-    sv = vertex_scale(V, F, prm.area_scale)
-    field = None  # a constant size: no field
-    if size_variation(sv) > UNIFORM_SIZE:
-        field = compensation_field(V, F, prm.uv, prm.area_scale, h, scale=sv)
-    times["size_field"] = time.perf_counter() - t
-
-    t = time.perf_counter()
-    pts, tris, mesher = _mesh_domain(
-        domain.polygon, n_int, field if compensate else None, optimize=optimize
-    )
-    times["mesh_2d"] = time.perf_counter() - t
-
-    t = time.perf_counter()
-    n = len(pts)
-    bmask, bedges = _boundary_mask(tris, n)
+    Polygon vertices go where the domain placed them; points the planar mesher
+    put on polygon edges go to the same fraction of the input boundary arc;
+    interior points are lifted through the parameterisation."""
+    V, F = P.vertices, P.faces
+    n, K = len(pts), len(domain.polygon.vertices)
+    bmask = np.zeros(n, dtype=bool)
+    bmask[boundary_edges(tris, n).ravel()] = True
     xyz = np.zeros((n, 3))
     xyz[:K] = domain.xyz
     extra = np.flatnonzero(bmask[K:]) + K
     if len(extra):
-        # points the mesher put on polygon edges: find their edge, map onto the arc
         ring_next = np.empty(K, dtype=np.int64)
         off = domain.polygon.ring_offsets
         for r in range(len(off) - 1):
             idx = np.arange(off[r], off[r + 1])
             ring_next[idx] = np.roll(idx, -1)
         pv = domain.polygon.vertices
-        a, b = pv, pv[ring_next]
-        ab = b - a
         for k in extra:
-            q = pts[k]
-            tt = np.clip(((q - a) * ab).sum(1) / (ab * ab).sum(1), 0, 1)
-            d = np.linalg.norm(a + tt[:, None] * ab - q, axis=1)
-            e = int(np.argmin(d))
-            xyz[k] = domain.chord_points([e], [ring_next[e]], [tt[e]], V)[0][0]
+            e, tt = nearest_segment(pts[k], pv, pv[ring_next])
+            xyz[k] = domain.chord_points([e], [ring_next[e]], [tt], V)[0][0]
         log.info("%d points were inserted on the boundary", len(extra))
     inner = np.flatnonzero(~bmask)
     lifted = lift(pts[inner], V, F, prm.uv)
     xyz[inner] = lifted.xyz
-    times["lift"] = time.perf_counter() - t
+    return xyz, bmask, lifted
 
-    t = time.perf_counter()
-    stats = edge_stats(xyz, tris)
-    stats_uv = edge_stats(pts, tris)
+
+def _size_trend(pts, tris, xyz, field, h):
+    """:func:`surface.report.size_trend` of the 3-D edges against the field's area scale."""
     E = unique_edges(tris)
     mid = 0.5 * (pts[E[:, 0]] + pts[E[:, 1]])
     L = np.linalg.norm(xyz[E[:, 1]] - xyz[E[:, 0]], axis=1)
     scale_mid = np.ones(len(mid)) if field is None else (field(mid) / h) ** 2
-    trend = size_trend(L, scale_mid)
-    diag = P.diagonal
+    return size_trend(L, scale_mid)
+
+
+def _fidelity(P: Patch, xyz, tris, bmask, lifted) -> dict:
+    """How far the output lies from the input surface, its boundary and its UV domain."""
+    V, F = P.vertices, P.faces
     d2, _, _ = _igl.closest_points(xyz, V, F)
     bl = np.concatenate([np.stack([lp, np.roll(lp, -1)], axis=1) for lp in P.boundary_loops])
-    bdist = _segment_distance(xyz[bmask], V[bl[:, 0]], V[bl[:, 1]])
-    fidelity = {
+    bdist = segment_distance(xyz[bmask], V[bl[:, 0]], V[bl[:, 1]])
+    return {
         "surface_distance_max": float(np.sqrt(d2.max())),
         "boundary_distance_max": float(bdist.max()),
-        "uv_outside_max": float(lifted.uv_distance.max()) if len(inner) else 0.0,
+        "uv_outside_max": float(lifted.uv_distance.max()) if (~bmask).any() else 0.0,
     }
-    times["measure"] = time.perf_counter() - t
 
+
+def _meshlab_checks(P: Patch, xyz, tris, stats, fidelity, times, check, hausdorff):
+    """pymeshlab's cross-check of the edge measures (returned) and its Hausdorff
+    distances (added to ``fidelity``), with their timings; then the relative figures."""
     meshlab = None
+    V, F = P.vertices, P.faces
     if check:
         t = time.perf_counter()
         meshlab = cross_check(stats, _meshlab.edge_measures(xyz, tris))
@@ -359,52 +385,11 @@ def remesh(
         fidelity["hausdorff_out_in"] = _meshlab.hausdorff(xyz, tris, V, F, ns)
         fidelity["hausdorff_in_out"] = _meshlab.hausdorff(V, F, xyz, tris, ns)
         times["hausdorff"] = time.perf_counter() - t
+    diag = P.diagonal
     for key in list(fidelity):
         if isinstance(fidelity[key], float):
             fidelity[key + "_rel"] = fidelity[key] / diag
     for key in ("hausdorff_out_in", "hausdorff_in_out"):
         if key in fidelity:
             fidelity[key + "_max_rel"] = fidelity[key]["max"] / diag
-    times["total"] = time.perf_counter() - t0
-
-    dist = prm.distortion(P.face_areas)
-    dist["attempts"] = [list(a) for a in prm.attempts]
-    report = Report(
-        n_vertices=n,
-        n_faces=len(tris),
-        n_boundary=int(bmask.sum()),
-        n_corners=domain.n_corners,
-        target_size=h,
-        diagonal=diag,
-        edges={k: v for k, v in stats.items() if not k.startswith("face_")},
-        edges_uv={k: v for k, v in stats_uv.items() if not k.startswith("face_")},
-        meshlab=meshlab,
-        parameterization=dist,
-        size_trend=trend,
-        fidelity=fidelity,
-        timings=times,
-        mesher=mesher,
-        compensate=bool(compensate),
-    )
-    for arr in (xyz, tris, pts, bmask):
-        arr.setflags(write=False)
-    return RemeshResult(xyz, tris, pts, bmask, report, domain)
-
-
-def isotropic_remesh(patch, size: float, iterations: int = 10):
-    """MeshLab's isotropic explicit remeshing, for comparison (the benchmark).
-
-    Parameters
-    ----------
-    patch : path, (V, F) pair, trimesh.Trimesh or Patch
-    size : float
-        Absolute target edge length.
-    iterations : int
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
-    """
-    P = as_patch(patch)
-    return _meshlab.isotropic_remesh(P.vertices, P.faces, size, iterations)
+    return meshlab

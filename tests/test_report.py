@@ -109,7 +109,7 @@ def test_numbers_equal_quality_of_written_meshes(serial):
         else:
             from surface import read_patch
 
-            from uniform2d.report.cases import surface_measures
+            from surface.plugin import measures as surface_measures
 
             p = read_patch(out / c["mesh"])
             p0 = read_patch(PATCH)

@@ -24,6 +24,7 @@ __all__ = [
     "polygon_edges",
     "unique_edges",
     "boundary_edges",
+    "point_segment_distance",
     "segment_distance",
     "nearest_segment",
     "signed_area",
@@ -105,22 +106,32 @@ def boundary_edges(triangles, n_points: int) -> np.ndarray:
     return E[cnt[inv.ravel()] == 1]
 
 
+def point_segment_distance(P, A, B) -> np.ndarray:
+    """Distance from each point P[i] to the segment A[i]-B[i], row-wise, (K, D) -> (K,).
+
+    Any dimension; a segment of length 0 is its point."""
+    AB = B - A
+    L2 = np.einsum("ij,ij->i", AB, AB)
+    AP = P - A
+    t = np.divide(np.einsum("ij,ij->i", AP, AB), L2, out=np.zeros(len(P)), where=L2 > 0)
+    t = np.clip(t, 0.0, 1.0)
+    return np.linalg.norm(AP - t[:, None] * AB, axis=1)
+
+
 def segment_distance(points, a, b, chunk: int = 256) -> np.ndarray:
     """Distance from each point (K, D) to the nearest of the segments a[i]-b[i] (E, D).
 
-    Any dimension; works in chunks of ``chunk`` points (memory K·E/chunk).
+    Any dimension; works in chunks of ``chunk`` points (memory chunk·E).
     For many 2-D points against a polygon's edges with a cap on the distances
-    of interest, :func:`uniform2d._kernel.distance.to_segments` is faster.
+    of interest, the compiled :func:`uniform2d._kernel.distance.to_segments` is faster.
     """
     P = np.asarray(points, dtype=np.float64)
     out = np.full(len(P), np.inf)
-    AB = b - a
-    L2 = np.einsum("ij,ij->i", AB, AB)
+    E = len(a)
     for s in range(0, len(P), chunk):
-        p = P[s : s + chunk, None, :]
-        t = np.clip(np.einsum("kij,ij->ki", p - a[None], AB) / L2, 0.0, 1.0)
-        q = a[None] + t[..., None] * AB[None]
-        out[s : s + chunk] = np.linalg.norm(p - q, axis=2).min(axis=1)
+        p = P[s : s + chunk]
+        d = point_segment_distance(np.repeat(p, E, axis=0), np.tile(a, (len(p), 1)), np.tile(b, (len(p), 1)))
+        out[s : s + chunk] = d.reshape(len(p), E).min(axis=1)
     return out
 
 

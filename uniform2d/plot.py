@@ -20,11 +20,11 @@ from matplotlib.ticker import FuncFormatter
 from .errors import UnsupportedFormatError
 from .quality import _as_points, _as_polygon, _as_triangles, _histogram, edge_lengths
 
-__all__ = ["plot_mesh"]
+__all__ = ["plot_mesh", "FIGURE_FORMATS"]
 
 log = logging.getLogger(__name__)
 
-_FORMATS = (".png", ".pdf", ".svg")
+FIGURE_FORMATS = (".png", ".pdf", ".svg")
 _CMAP = "RdBu_r"  # blue = short, white = mean, red = long
 
 
@@ -100,10 +100,10 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     """
     if path is not None:
         ext = os.path.splitext(os.fspath(path))[1].lower()
-        if ext not in _FORMATS:
+        if ext not in FIGURE_FORMATS:
             raise UnsupportedFormatError(
                 f"cannot save a figure as {ext or 'a file without extension'!r}; "
-                f"use one of {', '.join(_FORMATS)}"
+                f"use one of {', '.join(FIGURE_FORMATS)}"
             )
     pts = _as_points(points)
     tri = _as_triangles(triangles, len(pts))

@@ -64,9 +64,9 @@ def add_parser(subparsers):
 
 
 def _stem(path: Path) -> str:
-    from ..io.registry import POLYGON_FORMATS, _match
+    from ..io.registry import POLYGON_FORMATS, match_format
 
-    fmt = _match(path, POLYGON_FORMATS)
+    fmt = match_format(path, POLYGON_FORMATS)
     name = path.name
     return name[: -len(fmt.extension)] if fmt is not None else path.stem
 
@@ -74,8 +74,8 @@ def _stem(path: Path) -> str:
 def _plan(args) -> list[tuple[Path, Path, Path | None]]:
     """(input, output, plot) per input, every check that needs no meshing done."""
     from ..errors import UnsupportedFormatError
-    from ..io.registry import MESH_FORMATS, _match, find_mesh_format
-    from ..plot import _FORMATS as PLOT_FORMATS
+    from ..io.registry import MESH_FORMATS, match_format, find_mesh_format
+    from ..plot import FIGURE_FORMATS as PLOT_FORMATS
 
     inputs = [Path(s) for s in args.inputs]
     for src in inputs:  # all inputs before any output
@@ -86,7 +86,7 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
     several = len(inputs) > 1
 
     out = Path(args.output) if args.output else None
-    if several and out is not None and (out.is_file() or (not out.exists() and _match(out, MESH_FORMATS))):
+    if several and out is not None and (out.is_file() or (not out.exists() and match_format(out, MESH_FORMATS))):
         raise ValueError(f"with several inputs, -o must be a directory, got '{out}'")
 
     plot = Path(args.plot) if args.plot else None

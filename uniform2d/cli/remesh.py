@@ -1,8 +1,9 @@
 """``uniform2d remesh``: remesh a disk-like surface patch with near-equal 3-D edges.
 
-Wraps :func:`surface.remesh` (needs the ``surface`` extra: trimesh, libigl,
-pymeshlab).  Input: any triangle-mesh format trimesh reads; output: one of
-``surface.io.WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb).
+Wraps the ``remesh`` of the registered surface-patch layer (the ``surface``
+extra: trimesh, libigl, pymeshlab; found through :mod:`uniform2d.plugins`).
+Input: any triangle-mesh format the layer reads; output: one of its
+``WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb).
 """
 
 from __future__ import annotations
@@ -41,23 +42,6 @@ def add_parser(subparsers):
     return p
 
 
-def _check_output(path: Path) -> None:
-    from ..errors import UnsupportedFormatError
-
-    try:
-        from surface.io import WRITE_FORMATS, _suffix
-    except ImportError as exc:
-        raise ImportError(
-            f"'uniform2d remesh' needs the surface extra ({exc}); "
-            "install it with: pip install 'uniform2d[surface]'"
-        ) from None
-    if _suffix(path) not in WRITE_FORMATS:
-        raise UnsupportedFormatError(
-            f"cannot write a surface mesh to '{path}'; use one of "
-            + ", ".join("." + e for e in WRITE_FORMATS)
-        )
-
-
 def _plot(result, path) -> None:
     import matplotlib
 
@@ -67,15 +51,15 @@ def _plot(result, path) -> None:
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     from ..errors import UnsupportedFormatError
-    from ..plot import _FORMATS
+    from ..geometry import unique_edges
+    from ..plot import FIGURE_FORMATS
 
-    if Path(path).suffix.lower() not in _FORMATS:
+    if Path(path).suffix.lower() not in FIGURE_FORMATS:
         raise UnsupportedFormatError(
-            f"cannot save a figure as '{path}'; use one of {', '.join(_FORMATS)}"
+            f"cannot save a figure as '{path}'; use one of {', '.join(FIGURE_FORMATS)}"
         )
     V, F = result.vertices, result.faces
-    e = np.sort(F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    e = np.unique(e, axis=0)
+    e = unique_edges(F)
     length = np.linalg.norm(V[e[:, 1]] - V[e[:, 0]], axis=1)
     rel = length / length.mean()
     fig = plt.figure(figsize=(11, 4.8))
@@ -101,15 +85,16 @@ def _plot(result, path) -> None:
 
 
 def run(args) -> int:
+    from ..plugins import patch_layer
+
     src, dst = Path(args.input), Path(args.output)
-    _check_output(dst)
+    layer = patch_layer()
+    layer.check_output(dst)
     if not src.exists():
         raise FileNotFoundError(2, "input file not found", str(src))
-    import surface
-
-    patch = surface.read_patch(src)
+    patch = layer.read_patch(src)
     log.info("%s: %r", src, patch)
-    result = surface.remesh(patch, n_vertices=args.n, size=args.size, param=args.param)
+    result = layer.remesh(patch, n_vertices=args.n, size=args.size, param=args.param)
     result.write(dst)
     if args.plot:
         _plot(result, args.plot)

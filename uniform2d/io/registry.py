@@ -56,6 +56,7 @@ __all__ = [
     "mesh_formats",
     "find_polygon_format",
     "find_mesh_format",
+    "match_format",
 ]
 
 
@@ -171,7 +172,9 @@ def mesh_formats() -> dict[str, str]:
     return {ext: f.description for ext, f in MESH_FORMATS.items()}
 
 
-def _match(path, table: dict[str, FileFormat]) -> FileFormat | None:
+def match_format(path, table: dict[str, FileFormat]) -> FileFormat | None:
+    """The format of ``table`` whose extension ends ``path``'s name (the longest
+    one, so ``.vol.gz`` beats ``.gz``), or None."""
     name = Path(path).name.lower()
     best = None
     for ext, fmt in table.items():
@@ -191,7 +194,7 @@ def _unsupported(path, kind: str, action: str) -> UnsupportedFormatError:
     suffix = Path(path).suffix
     found = f"unknown extension '{suffix}'" if suffix else "the file name has no extension"
     message = f"cannot {verb} '{path}': {found}; {kind} extensions: {', '.join(table)}"
-    hit = _match(path, other)
+    hit = match_format(path, other)
     if hit is not None:
         message += f" ('{hit.extension}' is a {other_kind} format: use {action}_{other_kind})"
     return UnsupportedFormatError(message)
@@ -205,7 +208,7 @@ def find_polygon_format(path, action: str = "read") -> FileFormat:
     UnsupportedFormatError
         If no polygon format matches; the message lists the supported extensions.
     """
-    fmt = _match(path, POLYGON_FORMATS)
+    fmt = match_format(path, POLYGON_FORMATS)
     if fmt is None:
         raise _unsupported(path, "polygon", action)
     return fmt
@@ -219,7 +222,7 @@ def find_mesh_format(path, action: str = "write") -> FileFormat:
     UnsupportedFormatError
         If no mesh format matches; the message lists the supported extensions.
     """
-    fmt = _match(path, MESH_FORMATS)
+    fmt = match_format(path, MESH_FORMATS)
     if fmt is None:
         raise _unsupported(path, "mesh", action)
     return fmt

@@ -10,8 +10,9 @@ Methods
 Polygons: ``tplus`` (:func:`uniform2d.tplus`) and ``uniform``
 (:func:`uniform2d.uniform_mesh`) with n Steiner points, i.e. ``n + |V|``
 vertices, then every planar peer tuned to that same vertex count.
-Surface patches: ``remesh`` (:func:`surface.remesh` with ``n_vertices=n``),
-then every surface peer tuned to n vertices.
+Surface patches: ``remesh`` (the registered surface layer's ``remesh`` with
+``n_vertices=n``, see :mod:`uniform2d.plugins`), then every surface peer tuned
+to n vertices.
 """
 
 from __future__ import annotations
@@ -24,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..plugins import patch_layer
+
 log = logging.getLogger(__name__)
 
 __all__ = [
@@ -34,7 +37,6 @@ __all__ = [
     "plan",
     "run_case",
     "planar_measures",
-    "surface_measures",
     "MEASURES",
 ]
 
@@ -99,9 +101,7 @@ def load_input(path, name: str | None = None) -> Input:
     p = Path(path)
     name = name or p.name.split(".")[0]
     if p.suffix.lower() in SURFACE_SUFFIXES:
-        from surface import read_patch
-
-        patch = read_patch(p)
+        patch = patch_layer().read_patch(p)
         geom = {"vertices": np.asarray(patch.vertices).tolist(), "faces": np.asarray(patch.faces).tolist()}
         return Input(name, str(path), "surface", geom)
     from ..io import read_polygon
@@ -208,69 +208,6 @@ def planar_measures(points, triangles, polygon=None) -> tuple[dict, dict]:
     return m, q.to_dict()
 
 
-def _samples(V, F) -> np.ndarray:
-    """Vertices, edge midpoints and face centroids of a mesh (deterministic samples)."""
-    E = np.unique(np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1), axis=0)
-    return np.vstack([V, 0.5 * (V[E[:, 0]] + V[E[:, 1]]), V[F].mean(axis=1)])
-
-
-def deviation(V, F, V0, F0) -> tuple[float, float]:
-    """Two-sided distance between a remesh (V, F) and its input (V0, F0).
-
-    Each mesh is sampled at its vertices, edge midpoints and face centroids and
-    the exact point-to-mesh distance to the other mesh is taken (libigl), so the
-    result is deterministic (MeshLab's Hausdorff filter samples randomly, with a
-    state that carries over between calls).
-
-    Returns
-    -------
-    out_in, in_out : float
-        Largest distance from the output's samples to the input, and back.
-    """
-    from surface import _igl
-
-    d_oi, _, _ = _igl.closest_points(_samples(V, F), V0, F0)
-    d_io, _, _ = _igl.closest_points(_samples(V0, F0), V, F)
-    return float(np.sqrt(d_oi.max())), float(np.sqrt(d_io.max()))
-
-
-def surface_measures(V, F, V0, F0) -> dict:
-    """Table measures of a surface mesh (V, F) remeshing the input (V0, F0).
-
-    Edge statistics are 3-D (:func:`surface.measure.edge_stats`); the largest
-    perimeter is the largest sum of a face's three edges; the deviation from
-    the input is :func:`deviation` (a two-sided Hausdorff distance on
-    deterministic samples), also relative to the input's bounding-box diagonal.
-    No certified factors: the bounds of design.md section 4 are planar.
-    """
-    from surface.measure import edge_stats, face_edge_lengths
-
-    V = np.asarray(V, dtype=np.float64)
-    F = np.asarray(F, dtype=np.int64)
-    V0 = np.asarray(V0, dtype=np.float64)
-    F0 = np.asarray(F0, dtype=np.int64)
-    s = edge_stats(V, F)
-    diag = float(np.linalg.norm(np.ptp(V0, axis=0)))
-    h1, h2 = deviation(V, F, V0, F0)
-    hmax = max(h1, h2)
-    return {
-        "n_vertices": int(len(V)),
-        "n_triangles": int(len(F)),
-        "edge_ratio": _f(s["ratio"]),
-        "longest_edge": _f(s["max"]),
-        "max_perimeter": _f(float(face_edge_lengths(V, F).sum(axis=1).max())),
-        "factor_longest_edge": None,
-        "factor_perimeter": None,
-        "factor_edge_ratio": None,
-        "min_angle": _f(s["angle_min"]),
-        "cv_edge": _f(s["cv"]),
-        "hausdorff_out_in": h1,
-        "hausdorff_in_out": h2,
-        "hausdorff_max": hmax,
-        "hausdorff_max_rel": hmax / diag if diag > 0 else None,
-    }
-
-
 # -- running a case ----------------------------------------------------------------
 def _polygon(geom):
     from ..polygon import Polygon
@@ -297,9 +234,7 @@ def _make(case):
     V0 = np.asarray(case["geometry"]["vertices"], dtype=np.float64)
     F0 = np.asarray(case["geometry"]["faces"], dtype=np.int64)
     if method == "remesh":
-        from surface import remesh
-
-        r = remesh((V0, F0), n, check=False, hausdorff=False)
+        r = patch_layer().remesh((V0, F0), n, check=False, hausdorff=False)
         det = {"mesher": r.report.mesher, "target_size": r.report.target_size,
                "parameterization": r.report.parameterization.get("method")}
         return np.asarray(r.vertices), np.asarray(r.faces), det
@@ -321,9 +256,8 @@ def _peer_details(pm) -> dict:
 
 def warm_up() -> None:
     """Load uniform2d's numba kernels in this process (INSERT, T+, the optimiser
-    and, when the surface layer's libraries are installed, a small remesh), so
-    no case's time includes compiling or loading them."""
-    from ..peers import meshlab_peer
+    and, when the surface layer is installed, a small remesh), so no case's
+    time includes compiling or loading them."""
     from ..polygon import Polygon
     from ..tplus import tplus
     from ..uniform import uniform_mesh
@@ -331,16 +265,9 @@ def warm_up() -> None:
     square = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
     tplus(square, 20)
     uniform_mesh(square, 20)
-    if meshlab_peer.available():  # the surface layer's libraries are installed
-        from surface import remesh
-
-        u = np.linspace(0.0, 1.0, 7)
-        x, y = (a.ravel() for a in np.meshgrid(u, u))
-        V = np.column_stack([x, y, 0.3 * (x * x + y * y)])  # curved: a graded mesh
-        q = np.arange(36).reshape(6, 6) + np.arange(6)[:, None]  # lower-left corners
-        a, b, c, d = q.ravel(), q.ravel() + 1, q.ravel() + 8, q.ravel() + 7
-        F = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
-        remesh((V, F), 60, check=False, hausdorff=False)
+    layer = patch_layer(required=False)
+    if layer is not None:
+        layer.warm_up()
 
 
 def run_case(case: dict) -> dict:
@@ -381,7 +308,7 @@ def run_case(case: dict) -> dict:
     else:
         V0 = np.asarray(case["geometry"]["vertices"], dtype=np.float64)
         F0 = np.asarray(case["geometry"]["faces"], dtype=np.int64)
-        meas, qd = surface_measures(pts, tri, V0, F0), None
+        meas, qd = patch_layer().measures(pts, tri, V0, F0), None
     meas["vertex_error"] = meas["n_vertices"] - case["target_vertices"]
     meas["vertex_error_rel"] = meas["vertex_error"] / case["target_vertices"]
     evals = int(details.get("evaluations", 1)) if details else 1
