@@ -11,8 +11,8 @@ Gmsh (algorithm 6, ``Mesh.MeshSizeExtendFromBoundary = 0``,
 ``Mesh.MeshSizeMax = size``, size bisected until Gmsh's vertex count is |V| + n,
 or as close as the bisection gets).  The lower bounds are those of
 ``uniform2d.quality`` with the same n and d_n for all three: long/LB and
-perim/LB against the bounds of design.md section 4 (the terms ``area``,
-``packing`` and ``boundary``; the issue's targets are stated against them),
+perim/LB against the terms ``area``, ``packing`` and ``boundary`` of those
+bounds (see docs/guide.md, section 6; the targets are stated against them),
 long/LB+ and perim/LB+ against the full bound, with the tighter ``split`` term.  It prints the
 geometric means per n and a speed comparison at ~1e5 vertices.
 """
@@ -88,8 +88,7 @@ def gmsh_tuned(poly, N):
 
 
 def design_factor(b):
-    """achieved / the bound of design.md section 4 (the issue's targets use it):
-    every term but ``split``, which came later and is tighter."""
+    """achieved / the bound without its ``split`` term (the targets use it)."""
     return b.achieved / max(v for k, v in b.terms if k != "split")
 
 

@@ -3,9 +3,8 @@
 Calls from one kernel function to another pass integer arguments as
 ``np.int64(...)`` where a caller would otherwise give a literal constant or an
 int32 array element: numba compiles a separate specialisation of the callee for
-every distinct argument type, ``Literal[int](4096)`` and int32 included, and the
-cold compile (about 90 s, once per machine: ``cache=True``) paid about 9 s for
-the second and third copies of ``locate``, ``insert_point``, ``legalize_stack``
-and their callees.  Literal booleans that switch code paths (``want`` in the
+every distinct argument type, ``Literal[int](4096)`` and int32 included, and
+each extra copy of ``locate``, ``insert_point``, ``legalize_stack`` and their
+callees lengthens the cold compile (once per machine: ``cache=True``).  Literal booleans that switch code paths (``want`` in the
 star energies) are left literal on purpose: each copy drops its dead branch.
 """

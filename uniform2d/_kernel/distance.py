@@ -25,8 +25,8 @@ point inside the grid scans rings of cells around its own::
     +---+---+---+     cell side may be filed in the neighbouring cell).
 
 (shapely's ``STRtree.query_nearest`` with ``max_distance`` answers the same
-question, but measured 4.5x slower on 2000 points and 250 segments, and with
-GEOS's own rounding, which would move points at the thresholds.)
+question, but several times slower on the optimiser's sizes, and with GEOS's
+own rounding, which would move points at the thresholds.)
 
 Points outside the grid, few segments, no cap and grids whose cells are within
 rounding of the coordinates (``cell`` below 1e-9 of their magnitude) go brute

@@ -1,6 +1,6 @@
 """Algorithm INSERT on the flat-array CDT: one loop, pop -> validate -> insert -> push.
 
-Candidates (design notes §2):
+Candidates (the only places the farthest point can be):
 
 * a triangle ``t`` whose circumcentre lies in the closed triangle -- no obtuse
   angle, and no right angle facing a boundary edge (that circumcentre is the
