@@ -15,9 +15,9 @@ Requires the ``surface`` extra: trimesh, libigl 2.6.3 and pymeshlab.
 """
 
 from .errors import CrossCheckError, InvalidPatchError, ParameterizationError
-from .io import read_patch, write_patch
+from .io import as_patch, read_patch, write_patch
 from .parameterize import Parameterization, parameterize
-from .patch import Patch, as_patch
+from .patch import Patch
 from .remesh import RemeshResult, remesh
 from .report import Report
 

@@ -22,7 +22,7 @@ from uniform2d.errors import FileFormatError, UnsupportedFormatError
 from .errors import InvalidPatchError
 from .patch import Patch
 
-__all__ = ["read_patch", "write_patch", "WRITE_FORMATS"]
+__all__ = ["read_patch", "write_patch", "as_patch", "WRITE_FORMATS"]
 
 log = logging.getLogger(__name__)
 
@@ -181,3 +181,31 @@ def write_patch(path, vertices, faces) -> Path:
             pass
         raise
     return path
+
+
+def as_patch(obj) -> Patch:
+    """Convert a path, a ``(vertices, faces)`` pair, a trimesh or a :class:`Patch`.
+
+    Parameters
+    ----------
+    obj : str, os.PathLike, tuple, trimesh.Trimesh or Patch
+        A mesh file readable by trimesh, a ``(V, F)`` pair of array-likes, any
+        object with ``vertices`` and ``faces`` attributes, or a Patch (returned as is).
+
+    Returns
+    -------
+    Patch
+    """
+    if isinstance(obj, Patch):
+        return obj
+    if isinstance(obj, (str, os.PathLike)):
+        return read_patch(obj)
+    if hasattr(obj, "vertices") and hasattr(obj, "faces"):
+        return Patch(obj.vertices, obj.faces)
+    if isinstance(obj, (tuple, list)) and len(obj) == 2:
+        return Patch(obj[0], obj[1])
+    raise InvalidPatchError(
+        f"cannot read a patch from a {type(obj).__name__}; pass a mesh file path, a "
+        "(vertices, faces) pair of arrays or a trimesh.Trimesh",
+        "not_triangle_mesh",
+    )

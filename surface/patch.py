@@ -26,7 +26,7 @@ from scipy.sparse.csgraph import connected_components
 
 from .errors import InvalidPatchError
 
-__all__ = ["Patch", "as_patch", "DEGENERATE_RATIO"]
+__all__ = ["Patch", "DEGENERATE_RATIO"]
 
 log = logging.getLogger(__name__)
 
@@ -177,38 +177,6 @@ class Patch:
             f"Patch({self.n_vertices} vertices, {self.n_faces} faces, "
             f"{len(self._loops)} boundary loop(s))"
         )
-
-
-def as_patch(obj) -> Patch:
-    """Convert a path, a ``(vertices, faces)`` pair, a trimesh or a :class:`Patch`.
-
-    Parameters
-    ----------
-    obj : str, os.PathLike, tuple, trimesh.Trimesh or Patch
-        A mesh file readable by trimesh, a ``(V, F)`` pair of array-likes, any
-        object with ``vertices`` and ``faces`` attributes, or a Patch (returned as is).
-
-    Returns
-    -------
-    Patch
-    """
-    import os
-
-    if isinstance(obj, Patch):
-        return obj
-    if isinstance(obj, (str, os.PathLike)):
-        from .io import read_patch
-
-        return read_patch(obj)
-    if hasattr(obj, "vertices") and hasattr(obj, "faces"):
-        return Patch(obj.vertices, obj.faces)
-    if isinstance(obj, (tuple, list)) and len(obj) == 2:
-        return Patch(obj[0], obj[1])
-    raise InvalidPatchError(
-        f"cannot read a patch from a {type(obj).__name__}; pass a mesh file path, a "
-        "(vertices, faces) pair of arrays or a trimesh.Trimesh",
-        "not_triangle_mesh",
-    )
 
 
 # -- checks ----------------------------------------------------------------------

@@ -27,9 +27,10 @@ from uniform2d.optimize import improve, lattice_seed
 from . import _igl, _meshlab
 from .domain import CORNER_ANGLE, Domain, boundary_domain
 from .lift import lift
+from .io import as_patch
 from .measure import edge_stats, unique_edges
 from .parameterize import parameterize
-from .patch import Patch, as_patch
+from .patch import Patch
 from .report import Report, cross_check, size_trend
 from .sizing import (
     compensation_field, size_variation, target_size, vertex_count, vertex_scale
@@ -41,9 +42,9 @@ log = logging.getLogger(__name__)
 
 #: Compensation is skipped where the size it asks for, ``h * sqrt(area scale)``,
 #: varies by less than this fraction over the patch (see
-#: :func:`surface.sizing.size_variation`): measured on the benchmark patches, the
-#: developable ones (plate, cylinder, cone) vary by 3e-10 to 2e-4 from
-#: discretisation alone, the curved ones by 0.13 (cap30) to 0.7 (cap60).
+#: :func:`surface.sizing.size_variation`): developable patches (plates,
+#: cylinders, cones) vary only by discretisation, orders of magnitude below it,
+#: curved ones (spherical caps) by orders of magnitude more.
 UNIFORM_SIZE = 1e-3
 
 
@@ -89,9 +90,8 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
     towards equal size-normalised edges, keeping the mesh constrained Delaunay
     and the count exact.  With ``optimize=False``: the paper's Algorithm INSERT,
     graded by ``size_field`` (its candidates ranked by distance / size).
-    Relaxing INSERT's points ends less uniform (3-D edge CV about 0.12 against
-    0.04-0.07 from the lattice, at 2000 vertices on the benchmark patches): the
-    lattice gives the structure that point moves alone cannot.
+    Relaxing INSERT's points ends far less uniform than relaxing the lattice:
+    the lattice gives the structure that point moves alone cannot.
 
     Parameters
     ----------
@@ -231,10 +231,7 @@ def remesh(
         raise _too_few(P, N, size, K, domain.n_corners, domain_at)
 
     t = time.perf_counter()
-    sv = vertex_scale(P.vertices, P.faces, prm.area_scale)
-    field = None  # a constant size: no field
-    if size_variation(sv) > UNIFORM_SIZE:
-        field = compensation_field(P.vertices, P.faces, prm.uv, prm.area_scale, h, scale=sv)
+    field = _size_field(P, prm, h)
     times["size_field"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -257,25 +254,24 @@ def remesh(
     dist = prm.distortion(P.face_areas)
     dist["attempts"] = [list(a) for a in prm.attempts]
     report = Report(
-        n_vertices=len(pts),
-        n_faces=len(tris),
-        n_boundary=int(bmask.sum()),
-        n_corners=domain.n_corners,
-        target_size=h,
-        diagonal=P.diagonal,
+        n_vertices=len(pts), n_faces=len(tris), n_boundary=int(bmask.sum()),
+        n_corners=domain.n_corners, target_size=h, diagonal=P.diagonal,
         edges={k: v for k, v in stats.items() if not k.startswith("face_")},
         edges_uv={k: v for k, v in edge_stats(pts, tris).items() if not k.startswith("face_")},
-        meshlab=meshlab,
-        parameterization=dist,
-        size_trend=_size_trend(pts, tris, xyz, field, h),
-        fidelity=fidelity,
-        timings=times,
-        mesher=mesher,
-        compensate=bool(compensate),
+        meshlab=meshlab, parameterization=dist, size_trend=_size_trend(pts, tris, xyz, field, h),
+        fidelity=fidelity, timings=times, mesher=mesher, compensate=bool(compensate),
     )
     for arr in (xyz, tris, pts, bmask):
         arr.setflags(write=False)
     return RemeshResult(xyz, tris, pts, bmask, report, domain)
+
+
+def _size_field(P: Patch, prm, h: float):
+    """The compensation field, or None where the size it asks for is constant."""
+    sv = vertex_scale(P.vertices, P.faces, prm.area_scale)
+    if not size_variation(sv) > UNIFORM_SIZE:  # a constant size: no field
+        return None
+    return compensation_field(P.vertices, P.faces, prm.uv, prm.area_scale, h, scale=sv)
 
 
 def _count_and_size(P: Patch, n_vertices, size) -> tuple[int, float]:

@@ -13,6 +13,7 @@ import shapely
 import uniform2d
 from uniform2d import Polygon, SizeField
 from uniform2d._kernel import cdt, relax
+from uniform2d._kernel import objective as kobj
 from uniform2d.optimize import improve, lattice_seed, target_size
 from uniform2d.optimize.moves import _load, _unload
 from uniform2d.optimize.schedule import FLAT
@@ -108,10 +109,10 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
     P = 2.0**k
     s_len, s_short, s_per = (ell**P).sum(), (ell**-P).sum(), (pi**P).sum()
     expect = {
-        relax.BALANCED: (2 / s_len, 1 / s_short, 1 / s_per),
-        relax.RATIO: (1 / s_len, 1 / s_short, 0.0),
-        relax.MAX_EDGE: (1.0, 0.0, 0.0),
-        relax.MAX_PERIMETER: (0.0, 0.0, 1.0),
+        kobj.BALANCED: (2 / s_len, 1 / s_short, 1 / s_per),
+        kobj.RATIO: (1 / s_len, 1 / s_short, 0.0),
+        kobj.MAX_EDGE: (1.0, 0.0, 0.0),
+        kobj.MAX_PERIMETER: (0.0, 0.0, 1.0),
     }
     for obj, want in expect.items():
         got = relax._weights(st.m, st.hv, st.href, k, obj)

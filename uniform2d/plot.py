@@ -114,7 +114,27 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     edges, lengths = edge_lengths(pts, tri)
     mean = float(lengths.mean())
     rel = lengths / mean if mean > 0 else np.ones_like(lengths)
-    n_e = len(edges)
+    h, norm, extend = _colour_scale(rel, mean)
+
+    fig = Figure(figsize=(12.0, 5.4), layout="constrained")
+    ax_mesh, ax_hist = fig.subplots(1, 2, width_ratios=[1.45, 1.0])
+    lc = _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend)
+    ratio = _histogram_panel(ax_hist, rel, lengths, mean, lc, norm)
+    if title is None:
+        title = f"{len(pts)} vertices, {len(tri)} triangles, edge ratio {ratio:.4g}"
+    fig.suptitle(title, fontsize=12)
+
+    if path is not None:
+        from .io.atomic import atomic_write
+
+        ext = Path(path).suffix
+        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
+        log.info("wrote %s", path)
+    return fig
+
+
+def _colour_scale(rel, mean):
+    """(h, norm, extend): the colour map spans length / mean in [1/h, h]."""
     # Colour by log(length / mean), symmetric about 1, so that an edge twice the
     # mean and one half the mean are equally saturated.  The range follows the
     # 0.2% and 99.8% quantiles so that a few outliers (shown saturated) do not
@@ -127,11 +147,12 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     norm = FuncNorm((_log, _exp), vmin=1.0 / h, vmax=h)
     extend = {(False, False): "neither", (True, False): "min", (False, True): "max",
               (True, True): "both"}[(bool(rel.min() < 1.0 / h), bool(rel.max() > h))]
+    return h, norm, extend
 
-    fig = Figure(figsize=(12.0, 5.4), layout="constrained")
-    ax_mesh, ax_hist = fig.subplots(1, 2, width_ratios=[1.45, 1.0])
 
-    # -- mesh panel --------------------------------------------------------------
+def _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend):
+    """The edges coloured by length / mean, the boundary on top, and the colour bar."""
+    n_e = len(edges)
     lw = float(np.clip(45.0 / np.sqrt(n_e), 0.12, 1.4))
     lc = LineCollection(pts[edges], cmap=_CMAP, norm=norm, linewidths=lw, capstyle="round")
     lc.set_array(rel)
@@ -157,8 +178,11 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     cb.set_ticks(ticks, labels=[f"{t:.3g}" for t in ticks])
     cb.set_label("edge length / mean", fontsize=9)
     cb.ax.tick_params(labelsize=8)
+    return lc
 
-    # -- histogram panel ---------------------------------------------------------
+
+def _histogram_bins(ax_hist, rel, n_e):
+    """(counts, bin edges, log scale?) of length / mean."""
     # A wide spread (a few very long or short edges) is drawn on a log axis so that
     # the bulk and the outliers are both visible.
     rmin, rmax = float(rel.min()), float(rel.max())
@@ -172,6 +196,15 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
         ax_hist.set_xscale("log")
     else:
         counts, bin_edges = _histogram(rel, n_bins)
+    return counts, bin_edges, uniform, log_x
+
+
+def _histogram_panel(ax_hist, rel, lengths, mean, lc, norm) -> float:
+    """The histogram of length / mean with the mean and the extremes marked;
+    returns the edge ratio."""
+    n_e = len(rel)
+    rmin, rmax = float(rel.min()), float(rel.max())
+    counts, bin_edges, uniform, log_x = _histogram_bins(ax_hist, rel, n_e)
     centres = np.sqrt(bin_edges[:-1] * bin_edges[1:]) if log_x else 0.5 * (bin_edges[:-1] + bin_edges[1:])
     colours = lc.cmap(norm(centres))
     ax_hist.bar(
@@ -209,15 +242,4 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     )
     ax_hist.grid(axis="y", color="0.9", lw=0.6)
     ax_hist.set_axisbelow(True)
-
-    if title is None:
-        title = f"{len(pts)} vertices, {len(tri)} triangles, edge ratio {ratio:.4g}"
-    fig.suptitle(title, fontsize=12)
-
-    if path is not None:
-        from .io.atomic import atomic_write
-
-        ext = Path(path).suffix
-        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
-        log.info("wrote %s", path)
-    return fig
+    return ratio

@@ -1,5 +1,9 @@
 """Readers and writers of polygon files, one pair per format.
 
+(Longer than most modules on purpose: five short reader/writer pairs share one
+set of error and number-formatting helpers, and each format is one marked
+section below; splitting them would scatter those helpers.)
+
 These functions do the work behind :func:`uniform2d.io.read_polygon` and
 :func:`uniform2d.io.write_polygon`, which pick one of them by the file's
 extension (see :mod:`uniform2d.io.registry`).  Readers take a path to an

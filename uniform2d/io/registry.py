@@ -208,10 +208,7 @@ def find_polygon_format(path, action: str = "read") -> FileFormat:
     UnsupportedFormatError
         If no polygon format matches; the message lists the supported extensions.
     """
-    fmt = match_format(path, POLYGON_FORMATS)
-    if fmt is None:
-        raise _unsupported(path, "polygon", action)
-    return fmt
+    return _find(path, "polygon", action)
 
 
 def find_mesh_format(path, action: str = "write") -> FileFormat:
@@ -222,7 +219,11 @@ def find_mesh_format(path, action: str = "write") -> FileFormat:
     UnsupportedFormatError
         If no mesh format matches; the message lists the supported extensions.
     """
-    fmt = match_format(path, MESH_FORMATS)
+    return _find(path, "mesh", action)
+
+
+def _find(path, kind: str, action: str) -> FileFormat:
+    fmt = match_format(path, POLYGON_FORMATS if kind == "polygon" else MESH_FORMATS)
     if fmt is None:
-        raise _unsupported(path, "mesh", action)
+        raise _unsupported(path, kind, action)
     return fmt

@@ -48,6 +48,7 @@ __all__ = [
     "describe",
     "mesh",
     "tune",
+    "tuned_mesh",
     "size_for_count",
 ]
 
@@ -247,6 +248,15 @@ def tune(
     res, size, c = best
     log.debug("tuned size %.6g -> %d vertices (target %d, %d meshes)", size, c, target, len(history))
     return Tuned(res, size, c, len(history), tuple(history))
+
+
+def tuned_mesh(make, n_vertices: int, size0: float, info, **options) -> PeerMesh:
+    """The mesh ``make(size)`` (a (points, triangles) pair) with its size tuned by
+    :func:`tune` to ``n_vertices`` vertices; ``info(size)`` describes the parameter,
+    the tuning history is added to it."""
+    t = tune(make, lambda m: len(m[0]), n_vertices, size0, **options)
+    pts, tri = t.result
+    return PeerMesh(pts, tri, t.size, t.evaluations, {**info(t.size), "history": t.history})
 
 
 def orient_ccw(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:

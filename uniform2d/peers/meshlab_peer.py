@@ -20,7 +20,7 @@ import importlib.util
 import numpy as np
 
 from ..geometry import boundary_edges, size_for_count
-from .base import PeerMesh, tune
+from .base import PeerMesh, tuned_mesh
 
 NAME = "meshlab"
 KIND = "surface"
@@ -101,10 +101,8 @@ def _start_size(V, F, n_vertices: int) -> float:
 def mesh(patch, n_vertices: int) -> PeerMesh:
     """MeshLab remesh of ``patch`` (a ``(V, F)`` pair) tuned to ``n_vertices``."""
     V, F = (np.asarray(a) for a in patch)
-    size0 = _start_size(V, F, n_vertices)
-    t = tune(lambda h: mesh_with_size(V, F, h), lambda m: len(m[0]), n_vertices, size0, max_evals=30)
-    pts, tri = t.result
-    return PeerMesh(
-        pts, tri, t.size, t.evaluations,
-        {"parameter": "targetlen (absolute)", "iterations": ITERATIONS, "history": t.history},
+    return tuned_mesh(
+        lambda h: mesh_with_size(V, F, h), n_vertices, _start_size(V, F, n_vertices),
+        lambda size: {"parameter": "targetlen (absolute)", "iterations": ITERATIONS},
+        max_evals=30,
     )

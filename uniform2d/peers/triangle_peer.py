@@ -16,7 +16,7 @@ import threading
 import numpy as np
 import shapely
 
-from .base import PeerMesh, compact, orient_ccw, size_for_count, tune
+from .base import PeerMesh, compact, orient_ccw, size_for_count, tuned_mesh
 
 NAME = "triangle"
 KIND = "planar"
@@ -84,13 +84,7 @@ def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
 def mesh(polygon, n_vertices: int) -> PeerMesh:
     """Triangle mesh of ``polygon`` with its area bound tuned to ``n_vertices`` vertices."""
     size0 = size_for_count(polygon.area, polygon.perimeter, n_vertices, polygon.n_holes)
-    t = tune(lambda h: mesh_with_size(polygon, h), lambda m: len(m[0]), n_vertices, size0)
-    pts, tri = t.result
-    return PeerMesh(
-        pts,
-        tri,
-        t.size,
-        t.evaluations,
-        {"parameter": "edge length h (area sqrt(3)/4 h^2)", "switches": switches(t.size),
-         "history": t.history},
+    return tuned_mesh(
+        lambda h: mesh_with_size(polygon, h), n_vertices, size0,
+        lambda size: {"parameter": "edge length h (area sqrt(3)/4 h^2)", "switches": switches(size)},
     )
