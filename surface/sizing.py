@@ -30,6 +30,7 @@ import math
 import numpy as np
 from scipy.sparse import coo_matrix
 
+from uniform2d.geometry import vertex_count as vertex_count_for_size
 from uniform2d.sizefield import SizeField
 
 from . import _igl
@@ -44,6 +45,11 @@ _R3 = math.sqrt(3.0)
 
 def target_size(area: float, perimeter: float, n_vertices: int, chi: int = 1) -> float:
     """Edge length of an equilateral mesh with ``n_vertices`` vertices.
+
+    The estimate of :func:`uniform2d.geometry.size_for_count` (a patch of Euler
+    characteristic ``chi`` counts like a polygon with ``1 - chi`` holes), solved
+    for h rather than for 1/h.  It stays in this form because every surface mesh
+    depends on its last bits.
 
     Examples
     --------
@@ -62,7 +68,7 @@ def vertex_count(area: float, perimeter: float, h: float, chi: int = 1) -> int:
     """Vertex count of an equilateral mesh of edge ``h`` (inverse of :func:`target_size`)."""
     if not h > 0:
         raise ValueError(f"size must be positive, got {h}")
-    return int(round(chi + (area + _R3 / 4 * perimeter * h) / (_R3 / 2 * h * h)))
+    return int(round(vertex_count_for_size(area, perimeter, h, 1 - chi)))
 
 
 def vertex_scale(V, F, area_scale, smooth: int = 2) -> np.ndarray:

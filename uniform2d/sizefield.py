@@ -77,6 +77,13 @@ class SizeField:
 
 
 def _bilinear(gx, gy, v, px, py):
+    """Bilinear interpolation of the grid (gx, gy, v) at the points (px, py), clamped.
+
+    The kernel's ``uniform2d._kernel.insert.size_at`` is the same formula for
+    one point inside compiled loops (where this vectorised numpy version cannot
+    run); the two must stay the same formula, so that the sizes the kernel works
+    with are the field's values.
+    """
     px = np.clip(px, gx[0], gx[-1])
     py = np.clip(py, gy[0], gy[-1])
     i = np.clip(np.searchsorted(gx, px, side="right") - 1, 0, len(gx) - 2)
