@@ -110,8 +110,8 @@ def _run(st: "_Loaded", sched: S.Schedule, obj: int):
     m, xy, t = st.m, st.xy, st.t
     args = (m, st.role, st.eid, t, st.ea, st.ed, st.hv, st.href)
     rounds = relax.spring(
-        *args, sched.spring_rounds, S.SPRING_STEP, S.SPRING_PRESSURE, S.SPRING_TOL,
-        S.SPRING_CAP, S.FLAT,
+        *args, iters=sched.spring_rounds, dt=S.SPRING_STEP, pressure=S.SPRING_PRESSURE,
+        tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT,
     )
     done = 0
     value = None
@@ -119,7 +119,8 @@ def _run(st: "_Loaded", sched: S.Schedule, obj: int):
         best_xy, best_t = xy.copy(), t.copy()
         best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
         made, value = relax.descend(
-            *args, obj, sched.sweeps, int(k), S.SEARCH_STEP, best_xy, best_t, best_tv, S.FLAT
+            *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
+            best_xy=best_xy, best_t=best_t, best_tv=best_tv, flat=S.FLAT,
         )
         done += made
         # continue from the best state of this stage
@@ -131,7 +132,8 @@ def _run(st: "_Loaded", sched: S.Schedule, obj: int):
         best_xy, best_t = xy.copy(), t.copy()
         best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
         relax.spread(
-            *args, obj, sched.spread_sweeps, S.SEARCH_STEP, best_xy, best_t, best_tv, S.FLAT
+            *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP,
+            best_xy=best_xy, best_t=best_t, best_tv=best_tv, flat=S.FLAT,
         )
         xy[:] = best_xy
         t[:] = best_t
