@@ -712,7 +712,7 @@ def test_written_files_have_normal_permissions(tmp_path):
 # -- the data directory ---------------------------------------------------------------------
 DATA_POLYGONS = sorted(
     p for p in DATA.rglob("*")
-    if p.is_file() and "patches" not in p.parts and registry._match(p, registry.POLYGON_FORMATS)
+    if p.is_file() and "patches" not in p.parts and registry.match_format(p, registry.POLYGON_FORMATS)
 )
 
 
