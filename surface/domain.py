@@ -49,7 +49,7 @@ import numpy as np
 
 from uniform2d import Polygon
 from uniform2d.polygon import _signed_area
-from uniform2d.errors import InsufficientPointsError, InvalidPolygonError
+from uniform2d.errors import InsufficientPointsError, InvalidArgumentError, InvalidPolygonError
 
 from . import _igl
 from .locate import walk
@@ -538,13 +538,13 @@ def boundary_domain(
         If even the refined spacing gives crossing rings (ask for more vertices).
     """
     if measure not in ("3d", "uv"):
-        raise ValueError("measure must be '3d' or 'uv'")
+        raise InvalidArgumentError("measure must be '3d' or 'uv'")
     if not (chord_tol is None or (isinstance(chord_tol, str) and chord_tol == "auto") or (
         isinstance(chord_tol, numbers.Real) and not isinstance(chord_tol, bool) and chord_tol >= 0
     )):
-        raise ValueError(f"chord_tol must be 'auto', a fraction >= 0 or None, got {chord_tol!r}")
+        raise InvalidArgumentError(f"chord_tol must be 'auto', a fraction >= 0 or None, got {chord_tol!r}")
     if not spacing > 0:
-        raise ValueError(f"spacing must be positive, got {spacing}")
+        raise InvalidArgumentError(f"spacing must be positive, got {spacing}")
     V = patch.vertices
     uv = np.asarray(uv, dtype=np.float64)
     turn = np.abs(turning_angles(patch))

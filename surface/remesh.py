@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from uniform2d.errors import InsufficientPointsError
+from uniform2d.errors import InsufficientPointsError, InvalidArgumentError
 
 from . import _igl, _meshlab
 from .domain import CORNER_ANGLE, Domain, boundary_domain
@@ -156,9 +156,9 @@ def _as_count(n) -> int:
         if isinstance(n, numbers.Real) and float(n).is_integer():
             n = int(n)
         else:
-            raise ValueError(f"n_vertices must be an integer, got {n!r}")
+            raise InvalidArgumentError(f"n_vertices must be an integer, got {n!r}")
     if n < 3:
-        raise ValueError(f"n_vertices must be at least 3, got {n}")
+        raise InvalidArgumentError(f"n_vertices must be at least 3, got {n}")
     return int(n)
 
 
@@ -244,14 +244,14 @@ def remesh(
     Bl = float(sum(np.linalg.norm(V[np.roll(lp, -1)] - V[lp], axis=1).sum() for lp in P.boundary_loops))
     chi = P.euler_characteristic
     if n_vertices is not None and size is not None:
-        raise ValueError("give n_vertices or size, not both")
+        raise InvalidArgumentError("give n_vertices or size, not both")
     if size is not None:
         h = float(size)
         if not (np.isfinite(h) and h > 0):
-            raise ValueError(f"size must be a positive length, got {size!r}")
+            raise InvalidArgumentError(f"size must be a positive length, got {size!r}")
         N = vertex_count(A, Bl, h, chi)
         if N < 3:
-            raise ValueError(f"size={size} is larger than the patch; use a smaller size")
+            raise InvalidArgumentError(f"size={size} is larger than the patch; use a smaller size")
     else:
         N = P.n_vertices if n_vertices is None else _as_count(n_vertices)
         h = target_size(A, Bl, N, chi) if N - chi > 0 else float("inf")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import numbers
 
-from .errors import InsufficientPointsError
+from .errors import InsufficientPointsError, InvalidArgumentError
 from .mesh import Mesh
 from .polygon import Polygon
 
@@ -27,7 +27,7 @@ def steiner_count_for_size(polygon: Polygon, size: float) -> int:
     132
     """
     if not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
-        raise ValueError(f"size must be a positive finite number, got {size!r}")
+        raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     T = polygon.area / (math.sqrt(3) / 4 * size * size)
     Nb = polygon.perimeter / size
     N = (T + Nb + 2 - 2 * polygon.n_holes) / 2
@@ -62,7 +62,7 @@ def uniform_mesh(
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     if (n is None) == (size is None):
-        raise ValueError("give exactly one of n (number of Steiner points) and size")
+        raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     if n is None:
         n = steiner_count_for_size(polygon, size)
         if n < 1:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
-from ._common import positive_float, positive_int, print_json
+from ._common import check_output_file, positive_float, positive_int, print_json
 
 log = logging.getLogger(__name__)
 
@@ -44,13 +44,7 @@ def add_parser(subparsers):
 def _check_output(path: Path) -> None:
     from ..errors import UnsupportedFormatError
 
-    try:
-        from surface.io import WRITE_FORMATS, _suffix
-    except ImportError as exc:
-        raise ImportError(
-            f"'uniform2d remesh' needs the surface extra ({exc}); "
-            "install it with: pip install 'uniform2d[surface]'"
-        ) from None
+    from surface.io import WRITE_FORMATS, _suffix  # says which extra to install if missing
     if _suffix(path) not in WRITE_FORMATS:
         raise UnsupportedFormatError(
             f"cannot write a surface mesh to '{path}'; use one of "
@@ -58,51 +52,23 @@ def _check_output(path: Path) -> None:
         )
 
 
-def _plot(result, path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection
-
+def _check_plot(path: Path) -> None:
     from ..errors import UnsupportedFormatError
     from ..plot import _FORMATS
 
-    if Path(path).suffix.lower() not in _FORMATS:
+    if path.suffix.lower() not in _FORMATS:
         raise UnsupportedFormatError(
             f"cannot save a figure as '{path}'; use one of {', '.join(_FORMATS)}"
         )
-    V, F = result.vertices, result.faces
-    e = np.sort(F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    e = np.unique(e, axis=0)
-    length = np.linalg.norm(V[e[:, 1]] - V[e[:, 0]], axis=1)
-    rel = length / length.mean()
-    fig = plt.figure(figsize=(11, 4.8))
-    ax = fig.add_subplot(1, 2, 1, projection="3d")
-    lc = Line3DCollection(V[e], cmap="coolwarm", linewidths=0.5)
-    lc.set_array(rel)
-    lc.set_clim(0.5, 1.5)
-    ax.add_collection(lc)
-    lo, hi = V.min(axis=0), V.max(axis=0)
-    c, r = (lo + hi) / 2, (hi - lo).max() / 2
-    ax.set_xlim(c[0] - r, c[0] + r)
-    ax.set_ylim(c[1] - r, c[1] + r)
-    ax.set_zlim(c[2] - r, c[2] + r)
-    ax.set_axis_off()
-    fig.colorbar(lc, ax=ax, shrink=0.7, label="edge length / mean")
-    h = fig.add_subplot(1, 2, 2)
-    h.hist(rel, bins=40, color="0.4")
-    h.set_xlabel("3-D edge length / mean")
-    h.set_ylabel("edges")
-    fig.suptitle(f"{len(V)} vertices, {len(F)} faces, edge ratio {length.max() / length.min():.3g}")
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    check_output_file(path, "--plot")
 
 
 def run(args) -> int:
     src, dst = Path(args.input), Path(args.output)
     _check_output(dst)
+    check_output_file(dst, "-o")
+    if args.plot:
+        _check_plot(Path(args.plot))
     if not src.exists():
         raise FileNotFoundError(2, "input file not found", str(src))
     import surface
@@ -112,7 +78,12 @@ def run(args) -> int:
     result = surface.remesh(patch, n_vertices=args.n, size=args.size, param=args.param)
     result.write(dst)
     if args.plot:
-        _plot(result, args.plot)
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from surface._figures import plot_result
+
+        plot_result(result, args.plot)
     if args.json:
         print_json({"input": str(src), "output": str(dst), "report": result.report.as_dict()})
     elif args.stats:
