@@ -9,9 +9,8 @@ copy of the repository's data and docs, so they cannot drift from the code.
 * what the guide shows of real output (the CSV file, the error line) is compared
   with the real output.
 
-A few commands take minutes (regenerating the committed report, the surface
-benchmark, a report at n = 1000, a local Dask cluster); they run only with
-``UNIFORM2D_SLOW_DOCS=1``.  One needs a Dask scheduler at a given address, which a
+A few commands are long or heavy (the surface benchmark, a report at n = 1000,
+a local Dask cluster); they run only with ``UNIFORM2D_SLOW_DOCS=1``.  One needs a Dask scheduler at a given address, which a
 test cannot assume.
 """
 
@@ -39,12 +38,11 @@ NOT_HERE = {
     "--scheduler tcp://": "needs a Dask scheduler running at that address",
 }
 
-#: Commands that take minutes: run with UNIFORM2D_SLOW_DOCS=1.
+#: Commands too long or heavy for every run: run with UNIFORM2D_SLOW_DOCS=1.
 EXPENSIVE = {
-    "-o docs/report": "regenerates the committed report (minutes)",
-    "-n 200 -n 1000": "a report of 7 polygons at two sizes with every peer (minutes)",
-    "bench_surface.py": "the surface benchmark (minutes)",
-    "LocalCluster": "starts a local Dask cluster and meshes n = 1000 (minutes)",
+    "-n 200 -n 1000": "a report of 7 polygons at two sizes with every peer (half a minute or more)",
+    "bench_surface.py": "the surface benchmark (half a minute or more, timing runs)",
+    "LocalCluster": "starts a local Dask cluster of 4 worker processes",
 }
 
 

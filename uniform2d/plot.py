@@ -21,7 +21,7 @@ from matplotlib.ticker import FuncFormatter
 from .errors import InvalidArgumentError, UnsupportedFormatError
 from .quality import _as_points, _as_polygon, _as_triangles, _histogram, edge_lengths
 
-__all__ = ["plot_mesh"]
+__all__ = ["plot_mesh", "check_figure_path"]
 
 log = logging.getLogger(__name__)
 
@@ -29,6 +29,22 @@ _FORMATS = (".png", ".pdf", ".svg")
 # Perceptual "plasma" without its light yellow end: dark blue = short, magenta =
 # mean, orange = long.  Every colour, the mean's above all, stands out on white.
 _CMAP = ListedColormap(colormaps["plasma"](np.linspace(0.0, 0.8, 256)), name="plasma_on_white")
+
+
+def check_figure_path(path) -> str:
+    """The figure format of ``path`` (its lower-case extension, e.g. ``".png"``).
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not .png, .pdf or .svg; the message names ``path``.
+    """
+    ext = os.path.splitext(os.fspath(path))[1].lower()
+    if ext not in _FORMATS:
+        raise UnsupportedFormatError(
+            f"cannot save a figure as '{os.fspath(path)}'; use one of {', '.join(_FORMATS)}"
+        )
+    return ext
 
 
 def _log(x):
@@ -103,12 +119,7 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     5
     """
     if path is not None:
-        ext = os.path.splitext(os.fspath(path))[1].lower()
-        if ext not in _FORMATS:
-            raise UnsupportedFormatError(
-                f"cannot save a figure as {ext or 'a file without extension'!r}; "
-                f"use one of {', '.join(_FORMATS)}"
-            )
+        check_figure_path(path)
     pts = _as_points(points)
     tri = _as_triangles(triangles, len(pts))
     if len(tri) == 0:

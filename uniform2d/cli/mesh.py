@@ -67,12 +67,14 @@ def add_parser(subparsers):
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
     p.add_argument("-o", "--output", metavar="OUTPUT",
-                   help="output mesh file (one input) or directory; default: next to the input")
+                   help="output mesh file (one input) or directory (existing, or ending in '/': "
+                   "created); default: next to the input")
     p.add_argument("--format", default=".vtu", metavar="EXT",
                    help="extension of outputs named after their input (default .vtu)")
     p.add_argument("--plot", metavar="PNG",
-                   help="also write a figure of the mesh (.png, .pdf, .svg); "
-                   "a directory when there are several inputs")
+                   help="also write a figure of the mesh (.png, .pdf, .svg); a name ending in '/' "
+                   "is a directory receiving <input name>.png (with several inputs --plot must be "
+                   "a directory)")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true",
                       help="print the quality summary and optimality certificates")
@@ -103,8 +105,7 @@ def _format_extension(text: str) -> str:
 
 def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     """The --plot path and whether it names a directory, checked before any meshing."""
-    from ..errors import UnsupportedFormatError
-    from ..plot import _FORMATS as PLOT_FORMATS
+    from ..plot import check_figure_path
 
     if text is None:
         return None, False
@@ -120,10 +121,7 @@ def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     if plot.is_dir():
         raise ValueError(f"--plot '{plot}' is a directory; give a file name such as mesh.png "
                          f"(or '{plot}/' for <input name>.png inside it)")
-    if plot.suffix.lower() not in PLOT_FORMATS:
-        raise UnsupportedFormatError(
-            f"cannot save a figure as '{plot}'; use one of {', '.join(PLOT_FORMATS)}"
-        )
+    check_figure_path(plot)
     check_output_file(plot, "--plot")
     return plot, False
 

@@ -52,23 +52,15 @@ def _check_output(path: Path) -> None:
         )
 
 
-def _check_plot(path: Path) -> None:
-    from ..errors import UnsupportedFormatError
-    from ..plot import _FORMATS
-
-    if path.suffix.lower() not in _FORMATS:
-        raise UnsupportedFormatError(
-            f"cannot save a figure as '{path}'; use one of {', '.join(_FORMATS)}"
-        )
-    check_output_file(path, "--plot")
-
-
 def run(args) -> int:
     src, dst = Path(args.input), Path(args.output)
     _check_output(dst)
     check_output_file(dst, "-o")
     if args.plot:
-        _check_plot(Path(args.plot))
+        from ..plot import check_figure_path
+
+        check_figure_path(args.plot)
+        check_output_file(Path(args.plot), "--plot")
     if not src.exists():
         raise FileNotFoundError(2, "input file not found", str(src))
     import surface
