@@ -97,6 +97,18 @@ def test_batch_json_lists_failures_and_stats_go_on(capsys, tmp_path):
     assert code == 2 and out.count("Mesh quality") == 1
 
 
+def test_batch_failure_lines_stay_whole_beside_the_progress_bar(capsys, tmp_path, monkeypatch):
+    import sys
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    bad = bowtie(tmp_path)
+    code, out, err = run(capsys, "mesh", SQUARE, bad, "-n", 20, "-o", tmp_path / "o")
+    lines = [line.split("\r")[-1] for line in err.splitlines()]
+    assert code == 2 and "meshing" in err
+    assert any(line.startswith(f"uniform2d: error: {bad}") for line in lines), err
+    assert "uniform2d: error: 1 of 2 inputs failed" in lines
+
+
 def test_batch_memory_error_fails_one_input_only(capsys, tmp_path, monkeypatch):
     import uniform2d.cli.mesh as cli_mesh
 

@@ -94,7 +94,10 @@ def report_failure(name, exc: BaseException) -> str:
     msg = error_message(exc)
     if str(name) not in msg:
         msg = f"{name}: {msg}"
-    print(f"{PROG}: error: {msg}", file=sys.stderr)
+    if "tqdm" in sys.modules:  # a progress bar may be on stderr: print above it
+        sys.modules["tqdm"].tqdm.write(f"{PROG}: error: {msg}", file=sys.stderr)
+    else:
+        print(f"{PROG}: error: {msg}", file=sys.stderr)
     return msg
 
 
