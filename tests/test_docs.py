@@ -156,6 +156,21 @@ def test_guide_csv_example_is_the_real_output(fresh, tmp_path):
     assert shown[-1] == real[-1]
 
 
+def test_guide_stats_example_is_the_real_output(fresh, tmp_path):
+    command = "uniform2d mesh data/l_bracket.json --size 4 --method paper --stats"
+    assert f"(`{command}`)" in (ROOT / "docs" / "guide.md").read_text()
+    run = subprocess.run([*command.split(), "-o", str(tmp_path / "b.vtu")], cwd=fresh,
+                         env=_env(), capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    real = run.stdout.splitlines()
+    for line in _shown("guide.md", command):
+        start = line.split("...")[0].rstrip()
+        if "..." in line:  # an elided line: what it shows before "..." is real
+            assert not start or any(r.startswith(start) for r in real), line
+        elif line.strip():
+            assert line in real, f"the guide shows {line!r}; the command prints otherwise"
+
+
 def test_guide_error_example_is_the_real_message(tmp_path):
     shown = _shown("guide.md", "## 10. Errors")
     command, message = shown[0], shown[1]
