@@ -542,7 +542,9 @@ def boundary_domain(
     if not (chord_tol is None or (isinstance(chord_tol, str) and chord_tol == "auto") or (
         isinstance(chord_tol, numbers.Real) and not isinstance(chord_tol, bool) and chord_tol >= 0
     )):
-        raise InvalidArgumentError(f"chord_tol must be 'auto', a fraction >= 0 or None, got {chord_tol!r}")
+        raise InvalidArgumentError(
+            f"chord_tol must be 'auto', a fraction >= 0 or None, got {chord_tol!r}"
+        )
     if not spacing > 0:
         raise InvalidArgumentError(f"spacing must be positive, got {spacing}")
     V = patch.vertices

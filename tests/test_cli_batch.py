@@ -199,7 +199,8 @@ def test_disk_full_names_the_users_file(capsys, tmp_path, monkeypatch):
             f.write(b"half a mesh")
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))  # as write() raises it: no file
 
-    monkeypatch.setitem(registry.MESH_FORMATS, ".vtu", type(fmt)(**{**fmt.__dict__, "writer": full}))
+    broken = type(fmt)(**{**fmt.__dict__, "writer": full})
+    monkeypatch.setitem(registry.MESH_FORMATS, ".vtu", broken)
     out_file = tmp_path / "x.vtu"
     code, out, err = run(capsys, "mesh", SQUARE, "-n", 20, "-o", out_file)
     line = one_error(code, err)

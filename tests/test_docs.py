@@ -10,8 +10,8 @@ copy of the repository's data and docs, so they cannot drift from the code.
   with the real output.
 
 A few commands are long or heavy (the surface benchmark, a report at n = 1000,
-a local Dask cluster); they run only with ``UNIFORM2D_SLOW_DOCS=1``.  One needs a Dask scheduler at a given address, which a
-test cannot assume.
+a local Dask cluster); they run only with ``UNIFORM2D_SLOW_DOCS=1``.  One needs a
+Dask scheduler at a given address, which a test cannot assume.
 """
 
 from __future__ import annotations
@@ -63,7 +63,8 @@ def _runnable(command: str) -> str:
     return " && ".join(s.replace(".venv/bin/", "") for s in steps)
 
 
-SHELL = [(doc.name, cmd) for doc in DOCS for block in _blocks(doc, "bash") for cmd in _commands(block)]
+SHELL = [(doc.name, cmd)
+         for doc in DOCS for block in _blocks(doc, "bash") for cmd in _commands(block)]
 PYTHON = [doc for doc in DOCS if _blocks(doc, "python")]
 
 

@@ -146,7 +146,8 @@ def lattice_mesh(side, seed=0):
     """A jittered equilateral lattice: nearly every edge close to the mean length."""
     x, y = np.meshgrid(np.arange(side, dtype=float), np.arange(side) * np.sqrt(3) / 2)
     x += 0.5 * (np.arange(side)[:, None] % 2)
-    pts = np.c_[x.ravel(), y.ravel()] + np.random.default_rng(seed).normal(0, 0.03, (side * side, 2))
+    jitter = np.random.default_rng(seed).normal(0, 0.03, (side * side, 2))
+    pts = np.c_[x.ravel(), y.ravel()] + jitter
     return pts, Delaunay(pts).simplices
 
 

@@ -128,8 +128,8 @@ def test_remesh_plot_path_checked_before_remeshing(capsys, tmp_path, monkeypatch
 
     monkeypatch.setattr(surface, "remesh", lambda *a, **k: pytest.fail("remeshed first"))
     for plot, expected in (("p.bmp", "cannot save a figure"), ("nodir/p.png", "does not exist")):
-        code = main(["remesh", str(PATCHES / "cap60.obj"), "-n", "50", "-o", str(tmp_path / "x.obj"),
-                     "--plot", str(tmp_path / plot)])
+        code = main(["remesh", str(PATCHES / "cap60.obj"), "-n", "50",
+                     "-o", str(tmp_path / "x.obj"), "--plot", str(tmp_path / plot)])
         err = capsys.readouterr().err
         assert code == 2 and expected in err and err.count("\n") == 1
     assert list(tmp_path.iterdir()) == []

@@ -7,9 +7,10 @@ start as the polygon vertices V (and any extra ``sites``).
 
 Contract (design notes §2): p_j is a global maximiser within a relative 1e-9;
 ``weights[j]`` = w_{j-1}(p_j) is its visible distance; the weights never
-increase by more than the tie tolerance (see Ties: a later point may weigh up to
-a relative 1e-9 more, e.g. one unit in the last place where equal distances were
-computed from different triangles); the same input gives bit-identical output.  Ties (weights within a
+increase by more than the tie tolerance: a later point may weigh up to a
+relative 1e-9 more (in practice one unit in the last place, where equal distances
+were computed from different triangles); the same input gives bit-identical output.
+Ties (weights within a
 relative 1e-9 of the best) go to the lexicographically smallest (x, y), with x
 compared to within 1e-9 of the bounding-box size, so the sequence is canonical
 and invariant under scaling and translation.  See ``uniform2d._kernel.insert``

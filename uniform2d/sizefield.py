@@ -47,7 +47,9 @@ class SizeField:
         y = np.array(y, dtype=np.float64)
         v = np.array(values, dtype=np.float64)
         if x.ndim != 1 or y.ndim != 1 or len(x) < 2 or len(y) < 2:
-            raise InvalidArgumentError("SizeField: x and y must be 1-D with at least 2 entries each")
+            raise InvalidArgumentError(
+                "SizeField: x and y must be 1-D with at least 2 entries each"
+            )
         if not (np.all(np.diff(x) > 0) and np.all(np.diff(y) > 0)):
             raise InvalidArgumentError("SizeField: x and y must be strictly increasing")
         if v.shape != (len(y), len(x)):

@@ -129,7 +129,8 @@ def check_output_dir(path: Path, option: str) -> None:
         return
     if path.exists():
         raise NotADirectoryError(
-            f"{option} '{path}' is a file, not a directory; give a directory (it is created if missing)"
+            f"{option} '{path}' is a file, not a directory; give a directory "
+            "(it is created if missing)"
         )
     base = _first_existing(path)
     if base.exists() and not base.is_dir():

@@ -147,7 +147,9 @@ def _as_mesh(points, triangles, point_data):
     if tri.size == 0 or tri.ndim != 2 or tri.shape[1] != 3:
         raise InvalidArgumentError(f"triangles must have shape (M, 3) with M >= 1, got {tri.shape}")
     if not np.issubdtype(tri.dtype, np.integer):
-        raise InvalidArgumentError(f"triangles must be integer point indices, got dtype {tri.dtype}")
+        raise InvalidArgumentError(
+            f"triangles must be integer point indices, got dtype {tri.dtype}"
+        )
     tri = tri.astype(np.int64)
     if tri.min() < 0 or tri.max() >= len(pts):
         raise InvalidArgumentError(

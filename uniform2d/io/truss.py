@@ -146,7 +146,9 @@ def write_truss_csv(path, points, triangles, point_data=None) -> None:
                 "use .truss.json"
             )
         if name in CSV_COLUMNS:
-            raise InvalidArgumentError(f"point data name {name!r} clashes with a CSV column; rename it")
+            raise InvalidArgumentError(
+                f"point data name {name!r} clashes with a CSV column; rename it"
+            )
     ij, lengths = members(points, triangles)
     names = list(point_data)
     columns = [np.asarray(point_data[n]) for n in names]

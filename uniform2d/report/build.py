@@ -112,7 +112,9 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
     names = list(_peers.names()) if peers is None else list(dict.fromkeys(peers))
     unknown = [p for p in names if p not in _peers.names()]
     if unknown:
-        raise InvalidArgumentError(f"unknown peer(s) {', '.join(unknown)}; choose from {', '.join(_peers.names())}")
+        raise InvalidArgumentError(
+            f"unknown peer(s) {', '.join(unknown)}; choose from {', '.join(_peers.names())}"
+        )
     info = [_peers.describe(p) for p in names]
     for p in info:
         if not p["available"]:
