@@ -90,9 +90,14 @@ def fresh(tmp_path_factory) -> Path:
 
 
 def _env() -> dict:
+    """The environment running these tests: its ``bin`` directory first on PATH, and the
+    uniform2d it imports (the installed one, or the source tree) first on PYTHONPATH."""
+    import uniform2d
+
     bindir = str(Path(sys.executable).parent)
     path = os.pathsep.join(p for p in [bindir, os.environ.get("PATH", "")] if p)
-    pythonpath = os.pathsep.join(p for p in [str(ROOT), os.environ.get("PYTHONPATH", "")] if p)
+    here = str(Path(uniform2d.__file__).resolve().parents[1])
+    pythonpath = os.pathsep.join(p for p in [here, os.environ.get("PYTHONPATH", "")] if p)
     return dict(os.environ, PATH=path, PYTHONPATH=pythonpath, MPLBACKEND="Agg",
                 PYTHONWARNINGS="ignore")
 
