@@ -14,7 +14,7 @@ drift out of the ratio: on the 2-core virtual machine this was written on, the
 same MeshLab call took 0.26 s in one run and 0.46 s in another, minutes apart.
 
 Run:  python benchmarks/bench_surface.py [PATCH ...] [-n 2000] [-o OUTDIR] [--repeat 7]
-      (default patches: ../shared/benchmarks/patches/*.obj beside the repository)
+      (default patches: the bundled data/patches/*.obj)
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import numpy as np
 from uniform2d.report.build import make_report
 
 HERE = Path(__file__).resolve().parent
-DEFAULT = sorted((HERE.parents[1] / "shared" / "benchmarks" / "patches").glob("*.obj"))
+DEFAULT = sorted((HERE.parent / "data" / "patches").glob("*.obj"))
 
 
 def main(argv=None) -> int:
@@ -42,7 +42,7 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=7, help="timed runs per method (default 7)")
     args = ap.parse_args(argv)
     if not args.patches:
-        ap.error("no patches given and ../shared/benchmarks/patches not found")
+        ap.error("no patches given and data/patches/ has none")
 
     out = args.o or Path(tempfile.mkdtemp(prefix="u2d_bench_surface_"))
     make_report([str(p) for p in args.patches], out, ns=(args.n,), peers=["meshlab"], figures=False)

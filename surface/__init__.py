@@ -11,15 +11,36 @@ cross-checked with pymeshlab.
 >>> p
 Patch(4 vertices, 2 faces, 1 boundary loop(s))
 
-Requires the ``surface`` extra: trimesh, libigl 2.6.3 and pymeshlab.
+Requires the ``surface`` extra: trimesh, libigl 2.6.3 and pymeshlab
+(``pip install 'uniform2d[surface]'``); without them importing this package
+raises one :class:`ImportError` saying so.
 """
 
-from .errors import CrossCheckError, InvalidPatchError, ParameterizationError
-from .io import as_patch, read_patch, write_patch
-from .parameterize import Parameterization, parameterize
-from .patch import Patch
-from .remesh import RemeshResult, remesh
-from .report import Report
+import importlib.util
+import logging
+
+logging.getLogger(__name__).addHandler(logging.NullHandler())
+
+
+def _require_extra() -> None:
+    """One clear ImportError when the extra is missing, not one from deep inside."""
+    for module in ("igl", "pymeshlab", "trimesh"):
+        if importlib.util.find_spec(module) is None:
+            raise ImportError(
+                f"the surface layer needs the 'surface' extra (module '{module}' is not "
+                "installed); install it with: pip install 'uniform2d[surface]'",
+                name=module,
+            )
+
+
+_require_extra()
+
+from .errors import CrossCheckError, InvalidPatchError, ParameterizationError  # noqa: E402
+from .io import as_patch, read_patch, write_patch  # noqa: E402
+from .parameterize import Parameterization, parameterize  # noqa: E402
+from .patch import Patch  # noqa: E402
+from .remesh import RemeshResult, remesh  # noqa: E402
+from .report import Report  # noqa: E402
 
 __all__ = [
     "remesh",

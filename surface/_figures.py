@@ -12,10 +12,13 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import io
 import sys
 from pathlib import Path
 
 import numpy as np
+
+from uniform2d.plot import EDGE_CMAP as CMAP
 
 from .measure import unique_edges
 from .parameterize import parameterize
@@ -23,12 +26,11 @@ from .io import read_patch
 from .remesh import remesh
 
 DATA = Path(__file__).resolve().parent.parent / "data" / "patches"
-CMAP = "coolwarm"
 LIM = (0.6, 1.5)  # colour range of edge length / target
 VIEWS = {"cylinder": (20, 60), "cone": (35, -70), "cap60": (30, -60), "plate_hole": (40, -90)}
 
 
-def _edges3d(ax, V, F, colour=None, values=None, lw=0.4):
+def _edges3d(ax, V, F, colour=None, values=None, lw=0.4, zoom=1.4):
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     E = unique_edges(F)
@@ -46,9 +48,53 @@ def _edges3d(ax, V, F, colour=None, values=None, lw=0.4):
     ax.set_xlim(lo[0], lo[0] + ext[0])
     ax.set_ylim(lo[1], lo[1] + ext[1])
     ax.set_zlim(lo[2], lo[2] + ext[2])
-    ax.set_box_aspect(tuple(ext), zoom=1.25)
+    ax.set_box_aspect(tuple(ext), zoom=zoom)
     ax.set_axis_off()
     return lc
+
+
+def _save_trimmed(fig, path, dpi=130, pad=12):
+    """Save ``fig`` cropped to what is drawn: a 3-D axes keeps room for any view of
+    its box, which for a flat or low patch is mostly empty."""
+    from PIL import Image
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, facecolor="white")
+    img = Image.open(buf).convert("RGB")
+    ink = np.argwhere((np.asarray(img) < 250).any(axis=2))
+    (top, left), (bottom, right) = ink.min(axis=0), ink.max(axis=0)
+    box = (max(left - pad, 0), max(top - pad, 0), min(right + pad + 1, img.width),
+           min(bottom + pad + 1, img.height))
+    img.crop(box).save(path, optimize=True)
+
+
+def plot_result(result, path) -> None:
+    """The figure of ``uniform2d remesh --plot``: the 3-D mesh with its edges
+    coloured by length / mean, beside their histogram; written atomically."""
+    import mpl_toolkits.mplot3d  # noqa: F401  (registers the 3-D projection)
+    from matplotlib.figure import Figure
+
+    from uniform2d.io.atomic import atomic_write
+
+    V, F = result.vertices, result.faces
+    E = unique_edges(F)
+    length = np.linalg.norm(V[E[:, 1]] - V[E[:, 0]], axis=1)
+    rel = length / length.mean()
+    fig = Figure(figsize=(11, 4.6), layout="constrained")
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    lw = float(np.clip(40.0 / np.sqrt(len(E)), 0.2, 1.0))
+    # A box shaped like the patch frames it tightly; zoom 1 keeps every view of it inside.
+    lc = _edges3d(ax, V, F, values=lambda _E: rel, lw=lw, zoom=1.0)
+    fig.colorbar(lc, ax=ax, shrink=0.7, label="3-D edge length / mean")
+    h = fig.add_subplot(1, 2, 2)
+    counts, bins = np.histogram(rel, bins=40)
+    h.bar(bins[:-1], counts, width=np.diff(bins), align="edge", edgecolor="0.35", linewidth=0.4,
+          color=lc.cmap(lc.norm(0.5 * (bins[:-1] + bins[1:]))))
+    h.set_xlabel("3-D edge length / mean")
+    h.set_ylabel("edges")
+    fig.suptitle(f"{len(V)} vertices, {len(F)} faces, edge ratio {length.max() / length.min():.3g}")
+    ext = Path(path).suffix
+    atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
 
 
 def _len3d(r):
@@ -86,18 +132,19 @@ def main(outdir="docs/img", n=1000):
     cap = read_patch(DATA / "cap60.obj")
     r = remesh(cap, n)
 
-    fig = plt.figure(figsize=(13, 5.5))
+    fig = plt.figure(figsize=(13, 4.6))
+    fig.subplots_adjust(left=0, right=0.9, bottom=0, top=1, wspace=0)
     ax = fig.add_subplot(1, 2, 1, projection="3d")
     _edges3d(ax, cap.vertices, cap.faces, colour="0.35", lw=0.3)
     ax.view_init(30, -60)
-    ax.set_title(f"input: {cap.n_vertices} vertices")
+    ax.set_title(f"input: {cap.n_vertices} vertices", y=0.9)
     ax = fig.add_subplot(1, 2, 2, projection="3d")
     lc = _edges3d(ax, r.vertices, r.faces, values=_len3d(r), lw=0.5)
     ax.view_init(30, -60)
     e = r.report.edges
-    ax.set_title(f"remeshed: {n} vertices\nedge ratio {e['ratio']:.2f}, cv {e['cv']:.3f}")
+    ax.set_title(f"remeshed: {n} vertices\nedge ratio {e['ratio']:.2f}, cv {e['cv']:.3f}", y=0.9)
     fig.colorbar(lc, ax=fig.axes, shrink=0.6, label="3-D edge length / target")
-    fig.savefig(out / "surface_cap60_3d.png", dpi=130, bbox_inches="tight")
+    _save_trimmed(fig, out / "surface_cap60_3d.png")
     plt.close(fig)
 
     prm = parameterize(cap)
@@ -123,6 +170,7 @@ def main(outdir="docs/img", n=1000):
 
     names = ["cylinder", "cone", "cap60", "plate_hole"]
     fig = plt.figure(figsize=(16, 4.5))
+    fig.subplots_adjust(left=0, right=0.92, bottom=0, top=0.88, wspace=0.05)
     for i, name in enumerate(names):
         res = remesh(DATA / f"{name}.obj", n, hausdorff=False)
         ax = fig.add_subplot(1, len(names), i + 1, projection="3d")
@@ -131,7 +179,7 @@ def main(outdir="docs/img", n=1000):
         e = res.report.edges
         ax.set_title(f"{name}\nratio {e['ratio']:.2f}, cv {e['cv']:.3f}", fontsize=10)
     fig.colorbar(lc, ax=fig.axes, shrink=0.6, label="3-D edge length / target")
-    fig.savefig(out / "surface_gallery.png", dpi=130, bbox_inches="tight")
+    _save_trimmed(fig, out / "surface_gallery.png")
     plt.close(fig)
 
 

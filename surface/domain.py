@@ -48,7 +48,7 @@ import numbers
 import numpy as np
 
 from uniform2d import Polygon
-from uniform2d.errors import InsufficientPointsError, InvalidPolygonError
+from uniform2d.errors import InsufficientPointsError, InvalidArgumentError, InvalidPolygonError
 from uniform2d.geometry import signed_area
 
 from .chord import interior_chord_error
@@ -297,13 +297,15 @@ def boundary_domain(
 
 def _check_arguments(measure, chord_tol, spacing) -> None:
     if measure not in ("3d", "uv"):
-        raise ValueError("measure must be '3d' or 'uv'")
+        raise InvalidArgumentError("measure must be '3d' or 'uv'")
     if not (chord_tol is None or (isinstance(chord_tol, str) and chord_tol == "auto") or (
         isinstance(chord_tol, numbers.Real) and not isinstance(chord_tol, bool) and chord_tol >= 0
     )):
-        raise ValueError(f"chord_tol must be 'auto', a fraction >= 0 or None, got {chord_tol!r}")
+        raise InvalidArgumentError(
+            f"chord_tol must be 'auto', a fraction >= 0 or None, got {chord_tol!r}"
+        )
     if not spacing > 0:
-        raise ValueError(f"spacing must be positive, got {spacing}")
+        raise InvalidArgumentError(f"spacing must be positive, got {spacing}")
 
 
 def _loop_arcs(patch: Patch, X) -> list:

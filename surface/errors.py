@@ -1,7 +1,8 @@
 """Typed exceptions raised by the surface layer.
 
 Each derives from :class:`uniform2d.errors.Uniform2dError` (so the command line
-reports it as one line and exit code 2) and from :class:`ValueError`.  Messages
+reports it as one line and exit code 2), which is a :class:`ValueError`.  Bad
+arguments raise :class:`uniform2d.errors.InvalidArgumentError`.  Messages
 say what is wrong and what to do about it.
 """
 
@@ -10,7 +11,7 @@ from uniform2d.errors import Uniform2dError
 __all__ = ["InvalidPatchError", "ParameterizationError", "CrossCheckError"]
 
 
-class InvalidPatchError(Uniform2dError, ValueError):
+class InvalidPatchError(Uniform2dError):
     """The input is not a usable patch.
 
     The attribute :attr:`reason` names the failed check, one of
@@ -23,9 +24,9 @@ class InvalidPatchError(Uniform2dError, ValueError):
         self.reason = reason
 
 
-class ParameterizationError(Uniform2dError, ValueError):
+class ParameterizationError(Uniform2dError):
     """No parameterisation method produced a flip-free, non-overlapping map."""
 
 
-class CrossCheckError(Uniform2dError, ValueError):
+class CrossCheckError(Uniform2dError):
     """pymeshlab's measures of the output mesh disagree with ours (a bug: report it)."""

@@ -30,6 +30,8 @@ import logging
 import numpy as np
 import shapely
 
+from uniform2d.errors import InvalidArgumentError
+
 from . import _igl
 from .errors import ParameterizationError
 from .patch import Patch
@@ -242,7 +244,7 @@ def parameterize(patch: Patch, method: str = "lscm") -> Parameterization:
         If every method in the fallback chain fails its check.
     """
     if method not in FALLBACKS:
-        raise ValueError(
+        raise InvalidArgumentError(
             f"unknown parameterisation {method!r}; use one of {', '.join(FALLBACKS)}"
         )
     V, F = patch.vertices, patch.faces

@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from uniform2d import insert
-from uniform2d.errors import InsufficientPointsError
+from uniform2d.errors import InsufficientPointsError, InvalidArgumentError
 from uniform2d.geometry import boundary_edges, nearest_segment, segment_distance
 from uniform2d.optimize import improve, lattice_seed
 
@@ -132,9 +132,9 @@ def _as_count(n) -> int:
         if isinstance(n, numbers.Real) and float(n).is_integer():
             n = int(n)
         else:
-            raise ValueError(f"n_vertices must be an integer, got {n!r}")
+            raise InvalidArgumentError(f"n_vertices must be an integer, got {n!r}")
     if n < 3:
-        raise ValueError(f"n_vertices must be at least 3, got {n}")
+        raise InvalidArgumentError(f"n_vertices must be at least 3, got {n}")
     return int(n)
 
 
@@ -278,14 +278,14 @@ def _count_and_size(P: Patch, n_vertices, size) -> tuple[int, float]:
     """The vertex count N and target edge length h asked for (one gives the other)."""
     A, Bl, chi = P.area, P.boundary_length, P.euler_characteristic
     if n_vertices is not None and size is not None:
-        raise ValueError("give n_vertices or size, not both")
+        raise InvalidArgumentError("give n_vertices or size, not both")
     if size is not None:
         h = float(size)
         if not (np.isfinite(h) and h > 0):
-            raise ValueError(f"size must be a positive length, got {size!r}")
+            raise InvalidArgumentError(f"size must be a positive length, got {size!r}")
         N = vertex_count(A, Bl, h, chi)
         if N < 3:
-            raise ValueError(f"size={size} is larger than the patch; use a smaller size")
+            raise InvalidArgumentError(f"size={size} is larger than the patch; use a smaller size")
     else:
         N = P.n_vertices if n_vertices is None else _as_count(n_vertices)
         h = target_size(A, Bl, N, chi) if N - chi > 0 else float("inf")

@@ -171,8 +171,7 @@ class Report:
             f"(target {self.target_size:.6g}), angles {e['angle_min']:.1f}..{e['angle_max']:.1f} deg",
             f"parameterisation: {self.parameterization['method']}, area scale "
             f"{self.parameterization['area_scale_min']:.3f}..{self.parameterization['area_scale_max']:.3f}, "
-            f"size trend {self.size_trend:+.3f}"
-            + (" (compensated)" if self.compensate else " (not compensated)"),
+            + self._trend_text(),
             f"fidelity: vertices off surface {f['surface_distance_max_rel']:.2e}, boundary "
             f"{f['boundary_distance_max_rel']:.2e} of the diagonal",
         ]
@@ -187,6 +186,13 @@ class Report:
                 f"{self.meshlab['max_rel_diff']:.1e})"
             )
         return "\n".join(lines)
+
+    def _trend_text(self) -> str:
+        if not np.isfinite(self.size_trend):
+            return "no size trend to measure (the area scale hardly varies)"
+        return f"size trend {self.size_trend:+.3f}" + (
+            " (compensated)" if self.compensate else " (not compensated)"
+        )
 
     def __str__(self) -> str:
         return self.summary()

@@ -30,6 +30,7 @@ import math
 import numpy as np
 from scipy.sparse import coo_matrix
 
+from uniform2d.errors import InvalidArgumentError
 from uniform2d.geometry import vertex_count as vertex_count_for_size
 from uniform2d.sizefield import SizeField
 
@@ -59,7 +60,7 @@ def target_size(area: float, perimeter: float, n_vertices: int, chi: int = 1) ->
     """
     a = _R3 / 2 * (n_vertices - chi)
     if a <= 0:
-        raise ValueError(f"n_vertices={n_vertices} is too small for a patch")
+        raise InvalidArgumentError(f"n_vertices={n_vertices} is too small for a patch")
     b = _R3 / 4 * perimeter
     return (b + math.sqrt(b * b + 4 * a * area)) / (2 * a)
 
@@ -67,7 +68,7 @@ def target_size(area: float, perimeter: float, n_vertices: int, chi: int = 1) ->
 def vertex_count(area: float, perimeter: float, h: float, chi: int = 1) -> int:
     """Vertex count of an equilateral mesh of edge ``h`` (inverse of :func:`target_size`)."""
     if not h > 0:
-        raise ValueError(f"size must be positive, got {h}")
+        raise InvalidArgumentError(f"size must be positive, got {h}")
     return int(round(vertex_count_for_size(area, perimeter, h, 1 - chi)))
 
 

@@ -98,7 +98,7 @@ def test_mesh_several_inputs_to_directory(capsys, tmp_path):
     figs = tmp_path / "figs"
     inputs = [BRACKET, PANEL, SQUARE, DATA / "examples" / "l_bracket.wkt"]
     code, out, err = run(capsys, "mesh", *inputs[:3], "-n", 120, "-o", outdir,
-                         "--format", "msh", "--plot", figs)
+                         "--format", "msh", "--plot", f"{figs}/")
     assert code == 0, err
     for src in inputs[:3]:
         dst = outdir / (src.stem + ".msh")

@@ -128,3 +128,57 @@ def test_failed_save_leaves_no_partial_file(tmp_path, monkeypatch):
         plot_mesh(pts, tri, out)
     assert out.read_bytes() == b"previous"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["mesh.png"]
+
+
+def _luminance(rgb):
+    """WCAG relative luminance of sRGB colours in [0, 1], shape (..., 3)."""
+    c = np.asarray(rgb, dtype=float)[..., :3]
+    c = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    return c @ [0.2126, 0.7152, 0.0722]
+
+
+def _contrast(a, b):
+    la, lb = _luminance(a), _luminance(b)
+    return (np.maximum(la, lb) + 0.05) / (np.minimum(la, lb) + 0.05)
+
+
+def lattice_mesh(side, seed=0):
+    """A jittered equilateral lattice: nearly every edge close to the mean length."""
+    x, y = np.meshgrid(np.arange(side, dtype=float), np.arange(side) * np.sqrt(3) / 2)
+    x += 0.5 * (np.arange(side)[:, None] % 2)
+    jitter = np.random.default_rng(seed).normal(0, 0.03, (side * side, 2))
+    pts = np.c_[x.ravel(), y.ravel()] + jitter
+    return pts, Delaunay(pts).simplices
+
+
+def test_mean_length_edges_stand_out_from_the_background():
+    # The colour of an edge exactly as long as the mean, and every colour the map
+    # can give, against the panel's background (WCAG contrast: 1 = invisible,
+    # 3 = the minimum for graphics, 21 = black on white).
+    pts, tri = lattice_mesh(12)
+    fig = plot_mesh(pts, tri)
+    lc = edge_collection(fig)
+    background = fig.axes[0].get_facecolor()
+    assert _contrast(lc.cmap(lc.norm(1.0)), background) >= 4.5
+    every = lc.cmap(np.linspace(0.0, 1.0, 256))
+    assert _contrast(every, background).min() >= 1.9, "a colour of the map is near white"
+
+
+@pytest.mark.parametrize("side", [22, 70])  # about 500 and 5000 vertices
+def test_drawn_mesh_is_visible_in_the_png(side):
+    # Rendered pixels, not colours on paper: thin lines are blended with the white
+    # background, so measure how much of the mesh panel is clearly darker than it.
+    import io
+
+    from PIL import Image
+
+    pts, tri = lattice_mesh(side)
+    fig = plot_mesh(pts, tri)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100)
+    img = np.asarray(Image.open(buf).convert("RGB"), dtype=float) / 255.0
+    box = fig.axes[0].get_window_extent()
+    h = img.shape[0]
+    inside = img[int(h - box.y1) + 5:int(h - box.y0) - 5, int(box.x0) + 5:int(box.x1) - 5]
+    visible = _contrast(inside, np.ones(3)) > 1.5
+    assert visible.mean() > 0.15, f"only {visible.mean():.1%} of the mesh panel differs from white"

@@ -10,9 +10,12 @@ INSERT), the two-phase mesh T+, and optimality certificates.
 54
 """
 
+import logging
+
 from .errors import (
     FileFormatError,
     InsufficientPointsError,
+    InvalidArgumentError,
     InvalidPolygonError,
     InvalidSitesError,
     Uniform2dError,
@@ -28,6 +31,9 @@ from .tplus import tplus
 from .uniform import steiner_count_for_size, uniform_mesh
 
 __version__ = "0.1.0"
+
+# A library leaves log output to the application (the command shows it with -v).
+logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
     "Polygon",
@@ -52,5 +58,6 @@ __all__ = [
     "InvalidSitesError",
     "UnsupportedFormatError",
     "FileFormatError",
+    "InvalidArgumentError",
     "__version__",
 ]

@@ -1,9 +1,14 @@
 """Typed exceptions raised by uniform2d.
 
-Every error the library raises on bad input derives from :class:`Uniform2dError`;
-the command line turns them into one line on stderr and exit code 2.  Each also
-derives from the built-in class a caller would expect (``ValueError`` for bad
-values), so ``except ValueError`` keeps working.
+Every error the library raises on bad input derives from :class:`Uniform2dError`,
+which is a ``ValueError`` (so ``except ValueError`` keeps working); the command
+line turns them into one line on stderr and exit code 2.
+
+>>> from uniform2d import Polygon, uniform_mesh
+>>> uniform_mesh(Polygon([(0, 0), (1, 0), (0, 1)]))
+Traceback (most recent call last):
+    ...
+uniform2d.errors.InvalidArgumentError: give exactly one of n (number of Steiner points) and size
 """
 
 __all__ = [
@@ -13,28 +18,38 @@ __all__ = [
     "InvalidSitesError",
     "UnsupportedFormatError",
     "FileFormatError",
+    "InvalidArgumentError",
+    "ArgumentTypeError",
 ]
 
 
-class Uniform2dError(Exception):
-    """Base class of every error uniform2d raises on bad input."""
+class Uniform2dError(ValueError):
+    """Base class of every error uniform2d raises on bad input (a ``ValueError``)."""
 
 
-class InvalidPolygonError(Uniform2dError, ValueError):
+class InvalidPolygonError(Uniform2dError):
     """The polygon is not a valid simple polygon with holes (the message says where)."""
 
 
-class InsufficientPointsError(Uniform2dError, ValueError):
+class InsufficientPointsError(Uniform2dError):
     """The requested number of Steiner points is too small for the construction."""
 
 
-class InvalidSitesError(Uniform2dError, ValueError):
+class InvalidSitesError(Uniform2dError):
     """Extra initial sites passed to :func:`uniform2d.insert` are unusable."""
 
 
-class UnsupportedFormatError(Uniform2dError, ValueError):
+class UnsupportedFormatError(Uniform2dError):
     """A file extension is not one uniform2d can read or write."""
 
 
-class FileFormatError(Uniform2dError, ValueError):
+class FileFormatError(Uniform2dError):
     """A file could be opened but its content is not a usable polygon or mesh."""
+
+
+class InvalidArgumentError(Uniform2dError):
+    """A function argument has a value (or combination of values) it cannot use."""
+
+
+class ArgumentTypeError(InvalidArgumentError, TypeError):
+    """A function argument has the wrong type (also a ``TypeError``)."""

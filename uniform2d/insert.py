@@ -7,7 +7,10 @@ start as the polygon vertices V (and any extra ``sites``).
 
 Contract: p_j is a global maximiser within a relative 1e-9;
 ``weights[j]`` = w_{j-1}(p_j) is its visible distance; the weights never
-increase; the same input gives bit-identical output.  Ties (weights within a
+increase by more than the tie tolerance: a later point may weigh up to a
+relative 1e-9 more (in practice one unit in the last place, where equal distances
+were computed from different triangles); the same input gives bit-identical output.
+Ties (weights within a
 relative 1e-9 of the best) go to the lexicographically smallest (x, y), with x
 compared to within 1e-9 of the bounding-box size, so the sequence is canonical
 and invariant under scaling and translation.  See ``uniform2d._kernel.insert``
@@ -51,7 +54,8 @@ class InsertResult:
         Inserted points p_1..p_n, in insertion order.
     weights : ndarray, shape (n,)
         ``weights[j]`` = w_{j-1}(p_j), the visible distance of p_j to the sites
-        present before it was inserted.  Non-increasing.
+        present before it was inserted.  Non-increasing up to the tie tolerance:
+        ``weights[j + 1] <= weights[j] * (1 + 1e-9)``.
     on_boundary : ndarray, shape (n,), bool
         Whether p_j was placed on the polygon boundary.
     mesh_points : ndarray, shape (N, 2)

@@ -12,20 +12,39 @@ import os
 from pathlib import Path
 
 import numpy as np
+from matplotlib import colormaps
 from matplotlib.collections import LineCollection
-from matplotlib.colors import FuncNorm
+from matplotlib.colors import FuncNorm, ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
-from .errors import UnsupportedFormatError
+from .errors import InvalidArgumentError, UnsupportedFormatError
 from .quality import _as_points, _as_polygon, _as_triangles, _histogram, edge_lengths
 
-__all__ = ["plot_mesh", "FIGURE_FORMATS"]
+__all__ = ["plot_mesh", "check_figure_path", "FIGURE_FORMATS", "EDGE_CMAP"]
 
 log = logging.getLogger(__name__)
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
-_CMAP = "RdBu_r"  # blue = short, white = mean, red = long
+#: Perceptual "plasma" without its light yellow end: dark blue = short, magenta =
+#: mean, orange = long.  Every colour, the mean's above all, stands out on white.
+EDGE_CMAP = ListedColormap(colormaps["plasma"](np.linspace(0.0, 0.8, 256)), name="plasma_on_white")
+
+
+def check_figure_path(path) -> str:
+    """The figure format of ``path`` (its lower-case extension, e.g. ``".png"``).
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not .png, .pdf or .svg; the message names ``path``.
+    """
+    ext = os.path.splitext(os.fspath(path))[1].lower()
+    if ext not in FIGURE_FORMATS:
+        raise UnsupportedFormatError(
+            f"cannot save a figure as '{os.fspath(path)}'; use one of {', '.join(FIGURE_FORMATS)}"
+        )
+    return ext
 
 
 def _log(x):
@@ -55,8 +74,9 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     """Plot a triangle mesh with each edge coloured by its length, beside a histogram.
 
     The left panel draws every edge coloured by ``length / mean length`` on a
-    diverging colour map centred at 1 (blue shorter, red longer than the mean),
-    with the polygon boundary on top.  The right panel is the histogram of
+    log scale centred at 1 (dark blue shorter, magenta the mean, orange longer),
+    with the polygon boundary on top; no colour is pale, so every edge shows on
+    the white background.  The right panel is the histogram of
     ``length / mean length`` with the mean, shortest and longest edge marked.
 
     Parameters
@@ -99,16 +119,11 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     5
     """
     if path is not None:
-        ext = os.path.splitext(os.fspath(path))[1].lower()
-        if ext not in FIGURE_FORMATS:
-            raise UnsupportedFormatError(
-                f"cannot save a figure as {ext or 'a file without extension'!r}; "
-                f"use one of {', '.join(FIGURE_FORMATS)}"
-            )
+        check_figure_path(path)
     pts = _as_points(points)
     tri = _as_triangles(triangles, len(pts))
     if len(tri) == 0:
-        raise ValueError("triangles: the mesh has no triangles")
+        raise InvalidArgumentError("triangles: the mesh has no triangles")
     poly = _as_polygon(polygon) if polygon is not None else None
 
     edges, lengths = edge_lengths(pts, tri)
@@ -153,8 +168,8 @@ def _colour_scale(rel, mean):
 def _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend):
     """The edges coloured by length / mean, the boundary on top, and the colour bar."""
     n_e = len(edges)
-    lw = float(np.clip(45.0 / np.sqrt(n_e), 0.12, 1.4))
-    lc = LineCollection(pts[edges], cmap=_CMAP, norm=norm, linewidths=lw, capstyle="round")
+    lw = float(np.clip(55.0 / np.sqrt(n_e), 0.2, 1.2))
+    lc = LineCollection(pts[edges], cmap=EDGE_CMAP, norm=norm, linewidths=lw, capstyle="round")
     lc.set_array(rel)
     lc.set_rasterized(n_e > 20000)  # keep vector files small for big meshes
     ax_mesh.add_collection(lc)
@@ -212,9 +227,9 @@ def _histogram_panel(ax_hist, rel, lengths, mean, lc, norm) -> float:
         edgecolor="0.35", linewidth=0.4, align="edge",
     )
     ax_hist.axvline(1.0, color="0.1", lw=1.4, label=f"mean  {mean:.4g}")
-    ax_hist.axvline(rmin, color="tab:blue", lw=1.2, ls="--",
+    ax_hist.axvline(rmin, color=EDGE_CMAP(0.0), lw=1.2, ls="--",
                     label=f"shortest  {lengths.min():.4g}  ({rmin:.3f})")
-    ax_hist.axvline(rmax, color="tab:red", lw=1.2, ls="--",
+    ax_hist.axvline(rmax, color=EDGE_CMAP(1.0), lw=1.2, ls="--",
                     label=f"longest  {lengths.max():.4g}  ({rmax:.3f})")
     ax_hist.set_xlabel("edge length / mean", fontsize=9)
     ax_hist.set_ylabel("number of edges", fontsize=9)

@@ -17,6 +17,8 @@ with :func:`patch_layer`.  The module provides:
     ``as_dict()``, ``mesher``, ``target_size``, ``parameterization``) and ``write(path)``.
 ``WRITE_FORMATS`` and ``check_output(path)``
     The extensions ``write`` supports; an ``UnsupportedFormatError`` for any other.
+``plot_result(result, path)``
+    A figure of a remeshed patch (3-D edges coloured by length), saved to ``path``.
 ``measures(V, F, V0, F0)``
     The report's table measures of a remesh (V, F) of the patch (V0, F0).
 ``warm_up()``

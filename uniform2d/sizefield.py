@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .errors import InvalidArgumentError
+
 __all__ = ["SizeField"]
 
 
@@ -45,16 +47,18 @@ class SizeField:
         y = np.array(y, dtype=np.float64)
         v = np.array(values, dtype=np.float64)
         if x.ndim != 1 or y.ndim != 1 or len(x) < 2 or len(y) < 2:
-            raise ValueError("SizeField: x and y must be 1-D with at least 2 entries each")
+            raise InvalidArgumentError(
+                "SizeField: x and y must be 1-D with at least 2 entries each"
+            )
         if not (np.all(np.diff(x) > 0) and np.all(np.diff(y) > 0)):
-            raise ValueError("SizeField: x and y must be strictly increasing")
+            raise InvalidArgumentError("SizeField: x and y must be strictly increasing")
         if v.shape != (len(y), len(x)):
-            raise ValueError(
+            raise InvalidArgumentError(
                 f"SizeField: values must have shape (len(y), len(x)) = {(len(y), len(x))}, "
                 f"got {v.shape}"
             )
         if not (np.all(np.isfinite(v)) and np.all(v > 0)):
-            raise ValueError("SizeField: values must be finite and strictly positive")
+            raise InvalidArgumentError("SizeField: values must be finite and strictly positive")
         for a in (x, y, v):
             a.setflags(write=False)
         self.x, self.y, self.values = x, y, v

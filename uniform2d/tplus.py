@@ -51,7 +51,7 @@ import numbers
 
 import numpy as np
 
-from .errors import InsufficientPointsError
+from .errors import InsufficientPointsError, InvalidArgumentError
 from .insert import insert
 from .mesh import Mesh
 from .polygon import Polygon
@@ -144,7 +144,7 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
         raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
     lo, hi = (float(s) for s in spacing)
     if not (0 < lo <= hi):
-        raise ValueError(f"spacing must be (lo, hi) with 0 < lo <= hi, got {spacing!r}")
+        raise InvalidArgumentError(f"spacing must be (lo, hi) with 0 < lo <= hi, got {spacing!r}")
     n = int(n)
 
     _, d_n, bpts, m = _phase1(polygon, n, hi)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import numbers
 
-from .errors import InsufficientPointsError
+from .errors import InsufficientPointsError, InvalidArgumentError
 from .geometry import vertex_count
 from .mesh import Mesh
 from .polygon import Polygon
@@ -26,7 +26,7 @@ def steiner_count_for_size(polygon: Polygon, size: float) -> int:
     132
     """
     if not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
-        raise ValueError(f"size must be a positive finite number, got {size!r}")
+        raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     N = vertex_count(polygon.area, polygon.perimeter, size, polygon.n_holes)
     return max(0, round(N) - len(polygon.vertices))
 
@@ -59,7 +59,7 @@ def uniform_mesh(
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     if (n is None) == (size is None):
-        raise ValueError("give exactly one of n (number of Steiner points) and size")
+        raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     if n is None:
         n = steiner_count_for_size(polygon, size)
         if n < 1:

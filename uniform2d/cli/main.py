@@ -19,6 +19,7 @@ subcommand here and arrive as ``args.quiet`` (bool) and ``args.verbose`` (int).
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import logging
 import os
@@ -81,10 +82,24 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict]:
     return parser, modules
 
 
+#: What to do about an operating-system error, by errno.
+_OS_HINTS = {
+    errno.ENOSPC: "free some disk space or write to another disk",
+    errno.EDQUOT: "free some of your disk quota or write to another disk",
+    errno.EROFS: "the file system is read-only: write somewhere else",
+    errno.EACCES: "check its permissions or write somewhere else",
+    errno.EPERM: "check its permissions or write somewhere else",
+}
+
+
 def error_message(exc: BaseException) -> str:
     """One line describing a user-facing error."""
-    if isinstance(exc, OSError) and exc.strerror and exc.filename:
+    if isinstance(exc, MemoryError):
+        msg = f"out of memory ({exc or 'no details'}); ask for fewer points"
+    elif isinstance(exc, OSError) and exc.strerror and exc.filename:
         msg = f"{exc.strerror}: {exc.filename}"
+        if exc.errno in _OS_HINTS:
+            msg += f"; {_OS_HINTS[exc.errno]}"
     elif isinstance(exc, ImportError) and not isinstance(exc, ModuleNotFoundError):
         msg = str(exc)
     elif isinstance(exc, ModuleNotFoundError):
@@ -160,12 +175,7 @@ def main(argv=None) -> int:
         except (OSError, ValueError, AttributeError):
             pass
         return 141
-    except MemoryError as exc:  # e.g. an n far beyond the machine
-        logging.getLogger(__name__).debug("error details", exc_info=True)
-        why = str(exc) or "no details"
-        print(f"{PROG}: error: out of memory ({why}); ask for fewer points", file=sys.stderr)
-        return 2
-    except (Uniform2dError, ValueError, OSError, ImportError) as exc:
+    except (Uniform2dError, ValueError, OSError, ImportError, MemoryError) as exc:
         logging.getLogger(__name__).debug("error details", exc_info=True)
         print(f"{PROG}: error: {error_message(exc)}", file=sys.stderr)
         return 2

@@ -3,25 +3,43 @@
 Outputs
 -------
 * One input: ``-o FILE`` (the format follows the extension, any of
-  ``uniform2d.io.mesh_formats()``); ``-o DIR`` (an existing directory) writes
-  ``DIR/<input stem><--format>``.  Without ``-o`` the mesh is written next to the
-  input as ``<input stem><--format>`` (default ``.vtu``), like ``gmsh -2``.
+  ``uniform2d.io.mesh_formats()``); ``-o DIR`` (an existing directory, or any
+  name ending in ``/``, created if missing) writes ``DIR/<input stem><--format>``.
+  Without ``-o`` the mesh is written next to the input as
+  ``<input stem><--format>`` (default ``.vtu``), like ``gmsh -2``.  ``--plot``
+  names a figure file, or a directory when it ends in ``/``.
 * Several inputs: ``-o DIR`` (created if missing) receives one
   ``<input stem><--format>`` per input; without ``-o`` each goes next to its
-  input.  ``--plot`` is then a directory too (``<stem>.png`` each).
+  input.  ``--plot`` must then name a directory too (an existing one, or a name
+  ending in ``/``) and receives ``<stem>.png`` each.
 
-Nothing is written for an input until its mesh exists, and every file is written
-atomically.  With several inputs the command stops at the first bad one (files
-already written for earlier inputs are complete and kept).
+Every output path is checked before any meshing.  Nothing is written for an
+input until its mesh exists, and every file is written atomically.  With several
+inputs a bad one does not stop the others: each failure is one
+``uniform2d: error: <input>: ...`` line, and after the last input a summary line
+and exit code 2.  ``--json`` then lists ``{"input": ..., "error": ...}`` for it.
 """
 
 from __future__ import annotations
 
+import functools
 import logging
+import os
 import sys
 from pathlib import Path
 
-from ._common import positive_float, positive_int, print_json, progress
+from ._common import (
+    batch_status,
+    check_output_dir,
+    check_output_file,
+    map_inputs,
+    names_directory,
+    positive_float,
+    positive_int,
+    print_json,
+    progress,
+    report_failure,
+)
 
 log = logging.getLogger(__name__)
 
@@ -49,12 +67,14 @@ def add_parser(subparsers):
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
     p.add_argument("-o", "--output", metavar="OUTPUT",
-                   help="output mesh file (one input) or directory; default: next to the input")
+                   help="output mesh file (one input) or directory (existing, or ending in '/': "
+                   "created); default: next to the input")
     p.add_argument("--format", default=".vtu", metavar="EXT",
                    help="extension of outputs named after their input (default .vtu)")
     p.add_argument("--plot", metavar="PNG",
-                   help="also write a figure of the mesh (.png, .pdf, .svg); "
-                   "a directory when there are several inputs")
+                   help="also write a figure of the mesh (.png, .pdf, .svg); a name ending in '/' "
+                   "is a directory receiving <input name>.png (with several inputs --plot must be "
+                   "a directory)")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true",
                       help="print the quality summary and optimality certificates")
@@ -71,52 +91,79 @@ def _stem(path: Path) -> str:
     return name[: -len(fmt.extension)] if fmt is not None else path.stem
 
 
+def _format_extension(text: str) -> str:
+    from ..errors import UnsupportedFormatError
+    from ..io.registry import MESH_FORMATS
+
+    ext = (text if text.startswith(".") else "." + text).lower()
+    if ext not in MESH_FORMATS:
+        raise UnsupportedFormatError(
+            f"unknown --format '{text}'; use one of {', '.join(MESH_FORMATS)}"
+        )
+    return ext
+
+
+def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
+    """The --plot path and whether it names a directory, checked before any meshing."""
+    from ..plot import check_figure_path
+
+    if text is None:
+        return None, False
+    plot = Path(text)
+    if names_directory(text) and (several or text.endswith(("/", os.sep))):
+        check_output_dir(plot, "--plot")
+        return plot, True
+    if several:
+        raise ValueError(
+            f"with several inputs, --plot must be a directory (an existing one, or a name "
+            f"ending in '/'), got '{text}'"
+        )
+    if plot.is_dir():
+        raise ValueError(f"--plot '{plot}' is a directory; give a file name such as mesh.png "
+                         f"(or '{plot}/' for <input name>.png inside it)")
+    check_figure_path(plot)
+    check_output_file(plot, "--plot")
+    return plot, False
+
+
+def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
+    """The -o path and whether it names a directory, checked before any meshing."""
+    from ..io.registry import MESH_FORMATS, find_mesh_format, match_format
+
+    if text is None:
+        return None, False
+    out = Path(text)
+    if several and (out.is_file() or (not names_directory(text) and match_format(out, MESH_FORMATS))):
+        raise ValueError(f"with several inputs, -o must be a directory, got '{out}'")
+    if several or names_directory(text):
+        check_output_dir(out, "-o")
+        return out, True
+    find_mesh_format(out, "write")
+    check_output_file(out, "-o")
+    return out, False
+
+
 def _plan(args) -> list[tuple[Path, Path, Path | None]]:
     """(input, output, plot) per input, every check that needs no meshing done."""
-    from ..errors import UnsupportedFormatError
-    from ..io.registry import MESH_FORMATS, match_format, find_mesh_format
-    from ..plot import FIGURE_FORMATS as PLOT_FORMATS
-
     inputs = [Path(s) for s in args.inputs]
     for src in inputs:  # all inputs before any output
         if not src.exists():
             raise FileNotFoundError(2, "input file not found", str(src))
-    ext = args.format if args.format.startswith(".") else "." + args.format
-    ext = find_mesh_format("output" + ext.lower(), "write").extension
+    ext = _format_extension(args.format)
     several = len(inputs) > 1
-
-    out = Path(args.output) if args.output else None
-    if several and out is not None and (out.is_file() or (not out.exists() and match_format(out, MESH_FORMATS))):
-        raise ValueError(f"with several inputs, -o must be a directory, got '{out}'")
-
-    plot = Path(args.plot) if args.plot else None
-    if plot is not None and not several:
-        if plot.suffix.lower() not in PLOT_FORMATS:
-            raise UnsupportedFormatError(
-                f"cannot save a figure as '{plot}'; use one of {', '.join(PLOT_FORMATS)}"
-            )
-        if plot.is_dir():
-            raise ValueError(f"--plot '{plot}' is a directory; give a file name such as mesh.png")
-        if not plot.parent.is_dir():
-            raise FileNotFoundError(
-                f"cannot save the figure '{plot}': directory '{plot.parent}' does not exist"
-            )
-    if plot is not None and several and plot.exists() and not plot.is_dir():
-        raise ValueError(f"with several inputs, --plot must be a directory, got the file '{plot}'")
+    out, out_is_dir = _output_target(args.output, several)
+    plot, plot_is_dir = _plot_target(args.plot, several)
 
     plan = []
     for src in inputs:
         stem = _stem(src)
         if out is None:
             dst = src.parent / (stem + ext)
-        elif several or out.is_dir():
-            dst = out / (stem + ext)
         else:
-            dst = out
-            find_mesh_format(dst, "write")
+            dst = out / (stem + ext) if out_is_dir else out
         fig = None
         if plot is not None:
-            fig = plot / (stem + ".png") if several else plot
+            fig = plot / (stem + ".png") if plot_is_dir else plot
         plan.append((src, dst, fig))
     targets = [d.resolve() for _, d, _ in plan]
     if len(set(targets)) != len(targets):
@@ -145,9 +192,12 @@ def _mesh_one(polygon, args):
 def _write_both(mesh, dst: Path, fig: Path | None) -> None:
     """The mesh file and its figure, both or neither: the figure is drawn to a
     temporary file next to ``fig`` first and moved into place after the mesh is
-    written (each write is atomic on its own)."""
+    written (each write is atomic on its own).  Errors name ``fig``, never the
+    temporary file."""
     import os
     import secrets
+
+    from ..io.atomic import _named
 
     if fig is None:
         mesh.write(dst)
@@ -160,65 +210,81 @@ def _write_both(mesh, dst: Path, fig: Path | None) -> None:
     tmp = fig.with_name(f".{fig.stem}.tmp-{secrets.token_hex(4)}{fig.suffix}")
     existed = dst.exists()
     try:
-        plt.close(mesh.plot(tmp))
+        try:
+            plt.close(mesh.plot(tmp))
+        except OSError as exc:
+            raise _named(exc, tmp, fig) from None
         mesh.write(dst)
         try:
             os.replace(tmp, fig)
-        except OSError:
+        except OSError as exc:
             if not existed:
                 dst.unlink(missing_ok=True)
-            raise
+            raise _named(exc, tmp, fig) from None
     finally:
         tmp.unlink(missing_ok=True)
 
 
-def run(args) -> int:
+def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
+    """Mesh one input and write its files; returns what to show (no printing here)."""
     from ..io import read_polygon
 
+    src, dst, fig = job
+    polygon = read_polygon(src)
+    log.info("%s: %r", src, polygon)
+    mesh = _mesh_one(polygon, args)
+    log.info("%s: %r", src, mesh)
+    quality = mesh.quality() if (args.stats or args.json) else None
+    dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
+    if fig is not None:
+        fig.parent.mkdir(parents=True, exist_ok=True)
+    _write_both(mesh, dst, fig)
+    return {
+        "input": str(src),
+        "output": str(dst),
+        "plot": str(fig) if fig is not None else None,
+        "method": args.method,
+        "n_steiner": mesh.n_steiner,
+        "n_points": len(mesh.points),
+        "n_triangles": len(mesh.triangles),
+        "info": mesh.info,
+        "quality": quality.to_dict() if quality is not None else None,
+        "summary": quality.summary() if quality is not None else None,
+    }
+
+
+def _show(args, doc: dict, several: bool) -> None:
+    if args.stats:
+        if several:
+            print(f"== {doc['input']} -> {doc['output']}")
+        print(doc["summary"])
+        if doc["info"].get("method") == "paper" and "d_n" in doc["info"]:
+            _print_tplus(doc["info"])
+    elif not args.quiet and not args.json:
+        print(f"wrote {doc['output']} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
+              f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
+    sys.stdout.flush()
+
+
+def run(args) -> int:
     plan = _plan(args)
     several = len(plan) > 1
-    documents = []
-    for src, dst, fig in progress(plan, total=len(plan), quiet=args.quiet, desc="meshing"):
-        try:
-            polygon = read_polygon(src)
-            log.info("%s: %r", src, polygon)
-            mesh = _mesh_one(polygon, args)
-            log.info("%s: %r", src, mesh)
-            quality = mesh.quality() if (args.stats or args.json) else None
-            if several:
-                dst.parent.mkdir(parents=True, exist_ok=True)
-                if fig is not None:
-                    fig.parent.mkdir(parents=True, exist_ok=True)
-            _write_both(mesh, dst, fig)
-        except (ValueError, OSError) as exc:
-            if several and str(src) not in str(exc):
-                exc.args = (f"{src}: {exc}",) if not isinstance(exc, OSError) else exc.args
-            raise
-        if args.json:
-            documents.append({
-                "input": str(src),
-                "output": str(dst),
-                "plot": str(fig) if fig is not None else None,
-                "method": args.method,
-                "n_steiner": mesh.n_steiner,
-                "n_points": len(mesh.points),
-                "n_triangles": len(mesh.triangles),
-                "info": mesh.info,
-                "quality": quality.to_dict(),
-            })
-        elif args.stats:
-            if several:
-                print(f"== {src} -> {dst}")
-            print(quality.summary())
-            if mesh.info.get("method") == "paper" and "d_n" in mesh.info:
-                _print_tplus(mesh.info)
-        if not args.quiet and not args.json and not args.stats:
-            print(f"wrote {dst} ({len(mesh.points)} points, {len(mesh.triangles)} triangles, "
-                  f"n = {mesh.n_steiner})" + (f", figure {fig}" if fig is not None else ""))
-        sys.stdout.flush()
+    documents, failed = [], 0
+    outcomes = map_inputs(functools.partial(_process, args), plan)
+    for outcome in progress(outcomes, total=len(plan), quiet=args.quiet, desc="meshing"):
+        src = outcome.item[0]
+        if outcome.error is not None:
+            if not several:
+                raise outcome.error
+            failed += 1
+            documents.append({"input": str(src), "error": report_failure(src, outcome.error)})
+            continue
+        doc = outcome.value
+        documents.append({k: v for k, v in doc.items() if k != "summary"})
+        _show(args, doc, several)
     if args.json:
         print_json(documents[0] if not several else documents)
-    return 0
+    return batch_status(failed, len(plan))
 
 
 def _print_tplus(info) -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
-from ._common import positive_float, positive_int, print_json
+from ._common import check_output_file, positive_float, positive_int, print_json
 
 log = logging.getLogger(__name__)
 
@@ -42,54 +42,18 @@ def add_parser(subparsers):
     return p
 
 
-def _plot(result, path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection
-
-    from ..errors import UnsupportedFormatError
-    from ..geometry import unique_edges
-    from ..plot import FIGURE_FORMATS
-
-    if Path(path).suffix.lower() not in FIGURE_FORMATS:
-        raise UnsupportedFormatError(
-            f"cannot save a figure as '{path}'; use one of {', '.join(FIGURE_FORMATS)}"
-        )
-    V, F = result.vertices, result.faces
-    e = unique_edges(F)
-    length = np.linalg.norm(V[e[:, 1]] - V[e[:, 0]], axis=1)
-    rel = length / length.mean()
-    fig = plt.figure(figsize=(11, 4.8))
-    ax = fig.add_subplot(1, 2, 1, projection="3d")
-    lc = Line3DCollection(V[e], cmap="coolwarm", linewidths=0.5)
-    lc.set_array(rel)
-    lc.set_clim(0.5, 1.5)
-    ax.add_collection(lc)
-    lo, hi = V.min(axis=0), V.max(axis=0)
-    c, r = (lo + hi) / 2, (hi - lo).max() / 2
-    ax.set_xlim(c[0] - r, c[0] + r)
-    ax.set_ylim(c[1] - r, c[1] + r)
-    ax.set_zlim(c[2] - r, c[2] + r)
-    ax.set_axis_off()
-    fig.colorbar(lc, ax=ax, shrink=0.7, label="edge length / mean")
-    h = fig.add_subplot(1, 2, 2)
-    h.hist(rel, bins=40, color="0.4")
-    h.set_xlabel("3-D edge length / mean")
-    h.set_ylabel("edges")
-    fig.suptitle(f"{len(V)} vertices, {len(F)} faces, edge ratio {length.max() / length.min():.3g}")
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-
-
 def run(args) -> int:
     from ..plugins import patch_layer
 
     src, dst = Path(args.input), Path(args.output)
     layer = patch_layer()
     layer.check_output(dst)
+    check_output_file(dst, "-o")
+    if args.plot:
+        from ..plot import check_figure_path
+
+        check_figure_path(args.plot)
+        check_output_file(Path(args.plot), "--plot")
     if not src.exists():
         raise FileNotFoundError(2, "input file not found", str(src))
     patch = layer.read_patch(src)
@@ -97,7 +61,7 @@ def run(args) -> int:
     result = layer.remesh(patch, n_vertices=args.n, size=args.size, param=args.param)
     result.write(dst)
     if args.plot:
-        _plot(result, args.plot)
+        layer.plot_result(result, args.plot)
     if args.json:
         print_json({"input": str(src), "output": str(dst), "report": result.report.as_dict()})
     elif args.stats:

@@ -7,8 +7,9 @@ Wraps :func:`uniform2d.report.make_report`; writes ``DIR/index.html``,
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
-from ._common import positive_int
+from ._common import check_output_dir, positive_int
 
 DEFAULT_N = (200,)
 
@@ -49,6 +50,7 @@ def run(args) -> int:
 
     if args.jobs < 1:
         raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
+    check_output_dir(Path(args.output), "-o")
     results = make_report(
         args.inputs,
         args.output,

@@ -59,11 +59,15 @@ def atomic_write(path, write: Callable[[Path], object], *, extension: str = "") 
     ------
     FileNotFoundError
         If the destination directory does not exist.
+    NotADirectoryError
+        If the destination's parent is a file.
     Exception
         Whatever `write` raises; nothing is left behind in that case.
     """
     path = Path(path)
     directory = path.parent if str(path.parent) else Path(".")
+    if directory.exists() and not directory.is_dir():
+        raise NotADirectoryError(f"cannot write '{path}': '{directory}' is a file, not a directory")
     if not directory.is_dir():
         raise FileNotFoundError(
             f"cannot write '{path}': directory '{directory}' does not exist"
@@ -97,7 +101,8 @@ def atomic_write(path, write: Callable[[Path], object], *, extension: str = "") 
 
 
 def _named(exc: OSError, tmp: Path, path: Path) -> OSError:
-    """``exc`` about the hidden temporary file, retold about the user's ``path``."""
-    if exc.filename is not None and Path(exc.filename) == tmp and exc.errno is not None:
+    """``exc`` about the hidden temporary file (or about no file: a full disk while
+    writing), retold about the user's ``path``."""
+    if exc.errno is not None and (exc.filename is None or Path(exc.filename) == tmp):
         return type(exc)(exc.errno, exc.strerror, str(path))
     return exc

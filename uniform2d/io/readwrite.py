@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import ArgumentTypeError, InvalidArgumentError
 from ..polygon import Polygon
 from .atomic import atomic_write
 from .registry import find_mesh_format, find_polygon_format
@@ -98,7 +99,7 @@ def write_polygon(path, polygon: Polygon) -> None:
     """
     fmt = find_polygon_format(path, "write")
     if not isinstance(polygon, Polygon):
-        raise TypeError(
+        raise ArgumentTypeError(
             f"write_polygon expects a uniform2d.Polygon, got {type(polygon).__name__}; "
             "build one with Polygon(outer, holes)"
         )
@@ -137,26 +138,28 @@ def _as_mesh(points, triangles, point_data):
     try:
         pts = np.array(points, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"points must be an (N, 2) array of numbers ({exc})") from None
+        raise InvalidArgumentError(f"points must be an (N, 2) array of numbers ({exc})") from None
     if pts.ndim != 2 or pts.shape[1] != 2:
-        raise ValueError(f"points must have shape (N, 2), got {pts.shape}")
+        raise InvalidArgumentError(f"points must have shape (N, 2), got {pts.shape}")
     if not np.isfinite(pts).all():
-        raise ValueError("points contain a non-finite coordinate (NaN or inf)")
+        raise InvalidArgumentError("points contain a non-finite coordinate (NaN or inf)")
     tri = np.array(triangles)
     if tri.size == 0 or tri.ndim != 2 or tri.shape[1] != 3:
-        raise ValueError(f"triangles must have shape (M, 3) with M >= 1, got {tri.shape}")
+        raise InvalidArgumentError(f"triangles must have shape (M, 3) with M >= 1, got {tri.shape}")
     if not np.issubdtype(tri.dtype, np.integer):
-        raise ValueError(f"triangles must be integer point indices, got dtype {tri.dtype}")
+        raise InvalidArgumentError(
+            f"triangles must be integer point indices, got dtype {tri.dtype}"
+        )
     tri = tri.astype(np.int64)
     if tri.min() < 0 or tri.max() >= len(pts):
-        raise ValueError(
+        raise InvalidArgumentError(
             f"triangles refer to points {tri.min()}..{tri.max()}, but there are {len(pts)} points"
         )
     data = {}
     for name, values in (point_data or {}).items():
         arr = np.array(values)
         if arr.ndim == 0 or len(arr) != len(pts):
-            raise ValueError(
+            raise InvalidArgumentError(
                 f"point data {name!r} must have one entry per point ({len(pts)}), "
                 f"got shape {arr.shape}"
             )

@@ -95,7 +95,7 @@ import json
 
 import numpy as np
 
-from ..errors import FileFormatError
+from ..errors import FileFormatError, InvalidArgumentError
 
 __all__ = ["members", "read_truss_csv", "write_truss_csv", "read_truss_json", "write_truss_json"]
 
@@ -140,13 +140,15 @@ def write_truss_csv(path, points, triangles, point_data=None) -> None:
     point_data = point_data or {}
     for name, values in point_data.items():
         if np.ndim(values) != 1:
-            raise ValueError(
+            raise InvalidArgumentError(
                 f"point data {name!r} has shape {np.shape(values)}; the CSV truss format "
                 "stores one value per node (shape (N,)): split it into several arrays or "
                 "use .truss.json"
             )
         if name in CSV_COLUMNS:
-            raise ValueError(f"point data name {name!r} clashes with a CSV column; rename it")
+            raise InvalidArgumentError(
+                f"point data name {name!r} clashes with a CSV column; rename it"
+            )
     ij, lengths = members(points, triangles)
     names = list(point_data)
     columns = [np.asarray(point_data[n]) for n in names]

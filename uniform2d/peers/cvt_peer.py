@@ -23,6 +23,7 @@ import logging
 import numpy as np
 import shapely
 
+from ..errors import InvalidArgumentError
 from .base import PeerMesh, size_for_count
 
 log = logging.getLogger(__name__)
@@ -126,7 +127,7 @@ def mesh(polygon, n_vertices: int) -> PeerMesh:
 
     nV = len(polygon.vertices)
     if n_vertices < nV:
-        raise ValueError(f"n_vertices={n_vertices} is below the {nV} polygon vertices")
+        raise InvalidArgumentError(f"n_vertices={n_vertices} is below the {nV} polygon vertices")
     h = size_for_count(polygon.area, polygon.perimeter, n_vertices, polygon.n_holes)
     while True:
         bpts = boundary_points(polygon, h)

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .._jsonable import jsonable
+from ..errors import InvalidArgumentError
 from .cases import load_inputs, plan
 from .render import groups, mesh_figure, render_html, render_markdown
 from .runners import run_cases
@@ -103,15 +104,17 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
 
     paths = [str(p) for p in paths]
     if not paths:
-        raise ValueError("give at least one input file")
+        raise InvalidArgumentError("give at least one input file")
     ns = [int(n) for n in ns]
     if not ns or min(ns) < 1:
-        raise ValueError(f"every n must be a positive integer, got {ns}")
+        raise InvalidArgumentError(f"every n must be a positive integer, got {ns}")
     ns = list(dict.fromkeys(ns))
     names = list(_peers.names()) if peers is None else list(dict.fromkeys(peers))
     unknown = [p for p in names if p not in _peers.names()]
     if unknown:
-        raise ValueError(f"unknown peer(s) {', '.join(unknown)}; choose from {', '.join(_peers.names())}")
+        raise InvalidArgumentError(
+            f"unknown peer(s) {', '.join(unknown)}; choose from {', '.join(_peers.names())}"
+        )
     info = [_peers.describe(p) for p in names]
     for p in info:
         if not p["available"]:

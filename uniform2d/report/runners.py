@@ -12,6 +12,7 @@ import multiprocessing
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
+from ..errors import InvalidArgumentError
 from .cases import run_case, warm_up
 
 log = logging.getLogger(__name__)
@@ -88,7 +89,7 @@ def run_cases(cases, *, jobs: int = 1, scheduler=None, progress: bool = False) -
         Results, in the order of ``cases``.
     """
     if jobs < 1:
-        raise ValueError(f"jobs must be at least 1, got {jobs}")
+        raise InvalidArgumentError(f"jobs must be at least 1, got {jobs}")
     todo = [c for c in cases if c["status"] != "not installed"]
     log.info("%d cases to run (%d not installed)", len(todo), len(cases) - len(todo))
     with _bar(len(cases), progress) as bar:
