@@ -233,7 +233,10 @@ def test_bound_formulas_and_terms():
     assert per["boundary"] == pytest.approx(8 / (4 + n) * s, rel=1e-14)
     ratio = dict(q.edge_ratio_bound.terms)
     assert ratio["trivial"] == pytest.approx(1.0 * s, rel=1e-14)
-    assert "corner" not in ratio  # all corners are 90 degrees
+    # Every corner is 90 degrees: two triangles of 45 degrees there at best.
+    assert ratio["corner"] == pytest.approx(1 / (2 * math.sin(math.pi / 8)) * s, rel=1e-14)
+    assert q.edge_ratio_bound.term == "corner"
+    assert q.edge_ratio_bound.detail.startswith("90 deg at (0, 0)")
     assert ratio["boundary"] == pytest.approx(max(longest.values()) / 1.0, rel=1e-14)
     for b in (q.longest_edge_bound, q.max_perimeter_bound, q.edge_ratio_bound):
         assert b.value == max(v for _, v in b.terms)
