@@ -230,7 +230,7 @@ def lower_bound_terms(polygon: Polygon, n: int, d_n: float | None) -> dict[str, 
     perimeter.append(Term("boundary", 2.0 * per_edge, f"{n_v + n} boundary edges at most"))
     for terms, K, c in ((longest, 4.0 * A / _SQRT3, 1.0), (perimeter, 12.0 * _SQRT3 * A, 2.0)):
         value, k = _split_term(edges, n, t_max, K, c)
-        terms.append(Term("split", value, f"{k} boundary points, {t_max - k} triangles at most"))
+        terms.append(Term("split", value, f"at {k} boundary points: {t_max - k} triangles at most"))
 
     longest_lb = max(t.value for t in longest)
     ratio = [Term("trivial", 1.0)]
