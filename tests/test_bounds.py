@@ -13,7 +13,8 @@ import polygen
 from invariants import check_mesh
 from uniform2d import Polygon, tplus, uniform_mesh
 from uniform2d.errors import InsufficientPointsError
-from uniform2d.bounds import BOUND_SLACK, corner_ratio_floor, triangle_ratio_floor
+from uniform2d.bounds import (BOUND_SLACK, corner_ratio_floor, euler_ratio_floor,
+                              triangle_ratio_floor)
 from uniform2d.quality import quality
 
 DEG = math.pi / 180
@@ -101,6 +102,74 @@ def test_corner_floor_values(deg, want):
     assert corner_ratio_floor(deg * DEG)[0] == pytest.approx(want, rel=1e-14)
 
 
+# -- the euler term: counting triangles at vertices ------------------------------
+G5, G7 = 2 * math.sin(36 * DEG), 1 / (2 * math.sin(math.pi / 7))
+
+
+def euler_reference(alphas, h):
+    """The least ratio below g(72) that some choice of triangles per corner allows,
+    by enumerating every choice: sum k = 3|V| + 6h - 6 below g(360/7), sum k <= it
+    from there (degree-7 inner vertices take the rest)."""
+    import itertools
+
+    target = 3 * len(alphas) + 6 * h - 6
+    best = G5
+    choices = [[k for k in range(1, 10) if a < k * math.pi] for a in alphas]
+    for ks in itertools.product(*choices):
+        worst = max(max(triangle_ratio_floor(a / k) for a, k in zip(alphas, ks)), 1.0)
+        if sum(ks) == target:
+            best = min(best, worst)
+        elif sum(ks) < target:
+            best = min(best, max(worst, G7))
+    return best
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.floats(20.0, 340.0), min_size=3, max_size=5), st.integers(0, 1))
+def test_euler_term_equals_enumeration(angles, h):
+    alphas = [a * DEG for a in angles]
+    assert euler_ratio_floor(alphas, h) == pytest.approx(euler_reference(alphas, h), rel=1e-12)
+
+
+def test_euler_term_values():
+    regular = lambda m: [math.pi * (m - 2) / m] * m  # noqa: E731
+    assert euler_ratio_floor(regular(6), 0) == pytest.approx(1.0)   # the lattice fits
+    assert euler_ratio_floor(regular(3), 0) == pytest.approx(1.0)
+    assert euler_ratio_floor(regular(5), 0) == pytest.approx(G5)    # a corner or a 5-vertex
+    assert euler_ratio_floor(regular(8), 0) == pytest.approx(G7)    # two 7-vertices do
+    assert euler_ratio_floor(regular(40), 0) == pytest.approx(G5)   # a disc needs 5-vertices
+    # A hexagonal hole in a hexagon: 12 corners, 6 of 120 and 6 of 240 degrees, fits.
+    assert euler_ratio_floor([120 * DEG] * 6 + [240 * DEG] * 6, 1) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("name", ["square", "star10", "square2holes", "disc40", "pentagon"])
+def test_euler_formula_on_real_meshes(name):
+    """The identity behind the term: sum over inner vertices of (d - 6) plus sum over
+    boundary vertices of (k - 3) is 6h - 6, d and k counting triangles at a vertex."""
+    P = POLYGONS[name]
+    for n in (30, 200):
+        m = uniform_mesh(P, n)
+        count = np.bincount(m.triangles.ravel(), minlength=len(m.points))
+        e = np.sort(m.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        keys, uses = np.unique(e, axis=0, return_counts=True)
+        boundary = np.zeros(len(m.points), bool)
+        boundary[keys[uses == 1].ravel()] = True
+        total = (count[~boundary] - 6).sum() + (count[boundary] - 3).sum()
+        assert total == 6 * P.n_holes - 6
+
+
+def test_a_disc_like_polygon_has_ratio_at_least_2_sin_36():
+    q = quality(*_mesh(POLYGONS["disc40"], 100), POLYGONS["disc40"], d_n=False)
+    assert q.edge_ratio_bound.term == "euler"
+    assert q.edge_ratio_bound.value == pytest.approx(G5 * (1 - BOUND_SLACK), rel=1e-14)
+    assert q.edge_ratio >= q.edge_ratio_bound.value
+
+
+def _mesh(P, n):
+    m = uniform_mesh(P, n)
+    return m.points, m.triangles
+
+
 # -- every corner that is not a multiple of 60 degrees gives a floor above 1 -----
 def polygon_with_corner(deg):
     """A simple polygon with a corner of ``deg`` degrees at the origin (0 < deg < 360)."""
@@ -132,14 +201,22 @@ def test_corners_at_multiples_of_60_degrees_give_no_corner_term():
 
 
 def test_holes_and_reflex_corners_count():
-    """A square hole has 270-degree corners in the domain: its floor is g(54)."""
+    """A square hole has 270-degree corners in the domain: its floor is g(54), and
+    Euler's formula counts them too."""
     hole = [(2, 1), (3, 1), (3, 2), (2, 2)]
     P = Polygon([(0, 0), (6, 0), (3, 3 * math.sqrt(3))], [hole])  # outer corners: 60 degrees
     q = quality(P.vertices, np.array([[0, 1, 2]]), P, n_steiner=50, d_n=False)
     want = corner_ratio_floor(270 * DEG)[0] * (1 - BOUND_SLACK)
     assert dict(q.edge_ratio_bound.terms)["corner"] == pytest.approx(want, rel=1e-14)
-    assert q.edge_ratio_bound.term == "corner"
-    assert q.edge_ratio_bound.detail.startswith("270 deg at (")
+    terms = dict(q.edge_ratio_bound.terms)
+    # Euler: the 60-degree corners take 1 triangle each, the four hole corners 4 or 5,
+    # and 3 + sum = 3 * 7 + 6 - 6 = 21 needs two of each: a 67.5-degree one, 1.111.
+    assert terms["euler"] == pytest.approx(2 * math.sin(33.75 * DEG) * (1 - BOUND_SLACK), rel=1e-14)
+    assert q.edge_ratio_bound.term == "euler"
+    framed = Polygon([(0, 0), (6, 0), (6, 6), (0, 6)], [hole])
+    q = quality(framed.vertices, np.array([[0, 1, 2]]), framed, n_steiner=50, d_n=False)
+    assert q.edge_ratio_bound.term == "corner"  # the outer 90-degree corners: 1.307
+    assert dict(q.edge_ratio_bound.terms)["corner"] > terms["corner"]
 
 
 def test_bounds_are_scale_and_translation_invariant():
@@ -201,6 +278,8 @@ def sharp_and_reflex_polygons():
     out["sliver 12deg"] = Polygon([(0, 0), (1, 0), (math.cos(12 * DEG), math.sin(12 * DEG))])
     out["obtuse 150deg"] = Polygon([(0, 0), (2, 0), (1 + math.cos(30 * DEG), math.sin(30 * DEG)),
                                     (-1, 1)])
+    out["disc40"] = Polygon([(math.cos(a), math.sin(a)) for a in np.arange(40) * 2 * math.pi / 40])
+    out["pentagon"] = Polygon([(math.cos(a), math.sin(a)) for a in np.arange(5) * 2 * math.pi / 5])
     out["comb"] = Polygon([(0, 0), (4, 0), (4, 1), (3, 1), (3, 0.3), (2.5, 0.3), (2.5, 1),
                            (1, 1), (0.7, 0.4), (0.3, 1), (0, 1)])
     for i in range(3):

@@ -26,6 +26,7 @@ __all__ = [
     "Term",
     "triangle_ratio_floor",
     "corner_ratio_floor",
+    "euler_ratio_floor",
     "lower_bound_terms",
 ]
 
@@ -94,6 +95,65 @@ def corner_ratio_floor(alpha: float) -> tuple[float, int]:
     k1 = max(k0, int(math.ceil(alpha / _THIRD_PI)) + 1)
     best = min((triangle_ratio_floor(alpha / k), k) for k in range(k0, k1 + 1))
     return best
+
+
+#: g(360/7) and g(360/5): the least edge ratio around an interior vertex of
+#: degree 7 and of degree 5 (every other degree but 6 forces more).
+_G7 = 1.0 / (2.0 * math.sin(math.pi / 7.0))
+_G5 = 2.0 * math.sin(math.pi / 5.0)
+#: Triangles per corner tried by the ``euler`` term: a corner's floor is above
+#: _G5 once alpha / k is below 50 degrees, and alpha < 360.
+_K_MAX = 9
+
+
+def euler_ratio_floor(alphas, n_holes: int) -> float:
+    """The ``euler`` term: a floor on the edge ratio from counting triangles at vertices.
+
+    In a mesh with edge ratio rho < g(72 deg) = 2 sin 36 deg every interior
+    vertex has 6 or 7 triangles (d triangles round it split 360 degrees, so
+    rho >= g(360 / d): 1.1524 for d = 7, 1.1756 for d = 5, more for the
+    others), only 6 if rho < g(360/7), and every boundary point off the
+    corners has 3 (2 or 4 force 1.414 or 1.307).  Counting triangle corners
+    (3T) and Euler's formula (T = 2 N_i + N_b - 2 + 2h) give
+    sum_i (d_i - 6) + sum_b (k_b - 3) = 6h - 6 over interior vertices i and
+    boundary vertices b, so the numbers k_v of triangles at the polygon's
+    corners must satisfy sum_v k_v = 3|V| + 6h - 6 (below g(360/7)), or
+    sum_v k_v <= that (below g(72)), while g(alpha_v / k_v) <= rho at each.
+    The term is the least rho for which such k_v exist, or g(72) if none does
+    below it.  ``alphas`` are the interior angles (radians) of every vertex of
+    every ring.
+    """
+    alphas = np.asarray(alphas, dtype=np.float64)
+    target = 3 * len(alphas) + 6 * n_holes - 6
+    G = np.full((len(alphas), _K_MAX + 1), np.inf)
+    for k in range(1, _K_MAX + 1):
+        ok = alphas < k * math.pi  # k triangles, each below 180 degrees
+        G[ok, k] = [triangle_ratio_floor(a / k) for a in alphas[ok]]
+    cand = np.unique(G[G < _G5])
+
+    def feasible(rho):
+        allowed = G <= rho * (1.0 + 1e-12)  # rounding may only widen the choice
+        if not allowed.any(axis=1).all():
+            return False
+        ks = np.arange(_K_MAX + 1)
+        lo = np.where(allowed, ks, _K_MAX + 1).min(axis=1).sum()
+        hi = np.where(allowed, ks, -1).max(axis=1).sum()
+        if rho >= _G7 * (1.0 - 1e-12):  # degree-7 vertices allowed: sum may fall short
+            return lo <= target
+        return lo <= target <= hi
+
+    lo, hi = 0, len(cand)  # least index whose candidate is feasible (len: none)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if feasible(cand[mid]):
+            hi = mid
+        else:
+            lo = mid + 1
+    below_g7 = cand[lo] if lo < len(cand) else math.inf
+    # Feasibility only changes at a candidate or where the rule changes at g(360/7).
+    if below_g7 > _G7 and feasible(_G7):
+        return _G7
+    return float(min(below_g7, _G5))
 
 
 # -- helpers -----------------------------------------------------------------
@@ -237,6 +297,9 @@ def lower_bound_terms(polygon: Polygon, n: int, d_n: float | None) -> dict[str, 
     corner = _corner_term(polygon)
     if corner is not None:
         ratio.append(corner)
+    euler = euler_ratio_floor(polygon.interior_angles(), polygon.n_holes)
+    if euler > 1.0 + 4 * BOUND_SLACK:
+        ratio.append(Term("euler", euler, "below it no split of the corners fits Euler's formula"))
     ratio.append(Term("boundary", longest_lb / float(edges.min()),
                       f"shortest polygon edge {_fmt(float(edges.min()))}"))
     sides, at = _sides_term(edges, longest_lb)

@@ -444,6 +444,11 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
       b <= 60 degrees, 2 sin(b/2) above.  g falls to 1 at 60 degrees and rises
       after, so the corner forces min over k of g(alpha / k): 1.307 for 90
       degrees, 1.101 for 270, 1 for every multiple of 60.
+    - ``euler``: an inner vertex with d != 6 triangles, or a boundary point
+      with other than 3, forces a ratio >= 1.1524 (d = 7), 1.1756 (d = 5) or
+      more; with none, Euler's formula fixes the sum of the numbers of
+      triangles at the corners, and the term is the least ratio their floors
+      allow (:func:`uniform2d.bounds.euler_ratio_floor`; at most 1.1756).
     - ``boundary``: (longest edge bound) / (shortest edge of P).  Every edge of
       P is cut into mesh edges no longer than itself.
     - ``sides``: a mesh with longest edge L >= (longest edge bound) cuts each
