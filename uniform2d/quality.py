@@ -352,6 +352,74 @@ def _checked_d_n(d_n, poly: Polygon, n: int, convex: bool) -> float | None:
     return dn
 
 
+def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
+    """Every field of :class:`Quality` that does not need the polygon."""
+    # Edges.
+    edges, counts = _unique_edges(tri, len(pts))
+    d = pts[edges[:, 1]] - pts[edges[:, 0]]
+    lengths = np.hypot(d[:, 0], d[:, 1])
+    shortest = float(lengths.min())
+    longest = float(lengths.max())
+    ratio = longest / shortest if shortest > 0 else math.inf
+    mean = float(lengths.mean())
+    std = float(lengths.std())
+    cv = std / mean if mean > 0 else math.inf
+    rel = lengths / mean if mean > 0 else np.zeros_like(lengths)
+    hist_counts, hist_edges = _histogram(rel, bins)
+
+    # Triangles: sides, angles, perimeters, areas.
+    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    sides = np.stack(
+        [np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1)],
+        axis=1,
+    )
+    max_perimeter = float(sides.sum(axis=1).max())
+
+    def _angle(p, q, r):  # angle at p of triangle p, q, r
+        u, v = q - p, r - p
+        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        return np.arctan2(np.abs(cross), (u * v).sum(axis=1))
+
+    angles = np.degrees(np.stack([_angle(a, b, c), _angle(b, c, a), _angle(c, a, b)], axis=1))
+    ab, ac = b - a, c - a
+    area = float(0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]).sum())
+
+    return dict(
+        n_vertices=len(pts),
+        n_triangles=len(tri),
+        n_edges=len(edges),
+        n_boundary_edges=int((counts == 1).sum()),
+        area=area,
+        shortest_edge=shortest,
+        longest_edge=longest,
+        edge_ratio=ratio,
+        mean_edge=mean,
+        std_edge=std,
+        cv_edge=cv,
+        min_angle=float(angles.min()),
+        max_angle=float(angles.max()),
+        max_perimeter=max_perimeter,
+        histogram_counts=tuple(int(x) for x in hist_counts),
+        histogram_edges=tuple(float(x) for x in hist_edges),
+    )
+
+
+def _steiner_count(n_steiner, n_points: int, n_v: int) -> int:
+    """The n the bounds assume: ``n_steiner``, or the mesh's points beyond V."""
+    if n_steiner is None:
+        n = n_points - n_v
+        if n < 0:
+            raise ValueError(
+                f"the mesh has {n_points} points but the polygon has {n_v} vertices; "
+                "pass n_steiner explicitly"
+            )
+        return n
+    n = int(n_steiner)
+    if n < 0:
+        raise ValueError(f"n_steiner must be >= 0, got {n_steiner}")
+    return n
+
+
 def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=20) -> Quality:
     """Measure a triangle mesh and, given its polygon, certify how close to optimal it is.
 
@@ -497,71 +565,14 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     if bins < 1:
         raise ValueError(f"bins must be a positive integer, got {bins}")
 
-    # Edges.
-    edges, counts = _unique_edges(tri, len(pts))
-    d = pts[edges[:, 1]] - pts[edges[:, 0]]
-    lengths = np.hypot(d[:, 0], d[:, 1])
-    shortest = float(lengths.min())
-    longest = float(lengths.max())
-    ratio = longest / shortest if shortest > 0 else math.inf
-    mean = float(lengths.mean())
-    std = float(lengths.std())
-    cv = std / mean if mean > 0 else math.inf
-    rel = lengths / mean if mean > 0 else np.zeros_like(lengths)
-    hist_counts, hist_edges = _histogram(rel, bins)
-
-    # Triangles: sides, angles, perimeters, areas.
-    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
-    sides = np.stack(
-        [np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1)],
-        axis=1,
-    )
-    max_perimeter = float(sides.sum(axis=1).max())
-
-    def _angle(p, q, r):  # angle at p of triangle p, q, r
-        u, v = q - p, r - p
-        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        return np.arctan2(np.abs(cross), (u * v).sum(axis=1))
-
-    angles = np.degrees(np.stack([_angle(a, b, c), _angle(b, c, a), _angle(c, a, b)], axis=1))
-    ab, ac = b - a, c - a
-    area = float(0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]).sum())
-
-    fields = dict(
-        n_vertices=len(pts),
-        n_triangles=len(tri),
-        n_edges=len(edges),
-        n_boundary_edges=int((counts == 1).sum()),
-        area=area,
-        shortest_edge=shortest,
-        longest_edge=longest,
-        edge_ratio=ratio,
-        mean_edge=mean,
-        std_edge=std,
-        cv_edge=cv,
-        min_angle=float(angles.min()),
-        max_angle=float(angles.max()),
-        max_perimeter=max_perimeter,
-        histogram_counts=tuple(int(x) for x in hist_counts),
-        histogram_edges=tuple(float(x) for x in hist_edges),
-    )
+    fields = _measures(pts, tri, bins)
     if polygon is None:
         return Quality(**fields)
 
     # Lower bounds on the optimum.
     poly = _as_polygon(polygon)
-    n_v = len(poly.vertices)
-    if n_steiner is None:
-        n = len(pts) - n_v
-        if n < 0:
-            raise ValueError(
-                f"the mesh has {len(pts)} points but the polygon has {n_v} vertices; "
-                "pass n_steiner explicitly"
-            )
-    else:
-        n = int(n_steiner)
-        if n < 0:
-            raise ValueError(f"n_steiner must be >= 0, got {n_steiner}")
+    n = _steiner_count(n_steiner, len(pts), len(poly.vertices))
+    area = fields["area"]
     if abs(area - poly.area) > 1e-6 * poly.area:
         log.warning(
             "the triangles cover area %.17g but the polygon has area %.17g: "
@@ -569,7 +580,7 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
             area,
             poly.area,
         )
-    t_max = 2 * n + n_v + 2 * poly.n_holes - 2
+    t_max = 2 * n + len(poly.vertices) + 2 * poly.n_holes - 2
     convex = _is_convex(poly)
     dn = _checked_d_n(d_n, poly, n, convex)
     terms = lower_bound_terms(poly, n, dn)
@@ -579,7 +590,7 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
         t_max=t_max,
         convex=convex,
         d_n=dn,
-        longest_edge_bound=_make_bound(terms["longest_edge"], longest),
-        max_perimeter_bound=_make_bound(terms["max_perimeter"], max_perimeter),
-        edge_ratio_bound=_make_bound(terms["edge_ratio"], ratio),
+        longest_edge_bound=_make_bound(terms["longest_edge"], fields["longest_edge"]),
+        max_perimeter_bound=_make_bound(terms["max_perimeter"], fields["max_perimeter"]),
+        edge_ratio_bound=_make_bound(terms["edge_ratio"], fields["edge_ratio"]),
     )
