@@ -111,21 +111,29 @@ def fig_tplus(out: Path) -> None:
 
 
 def fig_corner(out: Path) -> None:
-    """The corner bound g(theta) = min(2 cos theta, 1 / (2 sin(theta / 2)))."""
-    th = np.linspace(1.0, 59.99, 400)
-    r = np.radians(th)
-    a, b = 2 * np.cos(r), 1 / (2 * np.sin(r / 2))
-    fig, ax = plt.subplots(figsize=(6.4, 4))
-    ax.plot(th, a, "--", color="0.6", label="2 cos θ")
-    ax.plot(th, b, ":", color="0.6", label="1 / (2 sin(θ/2))")
-    ax.plot(th, np.minimum(a, b), color="tab:red", lw=2, label="corner bound g(θ)")
-    ax.axvline(36, color="0.8", lw=0.8)
-    ax.set_ylim(0.9, 6)
-    ax.set_xlabel("sharpest corner angle θ of the polygon (degrees)")
-    ax.set_ylabel("least possible edge ratio")
-    ax.legend()
-    ax.set_title("No mesh of a polygon with a corner θ < 60° has an edge ratio below g(θ)",
-                 fontsize=9)
+    """g(beta), the least edge ratio of a triangle with an angle beta, and the floor
+    min over k of g(alpha / k) that a polygon corner alpha puts on every mesh."""
+    from uniform2d.bounds import corner_ratio_floor, triangle_ratio_floor
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.6, 3.8))
+    beta = np.linspace(1.0, 179.0, 1000)
+    r = np.radians(beta)
+    ax1.plot(beta, 2 * np.cos(r), "--", color="0.6", label="2 cos β (angles β, β, 180 − 2β)")
+    ax1.plot(beta, 1 / (2 * np.sin(r / 2)), ":", color="0.6", label="1 / (2 sin(β/2)) (apex β, β ≤ 60°)")
+    ax1.plot(beta, [triangle_ratio_floor(x) for x in r], color="tab:red", lw=2, label="g(β)")
+    ax1.set_ylim(0.9, 3)
+    ax1.set_xlabel("an angle β of the triangle (degrees)")
+    ax1.set_ylabel("least longest / shortest side")
+    ax1.legend(fontsize=7)
+    ax1.set_title("one triangle", fontsize=9)
+    alpha = np.linspace(1.0, 359.0, 2000)
+    ax2.plot(alpha, [corner_ratio_floor(x)[0] for x in np.radians(alpha)], color="tab:red", lw=2)
+    for m in range(1, 6):
+        ax2.axvline(60 * m, color="0.85", lw=0.8)
+    ax2.set_ylim(0.95, 2.1)
+    ax2.set_xlabel("interior angle α of a polygon corner (degrees)")
+    ax2.set_ylabel("least edge ratio of any mesh")
+    ax2.set_title("corner floor min over k of g(α / k)", fontsize=9)
     fig.tight_layout()
     fig.savefig(out / "guide_corner.png", dpi=130)
     plt.close(fig)

@@ -179,6 +179,16 @@ def test_summary_reports_the_numbers():
                  "n = 12 Steiner points", q.longest_edge_bound.term):
         assert text in s
     assert "Lower bounds" not in quality(pts, tri).summary()
+    # The certificate leads: one line per measure, its factor in words and its active bound.
+    lines = s.splitlines()
+    assert lines[0].startswith("Certified against every triangulation") and "n = 12" in lines[0]
+    assert lines[1:4] == q.certificate()[1:]
+    for line, b in zip(lines[1:4], q.bounds.values()):
+        assert f"within {(b.factor - 1) * 100:.3g} % of the best possible" in line
+        assert line.endswith(f"bound: {b.active}")
+    assert "corner (90 deg at (0, 0), best split in 2)" in lines[3]
+    assert quality(pts, tri).certificate() == [] and quality(pts, tri).bounds == {}
+    assert not quality(pts, tri).summary().startswith("Certified")
 
 
 def test_inputs_are_not_mutated():
@@ -233,7 +243,10 @@ def test_bound_formulas_and_terms():
     assert per["boundary"] == pytest.approx(8 / (4 + n) * s, rel=1e-14)
     ratio = dict(q.edge_ratio_bound.terms)
     assert ratio["trivial"] == pytest.approx(1.0 * s, rel=1e-14)
-    assert "corner" not in ratio  # all corners are 90 degrees
+    # Every corner is 90 degrees: two triangles of 45 degrees there at best.
+    assert ratio["corner"] == pytest.approx(1 / (2 * math.sin(math.pi / 8)) * s, rel=1e-14)
+    assert q.edge_ratio_bound.term == "corner"
+    assert q.edge_ratio_bound.detail.startswith("90 deg at (0, 0)")
     assert ratio["boundary"] == pytest.approx(max(longest.values()) / 1.0, rel=1e-14)
     for b in (q.longest_edge_bound, q.max_perimeter_bound, q.edge_ratio_bound):
         assert b.value == max(v for _, v in b.terms)
@@ -323,6 +336,7 @@ def test_equilateral_triangle_is_optimal_with_no_steiner_points():
     assert q.edge_ratio_bound.value <= 1.0
     assert q.edge_ratio_bound.value == pytest.approx(1.0, abs=1e-8)
     assert q.edge_ratio_bound.term in ("trivial", "boundary")
+    assert all("optimal (within 0.05 %)" in line for line in q.certificate()[1:])
 
 
 @pytest.mark.parametrize("k", [2, 3, 5])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import base64
+import html
 import json
 from html.parser import HTMLParser
 from pathlib import Path
@@ -212,3 +213,29 @@ def test_scheduler_without_dask_says_which_extra_to_install(monkeypatch):
     case = {"status": "ok"}
     with pytest.raises(ImportError, match=r"pip install 'uniform2d\[dask\]'"):
         run_cases([case], scheduler="tcp://127.0.0.1:1")
+
+
+def test_certificates_lead_each_polygon_section(serial):
+    """Every polygon section states, for our meshes, how far from optimal they provably
+    are and which bound is active, before the table; the factors lead the columns."""
+    from uniform2d.report.render import _columns, certificate
+
+    out, res = serial
+    html_text = (out / "index.html").read_text(encoding="utf-8")
+    md = (out / "report.md").read_text()
+    ours = [c for c in res["cases"] if c["kind"] == "polygon" and c["family"] == "ours"]
+    assert ours
+    for c in ours:
+        q = c["quality"]
+        text = certificate(c)
+        b = q["edge_ratio_bound"]
+        assert f"edge ratio within {(b['factor'] - 1) * 100:.3g} %" in text
+        assert f"bound: {b['term']}" in text and b["detail"] in text
+        assert html.escape(text) in html_text and f"- {text}" in md
+        section = md.index(f"## {c['input']}, n = {c['n']}")
+        assert section < md.index(text) < md.index("| method |", section)
+    square = [c for c in ours if c["input"] == "square"]
+    assert all("corner (90 deg at (" in certificate(c) for c in square)
+    assert [k for k, _, _ in _columns("polygon")][2:5] == [
+        "factor_longest_edge", "factor_perimeter", "factor_edge_ratio"]
+    assert not certificate({"method": "x", "quality": None})

@@ -20,21 +20,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .geometry import unique_edges
+from .bounds import BOUND_SLACK, Term, _is_convex, _packing_distance, lower_bound_terms
 from .polygon import Polygon
 
-__all__ = ["quality", "Quality", "Bound", "edge_lengths"]
+__all__ = ["quality", "Quality", "Bound", "edge_lengths", "BOUND_SLACK"]
 
 log = logging.getLogger(__name__)
-
-#: Every lower bound is lowered by this relative amount, far more than the
-#: floating-point rounding in its evaluation, so rounding cannot lift a bound
-#: above the true value it stands for.
-BOUND_SLACK = 1e-9
-
-_SQRT3 = math.sqrt(3.0)
 
 
 # -- input checks --------------------------------------------------------------
@@ -135,6 +128,9 @@ class Bound:
     factor : float
         ``achieved / value`` (at least 1): the mesh is provably within this
         factor of the optimum.
+    detail : str
+        Where the active term comes from, e.g. ``"90 deg at (0, 0), best
+        split in 2"`` for the ``corner`` term of a square's edge ratio.
     """
 
     value: float
@@ -142,6 +138,12 @@ class Bound:
     terms: tuple[tuple[str, float], ...]
     achieved: float
     factor: float
+    detail: str = ""
+
+    @property
+    def active(self) -> str:
+        """The active term and where it comes from, in words."""
+        return f"{self.term} ({self.detail})" if self.detail else self.term
 
     def to_dict(self) -> dict:
         """Plain JSON-serialisable dict (non-finite numbers become ``None``)."""
@@ -151,7 +153,18 @@ class Bound:
             "terms": {k: _json_float(v) for k, v in self.terms},
             "achieved": _json_float(self.achieved),
             "factor": _json_float(self.factor),
+            "detail": self.detail,
         }
+
+
+def _within(factor: float) -> str:
+    """A certified factor in words: how far above the best possible mesh at most."""
+    if not math.isfinite(factor):
+        return "no finite factor"
+    pct = (factor - 1.0) * 100.0
+    if pct < 0.05:
+        return "optimal (within 0.05 %)"
+    return f"within {pct:.3g} % of the best possible"
 
 
 def _histogram(values: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
@@ -162,43 +175,12 @@ def _histogram(values: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
     return np.histogram(values, bins=bins, range=(lo, hi))
 
 
-def _split_term(edges, n: int, t_max: int, K: float, c: float) -> float:
-    """The ``split`` term: min over l of max(c l, sqrt(K / (T_max - k(l)))).
-
-    ``k(l) = sum(ceil(L_e / l) - 1)`` is the least number of boundary Steiner
-    points that cut every polygon edge (lengths ``edges``) into pieces of at most
-    ``l`` (infinite if it exceeds n).  Both parts are monotone in l, so the
-    minimum is at the smallest l where ``c l`` reaches the other part; it is
-    found by bisection, and the lower end of the final bracket is returned (a
-    value at or below the minimum).
-    """
-    edges = np.asarray(edges, dtype=np.float64)
-
-    def area_part(ell):
-        k = int(np.maximum(np.ceil(edges / ell) - 1.0, 0.0).sum())
-        return math.inf if k > n else math.sqrt(K / (t_max - k))
-
-    hi = float(edges.max())
-    if c * hi < area_part(hi):  # no boundary point helps: the area term itself
-        return math.sqrt(K / t_max)
-    lo = 0.0
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        if c * mid >= area_part(mid):
-            hi = mid
-        else:
-            lo = mid
-    return c * lo
-
-
-def _make_bound(terms: list[tuple[str, float]], achieved: float) -> Bound:
-    terms = [(k, float(v) * (1.0 - BOUND_SLACK)) for k, v in terms]
-    best = max(range(len(terms)), key=lambda i: (terms[i][1], -i))  # ties: first listed
-    name, value = terms[best]
+def _make_bound(terms: list[Term], achieved: float) -> Bound:
+    lowered = [(t.name, float(t.value) * (1.0 - BOUND_SLACK)) for t in terms]
+    best = max(range(len(terms)), key=lambda i: (lowered[i][1], -i))  # ties: first listed
+    name, value = lowered[best]
     factor = achieved / value if value > 0 else math.inf
-    return Bound(value, name, tuple(terms), float(achieved), float(factor))
+    return Bound(value, name, tuple(lowered), float(achieved), float(factor), terms[best].detail)
 
 
 @dataclass(frozen=True)
@@ -283,10 +265,30 @@ class Quality:
             out[f.name] = v
         return out
 
+    @property
+    def bounds(self) -> dict[str, Bound]:
+        """``{"longest_edge": ..., "max_perimeter": ..., "edge_ratio": ...}``; empty without a polygon."""
+        if self.longest_edge_bound is None:
+            return {}
+        return {"longest_edge": self.longest_edge_bound, "max_perimeter": self.max_perimeter_bound,
+                "edge_ratio": self.edge_ratio_bound}
+
+    def certificate(self) -> list[str]:
+        """The certified factors in words, one line per measure, with the active bound."""
+        if self.longest_edge_bound is None:
+            return []
+        lines = [f"Certified against every triangulation of the polygon with n = {self.n_steiner} "
+                 "Steiner points:"]
+        for label, b in zip(("Longest edge", "Largest perimeter", "Edge ratio"), self.bounds.values()):
+            lines.append(f"  {label:18s} {_within(b.factor):>34s}   bound: {b.active}")
+        return lines
+
     def summary(self) -> str:
-        """A text report in the spirit of Triangle's ``-V`` statistics."""
+        """A text report in the spirit of Triangle's ``-V`` statistics, led by the certificate."""
         g = "{:.6g}".format
-        lines = [
+        lines = self.certificate()
+        lines += [
+            *([""] if lines else []),
             "Mesh quality",
             f"  Vertices: {self.n_vertices}   Triangles: {self.n_triangles}   "
             f"Edges: {self.n_edges}   Boundary edges: {self.n_boundary_edges}",
@@ -311,11 +313,7 @@ class Quality:
                 + ")",
                 f"  {'':20s}{'achieved':>12s}{'bound':>12s}{'factor':>10s}   active term",
             ]
-            for label, b in (
-                ("Longest edge", self.longest_edge_bound),
-                ("Largest perimeter", self.max_perimeter_bound),
-                ("Edge ratio", self.edge_ratio_bound),
-            ):
+            for label, b in zip(("Longest edge", "Largest perimeter", "Edge ratio"), self.bounds.values()):
                 lines.append(
                     f"  {label:20s}{g(b.achieved):>12s}{g(b.value):>12s}"
                     f"{b.factor:>10.4g}   {b.term}"
@@ -329,29 +327,93 @@ class Quality:
 
 
 # -- the measures --------------------------------------------------------------
-def _is_convex(polygon: Polygon) -> bool:
-    if polygon.n_holes:
-        return False
-    r = polygon.outer  # counter-clockwise
-    a = r - np.roll(r, 1, axis=0)
-    b = np.roll(r, -1, axis=0) - r
-    return bool((a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] >= 0).all())
+def _checked_d_n(d_n, poly: Polygon, n: int, convex: bool) -> float | None:
+    """The packing distance the packing terms use, or None when they do not apply."""
+    if d_n is False:
+        return None
+    if d_n is None:
+        return _packing_distance(poly, n) if convex else None
+    dn = float(d_n)
+    if not (math.isfinite(dn) and dn > 0):
+        raise ValueError(f"d_n must be a positive finite distance, got {d_n!r}")
+    lvv = poly.min_vertex_distance()
+    if dn > lvv * (1 + 1e-12):
+        raise ValueError(
+            f"d_n = {dn!r} exceeds l(V, V) = {lvv!r}, the least distance between polygon "
+            "vertices; no packing reaches that, so it cannot be a valid d_n"
+        )
+    if not convex:
+        log.info("d_n ignored: the packing bound (Lemma 9) needs a convex polygon without holes")
+        return None
+    return dn
 
 
-def _corner_ratio(theta: float) -> float:
-    """Least longest/shortest side ratio of a triangle with an angle <= theta < 60 deg."""
-    return min(2.0 * math.cos(theta), 1.0 / (2.0 * math.sin(theta / 2.0)))
+def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
+    """Every field of :class:`Quality` that does not need the polygon."""
+    # Edges.
+    edges, counts = _unique_edges(tri, len(pts))
+    d = pts[edges[:, 1]] - pts[edges[:, 0]]
+    lengths = np.hypot(d[:, 0], d[:, 1])
+    shortest = float(lengths.min())
+    longest = float(lengths.max())
+    ratio = longest / shortest if shortest > 0 else math.inf
+    mean = float(lengths.mean())
+    std = float(lengths.std())
+    cv = std / mean if mean > 0 else math.inf
+    rel = lengths / mean if mean > 0 else np.zeros_like(lengths)
+    hist_counts, hist_edges = _histogram(rel, bins)
+
+    # Triangles: sides, angles, perimeters, areas.
+    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    sides = np.stack(
+        [np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1)],
+        axis=1,
+    )
+    max_perimeter = float(sides.sum(axis=1).max())
+
+    def _angle(p, q, r):  # angle at p of triangle p, q, r
+        u, v = q - p, r - p
+        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        return np.arctan2(np.abs(cross), (u * v).sum(axis=1))
+
+    angles = np.degrees(np.stack([_angle(a, b, c), _angle(b, c, a), _angle(c, a, b)], axis=1))
+    ab, ac = b - a, c - a
+    area = float(0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]).sum())
+
+    return dict(
+        n_vertices=len(pts),
+        n_triangles=len(tri),
+        n_edges=len(edges),
+        n_boundary_edges=int((counts == 1).sum()),
+        area=area,
+        shortest_edge=shortest,
+        longest_edge=longest,
+        edge_ratio=ratio,
+        mean_edge=mean,
+        std_edge=std,
+        cv_edge=cv,
+        min_angle=float(angles.min()),
+        max_angle=float(angles.max()),
+        max_perimeter=max_perimeter,
+        histogram_counts=tuple(int(x) for x in hist_counts),
+        histogram_edges=tuple(float(x) for x in hist_edges),
+    )
 
 
-def _packing_distance(polygon: Polygon, n: int) -> float:
-    """d_n of Algorithm INSERT: the least distance among V and the n inserted points."""
-    if n == 0:
-        return polygon.min_vertex_distance()
-    from .insert import insert
-
-    sites = np.asarray(insert(polygon, n).mesh_points, dtype=np.float64)
-    d, _ = cKDTree(sites).query(sites, k=2)
-    return float(d[:, 1].min())
+def _steiner_count(n_steiner, n_points: int, n_v: int) -> int:
+    """The n the bounds assume: ``n_steiner``, or the mesh's points beyond V."""
+    if n_steiner is None:
+        n = n_points - n_v
+        if n < 0:
+            raise ValueError(
+                f"the mesh has {n_points} points but the polygon has {n_v} vertices; "
+                "pass n_steiner explicitly"
+            )
+        return n
+    n = int(n_steiner)
+    if n < 0:
+        raise ValueError(f"n_steiner must be >= 0, got {n_steiner}")
+    return n
 
 
 def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=20) -> Quality:
@@ -436,16 +498,27 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     *Edge ratio.*
 
     - ``trivial``: 1.
-    - ``corner``: g(theta) for the sharpest corner of P, if its angle theta is
-      below 60 degrees, with g(a) = min(2 cos a, 1 / (2 sin(a/2))).  The
-      triangles at that corner split theta, so one has an angle a <= theta there.
-      Let its sides at that angle be 1 >= c and the third side x < 1; min(c, x)
-      is largest at c = x = 1/(2 cos a) or at c = 1, x = 2 sin(a/2), so the
-      triangle's ratio is >= g(a) >= g(theta) (g decreases).  Both shapes reach
-      it: the isosceles triangle with angles a, a, 180 - 2a (a <= 36 deg) and
-      the one with apex a (a >= 36 deg).
+    - ``corner``: the largest, over every corner of every ring, of the least
+      edge ratio the triangles at that corner can have
+      (:func:`uniform2d.bounds.corner_ratio_floor`).  A corner of interior
+      angle alpha (convex or reflex) is a vertex of every triangulation of P;
+      the k triangles there split alpha (k >= floor(alpha / 180) + 1), so one
+      has an angle <= alpha / k and one >= alpha / k, and a triangle with an
+      angle b has ratio >= g(b) = min(2 cos b, 1 / (2 sin(b/2))) for
+      b <= 60 degrees, 2 sin(b/2) above.  g falls to 1 at 60 degrees and rises
+      after, so the corner forces min over k of g(alpha / k): 1.307 for 90
+      degrees, 1.101 for 270, 1 for every multiple of 60.
+    - ``euler``: an inner vertex with d != 6 triangles, or a boundary point
+      with other than 3, forces a ratio >= 1.1524 (d = 7), 1.1756 (d = 5) or
+      more; with none, Euler's formula fixes the sum of the numbers of
+      triangles at the corners, and the term is the least ratio their floors
+      allow (:func:`uniform2d.bounds.euler_ratio_floor`; at most 1.1756).
     - ``boundary``: (longest edge bound) / (shortest edge of P).  Every edge of
       P is cut into mesh edges no longer than itself.
+    - ``sides``: a mesh with longest edge L >= (longest edge bound) cuts each
+      polygon edge e into at least ceil(L_e / L) pieces, one at most
+      L_e / ceil(L_e / L) long, so its ratio is >= L ceil(L_e / L) / L_e for
+      every e; the term is the least such value over L (at least ``boundary``).
 
     Each bound is lowered by a relative :data:`BOUND_SLACK` (1e-9) so that
     floating-point rounding cannot lift it above the true value.
@@ -465,8 +538,15 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     >>> round(q.longest_edge_bound.factor, 3)      # certified: at most 1.316 x the optimum
     1.316
     >>> q.edge_ratio_bound.term, round(q.edge_ratio_bound.value, 4)
-    ('boundary', 1.0746)
+    ('corner', 1.3066)
+    >>> q.edge_ratio_bound.active
+    'corner (90 deg at (0, 0), best split in 2)'
     >>> print(q.summary())                          # doctest: +ELLIPSIS
+    Certified against every triangulation of the polygon with n = 0 Steiner points:
+      Longest edge       within 31.6 % of the best possible   bound: area (2 triangles at most)
+    ...
+      Edge ratio         within 8.24 % of the best possible   bound: corner (90 deg at (0, 0), best split in 2)
+    <BLANKLINE>
     Mesh quality
       Vertices: 4   Triangles: 2   Edges: 5   Boundary edges: 4
     ...
@@ -481,71 +561,14 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     if bins < 1:
         raise ValueError(f"bins must be a positive integer, got {bins}")
 
-    # Edges.
-    edges, counts = _unique_edges(tri, len(pts))
-    d = pts[edges[:, 1]] - pts[edges[:, 0]]
-    lengths = np.hypot(d[:, 0], d[:, 1])
-    shortest = float(lengths.min())
-    longest = float(lengths.max())
-    ratio = longest / shortest if shortest > 0 else math.inf
-    mean = float(lengths.mean())
-    std = float(lengths.std())
-    cv = std / mean if mean > 0 else math.inf
-    rel = lengths / mean if mean > 0 else np.zeros_like(lengths)
-    hist_counts, hist_edges = _histogram(rel, bins)
-
-    # Triangles: sides, angles, perimeters, areas.
-    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
-    sides = np.stack(
-        [np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1)],
-        axis=1,
-    )
-    max_perimeter = float(sides.sum(axis=1).max())
-
-    def _angle(p, q, r):  # angle at p of triangle p, q, r
-        u, v = q - p, r - p
-        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        return np.arctan2(np.abs(cross), (u * v).sum(axis=1))
-
-    angles = np.degrees(np.stack([_angle(a, b, c), _angle(b, c, a), _angle(c, a, b)], axis=1))
-    ab, ac = b - a, c - a
-    area = float(0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]).sum())
-
-    fields = dict(
-        n_vertices=len(pts),
-        n_triangles=len(tri),
-        n_edges=len(edges),
-        n_boundary_edges=int((counts == 1).sum()),
-        area=area,
-        shortest_edge=shortest,
-        longest_edge=longest,
-        edge_ratio=ratio,
-        mean_edge=mean,
-        std_edge=std,
-        cv_edge=cv,
-        min_angle=float(angles.min()),
-        max_angle=float(angles.max()),
-        max_perimeter=max_perimeter,
-        histogram_counts=tuple(int(x) for x in hist_counts),
-        histogram_edges=tuple(float(x) for x in hist_edges),
-    )
+    fields = _measures(pts, tri, bins)
     if polygon is None:
         return Quality(**fields)
 
     # Lower bounds on the optimum.
     poly = _as_polygon(polygon)
-    n_v = len(poly.vertices)
-    if n_steiner is None:
-        n = len(pts) - n_v
-        if n < 0:
-            raise ValueError(
-                f"the mesh has {len(pts)} points but the polygon has {n_v} vertices; "
-                "pass n_steiner explicitly"
-            )
-    else:
-        n = int(n_steiner)
-        if n < 0:
-            raise ValueError(f"n_steiner must be >= 0, got {n_steiner}")
+    n = _steiner_count(n_steiner, len(pts), len(poly.vertices))
+    area = fields["area"]
     if abs(area - poly.area) > 1e-6 * poly.area:
         log.warning(
             "the triangles cover area %.17g but the polygon has area %.17g: "
@@ -553,59 +576,17 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
             area,
             poly.area,
         )
-    A, B = poly.area, poly.perimeter
-    t_max = 2 * n + n_v + 2 * poly.n_holes - 2
+    t_max = 2 * n + len(poly.vertices) + 2 * poly.n_holes - 2
     convex = _is_convex(poly)
-
-    dn = None
-    if d_n is not False and d_n is not None:
-        dn = float(d_n)
-        if not (math.isfinite(dn) and dn > 0):
-            raise ValueError(f"d_n must be a positive finite distance, got {d_n!r}")
-        lvv = poly.min_vertex_distance()
-        if dn > lvv * (1 + 1e-12):
-            raise ValueError(
-                f"d_n = {dn!r} exceeds l(V, V) = {lvv!r}, the least distance between polygon "
-                "vertices; no packing reaches that, so it cannot be a valid d_n"
-            )
-        if not convex:
-            log.info("d_n ignored: the packing bound (Lemma 9) needs a convex polygon without holes")
-            dn = None
-    elif d_n is None and convex:
-        dn = _packing_distance(poly, n)
-
-    per_edge = B / (n_v + n)
-    pe = poly.edges
-    dv = poly.vertices[pe[:, 1]] - poly.vertices[pe[:, 0]]
-    polygon_edges = np.hypot(dv[:, 0], dv[:, 1])
-    min_polygon_edge = float(polygon_edges.min())
-    longest_terms = [("area", math.sqrt(4.0 * A / (_SQRT3 * t_max)))]
-    perimeter_terms = [("area", math.sqrt(12.0 * _SQRT3 * A / t_max))]
-    if dn is not None:
-        longest_terms.append(("packing", _SQRT3 / 2.0 * dn))
-        perimeter_terms.append(("packing", _SQRT3 * dn))
-    longest_terms.append(("boundary", per_edge))
-    perimeter_terms.append(("boundary", 2.0 * per_edge))
-    longest_terms.append(("split", _split_term(polygon_edges, n, t_max, 4.0 * A / _SQRT3, 1.0)))
-    perimeter_terms.append(
-        ("split", _split_term(polygon_edges, n, t_max, 12.0 * _SQRT3 * A, 2.0))
-    )
-    longest_bound = _make_bound(longest_terms, longest)
-
-    ratio_terms = [("trivial", 1.0)]
-    theta = float(poly.interior_angles().min())
-    if theta < math.pi / 3:
-        ratio_terms.append(("corner", _corner_ratio(theta)))
-    # longest_bound.value is already lowered by the slack; undo it to avoid applying it twice.
-    ratio_terms.append(("boundary", longest_bound.value / (1.0 - BOUND_SLACK) / min_polygon_edge))
-
+    dn = _checked_d_n(d_n, poly, n, convex)
+    terms = lower_bound_terms(poly, n, dn)
     return Quality(
         **fields,
         n_steiner=n,
         t_max=t_max,
         convex=convex,
         d_n=dn,
-        longest_edge_bound=longest_bound,
-        max_perimeter_bound=_make_bound(perimeter_terms, max_perimeter),
-        edge_ratio_bound=_make_bound(ratio_terms, ratio),
+        longest_edge_bound=_make_bound(terms["longest_edge"], fields["longest_edge"]),
+        max_perimeter_bound=_make_bound(terms["max_perimeter"], fields["max_perimeter"]),
+        edge_ratio_bound=_make_bound(terms["edge_ratio"], fields["edge_ratio"]),
     )

@@ -16,7 +16,7 @@ import numpy as np
 
 from .cases import MEASURES
 
-__all__ = ["mesh_figure", "render_html", "render_markdown", "summary_rows", "fmt"]
+__all__ = ["mesh_figure", "render_html", "render_markdown", "summary_rows", "fmt", "certificate"]
 
 #: Bins of the edge-length histograms, in units of each mesh's mean edge.
 HIST_BINS = np.linspace(0.0, 2.5, 51)
@@ -30,9 +30,37 @@ def fmt(value, spec: str) -> str:
 
 
 def _columns(kind: str):
-    if kind == "polygon":
-        return [c for c in MEASURES if c[0] != "hausdorff_max_rel"]
+    if kind == "polygon":  # the certified factors lead, right after the vertex count
+        cols = [c for c in MEASURES if c[0] != "hausdorff_max_rel"]
+        first = [c for c in cols if c[0] in ("n_vertices", "vertex_error")]
+        factors = [c for c in cols if c[0].startswith("factor_")]
+        return first + factors + [c for c in cols if c not in first and c not in factors]
     return [c for c in MEASURES if not c[0].startswith("factor_")]
+
+
+#: The certified measures, in the order they are reported.
+_CERTIFIED = (("edge_ratio_bound", "edge ratio"), ("longest_edge_bound", "longest edge"),
+              ("max_perimeter_bound", "largest perimeter"))
+
+
+def certificate(case) -> str:
+    """One sentence: how close a polygon case's mesh provably is to the best possible one.
+
+    Reads ``case["quality"]`` (:meth:`uniform2d.Quality.to_dict`); empty when
+    the case has no bounds (a surface patch, a failed run).
+    """
+    q = case.get("quality") or {}
+    parts = []
+    for key, label in _CERTIFIED:
+        b = q.get(key)
+        if not b or b.get("factor") is None:
+            continue
+        active = b["term"] + (f" ({b['detail']})" if b.get("detail") else "")
+        parts.append(f"{label} within {(b['factor'] - 1) * 100:.3g} % (bound: {active})")
+    if not parts:
+        return ""
+    return (f"{case['method']}: certified against the best possible mesh with these "
+            f"{q.get('n_steiner')} Steiner points: " + "; ".join(parts) + ".")
 
 
 def groups(results: dict):
@@ -209,7 +237,8 @@ def render_html(results: dict, figures: dict | None = None) -> str:
            "(Steiner points for polygons, vertices for surface patches). "
            "Every peer is tuned to the same total vertex count as ours; "
            "<i>error</i> is how far it got. Factors are certified: achieved / lower bound "
-           "on the optimum over all triangulations with as many points (1 is optimal). "
+           "on the optimum over all triangulations with as many points (1 is optimal); "
+           "each section names the bound that is active for our meshes. "
            "Time is per mesh (tuning runs a peer several times).</p>",
            "<h2>Peers</h2>", '<table class="peers"><thead><tr><th class="l">peer</th>'
            '<th class="l">kind</th><th class="l">status</th><th class="l">what</th></tr></thead><tbody>']
@@ -247,6 +276,9 @@ def render_html(results: dict, figures: dict | None = None) -> str:
         cols = _columns(inp["kind"])
         out.append(f'<section class="n" data-n="{n}"><h3>n = {n} '
                    f'(target {cases[0]["target_vertices"]} vertices)</h3>')
+        for c in cases:
+            if c["family"] == "ours" and certificate(c):
+                out.append(f'<p class="certificate" data-case="{_e(c["id"])}">{_e(certificate(c))}</p>')
         out.append('<table class="cases">' + _header_html(cols) + "<tbody>")
         out += [_case_row_html(c, cols) for c in cases]
         out.append("</tbody></table>")
@@ -298,6 +330,8 @@ def render_markdown(results: dict) -> str:
         cols = _columns(inp["kind"])
         lines += ["", f"## {inp['name']}, n = {n} (target {cases[0]['target_vertices']} vertices)", "",
                   f"{inp['path']} — {_describe(inp)}", "",
+                  *[f"- {certificate(c)}" for c in cases if c["family"] == "ours" and certificate(c)],
+                  *([""] if any(c["family"] == "ours" and certificate(c) for c in cases) else []),
                   "| method | " + " | ".join(h for _, h, _ in cols) + " | time [s] |",
                   "|---|" + "---:|" * (len(cols) + 1)]
         for c in cases:
