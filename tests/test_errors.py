@@ -50,6 +50,9 @@ def _write_mesh(tmp_path):
     (lambda tmp: uniform2d.write_mesh(tmp / "m.csv", [(0, 0), (1, 0), (0, 1)], [(0, 1, 2)],
                                       point_data={"x": np.zeros((3, 2))}), "one value per node"),
     (lambda tmp: uniform2d.report.make_report([], tmp / "r"), "at least one input"),
+    (lambda tmp: uniform2d.quality(np.zeros((3, 3)), [(0, 1, 2)]), "expected a \\(N, 2\\) array"),
+    (lambda tmp: uniform2d.quality([(0, 0), (1, 0), (0, 1)], [(0, 1, 5)]), "refers to a point outside"),
+    (lambda tmp: uniform2d.uniform_mesh(SQUARE, 10, objective="nicest"), "objective must be one of"),
 ])
 def test_bad_arguments_raise_invalid_argument_error(tmp_path, call, match):
     import uniform2d.plot  # noqa: F401

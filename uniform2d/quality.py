@@ -23,6 +23,7 @@ import numpy as np
 
 from .geometry import unique_edges
 from .bounds import BOUND_SLACK, Term, _is_convex, _packing_distance, lower_bound_terms
+from .errors import InvalidArgumentError
 from .polygon import Polygon
 
 __all__ = ["quality", "Quality", "Bound", "edge_lengths", "BOUND_SLACK"]
@@ -34,23 +35,23 @@ log = logging.getLogger(__name__)
 def _as_points(points) -> np.ndarray:
     pts = np.asarray(points, dtype=np.float64)
     if pts.ndim != 2 or pts.shape[1] != 2:
-        raise ValueError(f"points: expected a (N, 2) array, got shape {pts.shape}")
+        raise InvalidArgumentError(f"points: expected a (N, 2) array, got shape {pts.shape}")
     if not np.isfinite(pts).all():
         i = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
-        raise ValueError(f"points: point {i} has a non-finite coordinate {pts[i].tolist()}")
+        raise InvalidArgumentError(f"points: point {i} has a non-finite coordinate {pts[i].tolist()}")
     return pts
 
 
 def _as_triangles(triangles, n_points: int) -> np.ndarray:
     tri = np.asarray(triangles)
     if tri.ndim != 2 or tri.shape[1] != 3:
-        raise ValueError(f"triangles: expected a (M, 3) array, got shape {tri.shape}")
+        raise InvalidArgumentError(f"triangles: expected a (M, 3) array, got shape {tri.shape}")
     if tri.size and not np.issubdtype(tri.dtype, np.integer):
-        raise ValueError(f"triangles: expected integer vertex indices, got dtype {tri.dtype}")
+        raise InvalidArgumentError(f"triangles: expected integer vertex indices, got dtype {tri.dtype}")
     tri = tri.astype(np.int64, copy=False)
     if tri.size and (tri.min() < 0 or tri.max() >= n_points):
         bad = int(np.flatnonzero(((tri < 0) | (tri >= n_points)).any(axis=1))[0])
-        raise ValueError(
+        raise InvalidArgumentError(
             f"triangles: triangle {bad} {tri[bad].tolist()} refers to a point outside "
             f"0..{n_points - 1}"
         )
@@ -335,10 +336,10 @@ def _checked_d_n(d_n, poly: Polygon, n: int, convex: bool) -> float | None:
         return _packing_distance(poly, n) if convex else None
     dn = float(d_n)
     if not (math.isfinite(dn) and dn > 0):
-        raise ValueError(f"d_n must be a positive finite distance, got {d_n!r}")
+        raise InvalidArgumentError(f"d_n must be a positive finite distance, got {d_n!r}")
     lvv = poly.min_vertex_distance()
     if dn > lvv * (1 + 1e-12):
-        raise ValueError(
+        raise InvalidArgumentError(
             f"d_n = {dn!r} exceeds l(V, V) = {lvv!r}, the least distance between polygon "
             "vertices; no packing reaches that, so it cannot be a valid d_n"
         )
@@ -405,14 +406,14 @@ def _steiner_count(n_steiner, n_points: int, n_v: int) -> int:
     if n_steiner is None:
         n = n_points - n_v
         if n < 0:
-            raise ValueError(
+            raise InvalidArgumentError(
                 f"the mesh has {n_points} points but the polygon has {n_v} vertices; "
                 "pass n_steiner explicitly"
             )
         return n
     n = int(n_steiner)
     if n < 0:
-        raise ValueError(f"n_steiner must be >= 0, got {n_steiner}")
+        raise InvalidArgumentError(f"n_steiner must be >= 0, got {n_steiner}")
     return n
 
 
@@ -448,8 +449,8 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
 
     Raises
     ------
-    ValueError
-        If an array has the wrong shape, a non-finite coordinate or an index
+    InvalidArgumentError
+        (a :class:`~uniform2d.Uniform2dError` and ``ValueError``) If an array has the wrong shape, a non-finite coordinate or an index
         out of range, if there are no triangles, if ``N < |V|`` and
         ``n_steiner`` is not given, or if ``d_n`` exceeds l(V, V) (no packing
         can).
@@ -556,10 +557,10 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     pts = _as_points(points)
     tri = _as_triangles(triangles, len(pts))
     if len(tri) == 0:
-        raise ValueError("triangles: the mesh has no triangles")
+        raise InvalidArgumentError("triangles: the mesh has no triangles")
     bins = int(bins)
     if bins < 1:
-        raise ValueError(f"bins must be a positive integer, got {bins}")
+        raise InvalidArgumentError(f"bins must be a positive integer, got {bins}")
 
     fields = _measures(pts, tri, bins)
     if polygon is None:

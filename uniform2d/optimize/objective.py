@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._kernel.objective import BALANCED, MAX_EDGE, MAX_PERIMETER, RATIO, combine
+from ..errors import InvalidArgumentError
 
 __all__ = ["OBJECTIVES", "objective_code", "objective_value", "extremes", "quality_objective"]
 
@@ -20,9 +21,9 @@ _CODES = {"balanced": BALANCED, "ratio": RATIO, "max_edge": MAX_EDGE, "max_perim
 
 
 def objective_code(objective: str) -> int:
-    """The kernel's code for ``objective``; ValueError for an unknown name."""
+    """The kernel's code for ``objective``; InvalidArgumentError for an unknown name."""
     if objective not in _CODES:
-        raise ValueError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
+        raise InvalidArgumentError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
     return _CODES[objective]
 
 
