@@ -82,26 +82,33 @@ class InsertResult:
 
 
 def _normaliser(polygon: Polygon):
-    """(centre, scale) with x_norm = (x - centre) / scale, exact both ways when possible.
+    """(centre, scale) with x_norm = (x - centre) / scale, exact both ways.
 
     ``scale`` is the power of two nearest max(width, height), so dividing by it
-    and multiplying back are exact.  A polygon near the origin (bounding-box
-    centre within 2 sizes of it) is not translated: the kernel then works on an
-    exact image of the caller's coordinates and the returned mesh is exactly the
-    one the predicates certified.  A polygon far from the origin is translated by
-    its centre rounded to a multiple of 2**-20 scale, which keeps the subtraction
-    exact for coordinates on that scale; mapping the points back then rounds
-    them to what the caller's coordinates can represent there, and the mesh is
-    re-legalised on those (:func:`_recertify`).
+    and multiplying back are exact.  A coordinate whose bounding-box centre is
+    within 2 sizes of the origin is not translated; one farther away is
+    translated by its centre rounded to a multiple of 2**-20 scale.  Then
+    X - centre is exact for every float X in the polygon's box (Sterbenz: X and
+    centre are within a factor 2 of each other), so the kernel works on an exact
+    image of the caller's coordinates, and new points rounded to what those
+    coordinates can hold (:func:`cdt.snap`) map back exactly: the mesh the
+    predicates certified is the one the caller gets.
     """
     xmin, ymin, xmax, ymax = polygon.bounds
     size = max(xmax - xmin, ymax - ymin)
     scale = 2.0 ** round(np.log2(size))
     centre = np.array([(xmin + xmax) / 2.0, (ymin + ymax) / 2.0])
-    if np.abs(centre).max() <= 2.0 * size:
-        return np.zeros(2), scale
     q = scale * 2.0**-20
-    return np.round(centre / q) * q, scale
+    return np.where(np.abs(centre) <= 2.0 * size, 0.0, np.round(centre / q) * q), scale
+
+
+def _grain(polygon: Polygon, centre) -> float:
+    """How far rounding a new point to the caller's coordinates (:func:`cdt.snap`)
+    can move a distance: a few units in the last place of the translated
+    coordinates, 0 where nothing is translated (there the rounding is exact)."""
+    if not centre.any():
+        return 0.0
+    return 4.0 * float(np.spacing(np.abs(centre).max() + _extent(polygon)))
 
 
 def _extent(polygon: Polygon) -> float:
@@ -233,56 +240,63 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
         polygon = Polygon(polygon)
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 0:
         raise InsufficientPointsError(f"n must be a non-negative integer, got {n!r}")
-    n = int(n)
     sites = _check_sites(polygon, sites)
+    _, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
+    edges = np.full(len(sites), -1, np.int64)
+    for i, e, _t in boundary:
+        edges[i] = e
+    return insert_on_edges(polygon, int(n), sites, edges, size)
+
+
+def edge_parameters(polygon: Polygon, sites: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Parameter t in [0, 1] of each site's projection on its polygon edge (0 for
+    interior sites, ``edges`` -1)."""
+    t = np.zeros(len(sites))
+    on = np.flatnonzero(edges >= 0)
+    if len(on):
+        V, E = polygon.vertices, polygon.edges[edges[on]]
+        a = V[E[:, 0]]
+        d = V[E[:, 1]] - a
+        t[on] = np.clip(((sites[on] - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
+    return t
+
+
+def insert_on_edges(polygon: Polygon, n: int, sites: np.ndarray, edges: np.ndarray, size=None):
+    """:func:`insert` for sites whose place is known by construction.
+
+    ``edges[i]`` is the polygon edge site i lies on, or -1 for an interior site.
+    Nothing is classified by distance, so no tolerance can misjudge a site: the
+    library's own callers (T+'s boundary points, the optimiser's sliding points)
+    come here, and a site near a polygon vertex is simply a boundary site.  A
+    site that cannot be placed where it says it is raises ``RuntimeError``.
+    """
     centre, scale = _normaliser(polygon)
     extent = _extent(polygon)
-    interior, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
-
+    sites = np.asarray(sites, dtype=np.float64).reshape(-1, 2)
+    edges = np.asarray(edges, dtype=np.int64)
     V = polygon.vertices
     nV = len(V)
-    Vn = (V - centre) / scale
-    Sn = (sites - centre) / scale
-    # rings with the boundary sites spliced in, as kernel vertex indices
-    by_edge: dict[int, list[tuple[float, int]]] = {}
-    for i, e, t in boundary:
-        by_edge.setdefault(e, []).append((t, nV + i))
-    rings = []
-    for r in range(len(polygon.rings)):
-        lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
-        ring = []
-        for e in range(lo, hi):
-            ring.append(e)  # edge e starts at vertex e (Polygon.edges layout)
-            ring.extend(k for _, k in sorted(by_edge.get(e, [])))
-        rings.append(ring)
-
-    allxy = np.concatenate([Vn, Sn], axis=0)
+    interior = np.flatnonzero(edges < 0)
     n_int = len(interior)
+    rings, chains = _rings_with_sites(polygon, sites, edges)
+    allxy = np.concatenate([(V - centre) / scale, (sites - centre) / scale], axis=0)
     nmax = nV + len(sites) + n
     nb0 = sum(len(r) for r in rings)
     t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
     tmax = t0 + 2 * (n_int + n) + 4
-    m, xy = cdt.allocate(nmax, tmax, _size_grid(size, centre, scale))
-    xy[: len(allxy)] = allxy
-    cdt.set_nv(m, len(allxy))
+    grid = _size_grid(size, centre, scale)
+    grain = _grain(polygon, centre)
+    m, xy = _initial(allxy, rings, chains, nV, nmax, tmax, grid, (centre, scale, grain / scale))
 
-    tris = _initial_triangles(allxy, rings)
-    if len(tris) != t0:
-        raise RuntimeError(f"initial triangulation has {len(tris)} triangles, expected {t0}")
-    nbh = cdt.build_adjacency(m, tris)
-    if nbh != nb0:
-        raise RuntimeError("initial triangulation does not cover the polygon boundary")
-    cdt.legalize_all(m)
-
-    if interior:
-        idx = nV + np.asarray(interior, dtype=np.int64)
+    if n_int:
+        idx = nV + interior
         idx = idx[hilbert_order(allxy[idx])]
         status = cdt.insert_sites(m, idx)
         if status < 0:
             raise RuntimeError(f"could not insert site {int(idx[-status - 1]) - nV}")
 
     # points nearer the boundary than this go on it: SNAP of the size, or more if
-    # rounding the result back to the caller's coordinates could move a point that far
+    # the caller's coordinates are too coarse there to hold a point nearer
     snap = max(SNAP * extent, _rounding(polygon))
     M = heap.new_heap(tmax + tmax // 2 + 64)  # ~1.9 n entries live; grows if needed
     kinsert.push_initial(m, M)
@@ -290,7 +304,7 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     out_xy = np.empty((n, 2), np.float64)
     out_w = np.empty(n, np.float64)
     out_b = np.zeros(n, np.bool_)
-    xtol = kinsert.REL_TIE * extent / scale
+    xtol = (kinsert.REL_TIE * extent + grain) / scale
     status = kinsert.run(m, M, P, n, out_xy, out_w, out_b, xtol, snap / scale)
     if status != n:
         j = -status // 100
@@ -300,13 +314,10 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
         )
 
     del M, P  # the queues are done: release them before the outputs are built
-    out_xy *= scale
-    out_xy += centre
-    points = out_xy
+    # exact: the kernel rounded every point to what these coordinates hold (cdt.snap)
+    points = out_xy * scale + centre
     weights = out_w * scale
     mesh_points = np.concatenate([V, sites, points], axis=0)
-    if centre.any():
-        _recertify(m, xy, mesh_points)
     triangles = cdt.triangle_list(m)
     del m, xy
     for arr in (points, weights, out_b, mesh_points, triangles):
@@ -314,38 +325,82 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
 
 
-#: (smallest extent, largest coordinate) for which :func:`_recertify` can decide
-#: the in-circle test exactly on the caller's coordinates.
-RECERTIFY_RANGE = (1e-60, 1e60)
+def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
+    """The rings with the boundary sites spliced in (kernel vertex indices), and the
+    chains of sites per polygon edge: (start vertex, [sites in order along it])."""
+    nV = len(polygon.vertices)
+    t = edge_parameters(polygon, sites, edges)
+    by_edge: dict[int, list[int]] = {}
+    for i in np.lexsort((np.arange(len(sites)), t)):
+        if edges[i] >= 0:
+            by_edge.setdefault(int(edges[i]), []).append(nV + int(i))
+    rings, chains = [], []
+    for r in range(len(polygon.rings)):
+        lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
+        ring = []
+        for e in range(lo, hi):
+            ring.append(e)  # edge e starts at vertex e (Polygon.edges layout)
+            ring.extend(by_edge.get(e, []))
+            if e in by_edge:
+                chains.append((e, by_edge[e]))
+        rings.append(ring)
+    return rings, chains
 
 
-def _recertify(m, xy, mesh_points):
-    """Make the triangulation exactly Delaunay for the points the caller gets.
+def _initial(allxy, rings, chains, nV, nmax, tmax, grid, normal):
+    """The triangulation of the rings (boundary sites included), exactly CDT.
 
-    Far from the origin (:func:`_normaliser` translated) the caller's coordinates
-    cannot hold the kernel's new points exactly, so the points returned are
-    rounded images of the ones the predicates certified, and a near-cocircular
-    quadruple can change sides.  The exact predicates work on any float64, so
-    the mesh is re-legalised on the returned coordinates themselves, where their
-    fourth powers stay normal floats (:data:`RECERTIFY_RANGE`; the exact
-    arithmetic needs that).  Should rounding have turned a triangle over (a point
-    within rounding of an edge), the kernel's triangulation is kept and a warning
-    logged.
+    GEOS triangulates the rings; its result is used only if it passes the exact
+    check (every triangle strictly counter-clockwise, the boundary exactly the
+    rings' edges).  GEOS decides with floating point, and a site rounded a few
+    units in the last place off a rotated edge makes the ring locally reflex:
+    GEOS may then cut a flat or inverted ear.  Otherwise the polygon's own rings
+    are triangulated and each boundary site splits its edge's constraint by
+    index (:func:`cdt.split_sites`).
     """
-    lo, hi = RECERTIFY_RANGE
-    if np.abs(mesh_points).max() > hi or np.ptp(mesh_points, axis=0).max() < lo:
-        log.debug("insert: coordinates outside %s: the kernel's mesh is kept", RECERTIFY_RANGE)
-        return
-    kept = xy[: len(mesh_points)].copy()
-    xy[: len(mesh_points)] = mesh_points
-    if cdt.count_not_ccw(m) == 0:
+    m, xy = cdt.allocate(nmax, tmax, grid, normal)
+    xy[: len(allxy)] = allxy
+    cdt.set_nv(m, len(allxy))
+    ok = _load_triangles(m, allxy, rings)
+    if ok or not chains:
+        if not ok:
+            raise RuntimeError("could not triangulate the polygon exactly (please report it)")
         cdt.legalize_all(m)
-    else:
-        xy[: len(mesh_points)] = kept
-        log.warning(
-            "insert: rounding the points to the caller's coordinates turned a triangle "
-            "over; the triangulation is the one certified before rounding"
-        )
+        return m, xy
+    m, xy = cdt.allocate(nmax, tmax, grid, normal)
+    xy[: len(allxy)] = allxy
+    cdt.set_nv(m, len(allxy))
+    own = [[v for v in r if v < nV] for r in rings]
+    if not _load_triangles(m, allxy, own):
+        raise RuntimeError("could not triangulate the polygon exactly (please report it)")
+    idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
+    first = np.array([([e] + c)[j] for e, c in chains for j in range(len(c))], dtype=np.int64)
+    status = cdt.split_sites(m, idx, first)
+    if status < 0:
+        raise RuntimeError(f"could not put boundary site {int(idx[-status - 1]) - nV} on its edge")
+    cdt.legalize_all(m)
+    return m, xy
+
+
+def _load_triangles(m, allxy, rings) -> bool:
+    """Load GEOS's triangulation of ``rings``; whether it is valid (exact check)."""
+    try:
+        tris = _initial_triangles(allxy, rings)
+    except (RuntimeError, shapely.errors.GEOSException):
+        return False
+    nb0 = sum(len(r) for r in rings)
+    if len(tris) != nb0 + 2 * (len(rings) - 1) - 2:
+        return False
+    if cdt.build_adjacency(m, tris) != nb0:
+        return False
+    return _valid(m, allxy, rings)
+
+
+def _valid(m, allxy, rings) -> bool:
+    ring_next = np.full(len(allxy), -1, np.int64)
+    for r in rings:
+        ring_next[np.asarray(r)] = np.roll(np.asarray(r), -1)
+    return cdt.count_not_ccw(m) == 0 and cdt.boundary_is(m, ring_next)
 
 
 def _size_grid(size, centre, scale):

@@ -70,6 +70,7 @@ __all__ = [
     "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
     "insert_point",
     "insert_sites", "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
+    "snap", "split_sites", "boundary_is", "count_not_ccw",
 ]  # fmt: skip
 
 #: Initial size of the scratch buffers; cavities and searches are small in practice,
@@ -112,16 +113,19 @@ _FIELDS = [
     "sgv",  # (ny, nx) float64 size-field values
     "hmin",  # float64 smallest size value (1.0 without a field)
     "sized",  # int64 1 when a size field is in use
+    "gc",  # (2,) float64 the caller's origin in these coordinates' units (see snap)
+    "gs",  # float64 the caller's units per unit here (a power of two)
+    "wg",  # float64 how far rounding to the caller's coordinates can move a distance
 ]
 structref.define_proxy(Tri, TriType, _FIELDS)
 
 
 @njit(cache=True)
 def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
-             sgx, sgy, sgv, sized):  # fmt: skip
+             sgx, sgy, sgv, sized, gc, gs, wg):  # fmt: skip
     hmin = sgv.min() if sized else 1.0
     return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
-               0, 0, 0, sgx, sgy, sgv, hmin, sized)  # fmt: skip
+               0, 0, 0, sgx, sgy, sgv, hmin, sized, gc, gs, wg)  # fmt: skip
 
 
 @njit(cache=True)
@@ -135,13 +139,17 @@ def set_nv(m, nv):
     m.nv = nv
 
 
-def allocate(nmax, tmax, size_grid=None):
+def allocate(nmax, tmax, size_grid=None, grid=None):
     """Preallocate a triangulation for at most ``nmax`` vertices and ``tmax`` triangles.
 
     ``size_grid`` is an optional ``(x (nx,), y (ny,), values (ny, nx))`` size field in
-    the kernel's coordinates.  Returns ``(m, xy)``: the state and its coordinate
-    array (shared, for filling).
+    the kernel's coordinates.  ``grid`` is ``(centre, scale)`` of the map to the
+    caller's coordinates, X = x * scale + centre (default: the identity), which
+    :func:`snap` rounds new points to, optionally with a third entry: how far that
+    rounding can move a distance (here; 0 by default).  Returns ``(m, xy)``: the state and its
+    coordinate array (shared, for filling).
     """
+    gc, gs, wg = (np.zeros(2), 1.0, 0.0) if grid is None else (tuple(grid) + (0.0,))[:3]
     if size_grid is None:
         size_grid = (np.array([0.0, 1.0]), np.array([0.0, 1.0]), np.ones((2, 2)))
         sized = 0
@@ -167,6 +175,9 @@ def allocate(nmax, tmax, size_grid=None):
         gy,
         gv,
         sized,
+        np.ascontiguousarray(gc, dtype=np.float64),
+        float(gs),
+        float(wg),
     )
     return m, xy
 
@@ -195,6 +206,23 @@ def prv(h):
 @njit(cache=True)
 def _orient_v(xy, u, v, x, y):
     return orient2d(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y)
+
+
+@njit(cache=True)
+def snap(m, x, y):
+    """(x, y) rounded to the nearest point the caller's coordinates can hold.
+
+    New points (circumcentres, boundary points, moved points) are rounded before
+    any decision is made on them, so the mesh the predicates certify is exactly
+    the one the caller gets.  With ``scale`` a power of two and each component of
+    ``centre`` either 0 or at least twice the polygon's size from 0 (Sterbenz:
+    X - centre is then exact for every X in the polygon's box), X - centre and the
+    division are exact; near the origin (centre 0) this is the identity.
+    """
+    s = m.gs
+    cx = m.gc[0]
+    cy = m.gc[1]
+    return ((x * s + cx) - cx) / s, ((y * s + cy) - cy) / s
 
 
 @njit(cache=True)
@@ -401,22 +429,37 @@ def locate_scan(m, x, y):
 def insert_point(m, x, y, t0, hs):
     """Insert (x, y) lying in triangle t0, or on its boundary half-edge hs (else hs = -1).
 
-    The new vertex gets index ``nv``.  On success returns the number k of new
-    triangles, whose slots are ``cav[:k]``; on failure a negative status and the
-    triangulation is unchanged.
+    The new vertex gets index ``nv``.  On success returns the number k of new or
+    rewritten triangles, whose slots are ``cav[:k]``; on failure a negative status
+    and the triangulation is unchanged.
+
+    First the Bowyer-Watson cavity (module docstring).  If a rounded point makes
+    it not star-shaped (an edge of its boundary not strictly visible from the
+    point), the point is inserted into t0 alone instead -- with the neighbour
+    across an edge of t0 the point lies on -- and Lawson flips restore the
+    Delaunay property (:func:`_split_and_flip`).  That only needs the point
+    strictly inside t0's fan, which holds for any point in t0 or on hs away from
+    t0's corners, wherever rounding has put it.
     """
-    xy = m.xy
-    tv = m.tv
-    tw = m.tw
     tag = new_tag(m)
-    # 1. grow the cavity
-    ncav = 0
-    m.cav[ncav] = t0
-    ncav += 1
+    ncav = _grow_cavity(m, x, y, t0, hs, tag)
+    nb = _cavity_boundary(m, x, y, ncav, hs, tag)
+    if nb < 0:
+        return _split_and_flip(m, x, y, t0, hs)
+    _write_fan(m, x, y, ncav, nb, tag)
+    return nb
+
+
+@njit(cache=True)
+def _grow_cavity(m, x, y, t0, hs, tag):
+    """Triangles whose circumcircle holds (x, y), reached from t0 across edges the
+    point sees and that are not constraints; ``cav[:k]``, marked with ``tag``."""
+    xy, tv, tw = m.xy, m.tv, m.tw
+    ncav = 1
+    m.cav[0] = t0
     m.tmark[t0] = tag
-    sp = 0
-    m.stack[sp] = t0
-    sp += 1
+    sp = 1
+    m.stack[0] = t0
     while sp > 0:
         sp -= 1
         t = m.stack[sp]
@@ -442,7 +485,14 @@ def insert_point(m, x, y, t0, hs):
                 ncav += 1
                 m.stack[sp] = n
                 sp += 1
-    # 2. its boundary, checked before anything is written
+    return ncav
+
+
+@njit(cache=True)
+def _cavity_boundary(m, x, y, ncav, hs, tag):
+    """The cavity's boundary half-edges into ``bh`` (their count), or ERR_ORIENT if
+    the point does not see one of them strictly (checked before anything is written)."""
+    xy, tv, tw = m.xy, m.tv, m.tw
     nb = 0
     for k in range(ncav):
         t = m.cav[k]
@@ -455,9 +505,19 @@ def insert_point(m, x, y, t0, hs):
                 continue
             if _orient_v(xy, tv[h], tv[nxt(h)], x, y) <= 0.0:
                 return ERR_ORIENT
+            reserve(m, nb + 1)
             m.bh[nb] = h
             nb += 1
-    # 3. the fan: read every boundary edge before slots are overwritten
+    return nb
+
+
+@njit(cache=True)
+def _write_fan(m, x, y, ncav, nb, tag):
+    """Replace the cavity ``cav[:ncav]`` by the fan of new triangles (u, v, p) over
+    its boundary ``bh[:nb]``, p the new vertex; the slots used end up in ``cav[:nb]``."""
+    xy, tv, tw = m.xy, m.tv, m.tw
+    reserve(m, nb + 1)
+    # read every boundary edge before slots are overwritten
     p = m.nv
     xy[p, 0] = x
     xy[p, 1] = y
@@ -496,7 +556,67 @@ def insert_point(m, x, y, t0, hs):
             m.vseg[tv[3 * s + 1]] = 3 * s + 1  # v -> p is a new boundary half-edge
         if tw[3 * s + 2] < 0:
             m.vseg[p] = 3 * s + 2  # p -> u
-    return nb
+
+
+@njit(cache=True)
+def _split_and_flip(m, x, y, t0, hs):
+    """Insert (x, y) into t0 (and the neighbour across an unconstrained edge of t0
+    it lies on), then Lawson-flip from the new triangles' outer edges.
+
+    Valid for any point strictly inside the fan of t0 (see :func:`insert_point`);
+    flips only replace edges whose quadrilateral is strictly convex (an illegal
+    edge's always is), so every triangle stays strictly counter-clockwise.
+    Returns the number of new or rewritten slots (``cav[:k]``), or ERR_ORIENT.
+    """
+    xy, tv, tw = m.xy, m.tv, m.tw
+    tag = new_tag(m)
+    m.cav[0] = t0
+    m.tmark[t0] = tag
+    ncav = 1
+    for i in range(3):
+        h = 3 * t0 + i
+        g = tw[h]
+        if h != hs and g >= 0 and _orient_v(xy, tv[h], tv[nxt(h)], x, y) == 0.0:
+            reserve(m, ncav + 2)
+            m.cav[ncav] = g // 3
+            m.tmark[g // 3] = tag
+            ncav += 1
+    nb = _cavity_boundary(m, x, y, ncav, hs, tag)
+    if nb < 0:
+        return ERR_ORIENT
+    _write_fan(m, x, y, ncav, nb, tag)
+    # Lawson flips from the fan's outer edges; every rewritten slot joins cav
+    tag = new_tag(m)
+    todo = np.empty(2 * nb + 16, np.int32)
+    sp = 0
+    for k in range(nb):
+        s = m.cav[k]
+        m.tmark[s] = tag
+        if tw[3 * s] >= 0:
+            todo[sp] = 3 * s
+            sp += 1
+    k = nb
+    while sp > 0:
+        sp -= 1
+        h = todo[sp]
+        if not _not_delaunay(m, h):
+            continue
+        t = h // 3
+        u = tw[h] // 3
+        flip(m, h)
+        for s in (t, u):
+            if m.tmark[s] != tag:
+                m.tmark[s] = tag
+                reserve(m, k + 1)
+                m.cav[k] = s
+                k += 1
+        todo = grown(todo, sp + 4)
+        todo[sp] = 3 * t
+        todo[sp + 1] = 3 * t + 1
+        todo[sp + 2] = 3 * u
+        todo[sp + 3] = 3 * u + 1
+        sp += 4
+    return k
 
 
 @njit(cache=True)
@@ -524,6 +644,53 @@ def insert_sites(m, idx):
         t = m.cav[0]
     m.nv = nv
     return 0
+
+
+@njit(cache=True)
+def split_sites(m, idx, first):
+    """Put the boundary vertices ``idx`` (coordinates already in ``xy``) on their
+    constraints by index, not by geometry: ``idx`` lists the sites of each polygon
+    edge in order along it, and ``first[k]`` is the vertex the chain of ``idx[k]``
+    starts from (the edge's start vertex, or the site before it on the edge), so
+    site k splits the boundary half-edge leaving ``first[k]``.  Where rounding
+    put the site a little off its edge, the split is still valid when every new
+    triangle is strictly counter-clockwise, which :func:`insert_point` checks.
+    Returns 0, or -(k + 1) if site k could not be put there."""
+    nv = m.nv
+    for k in range(idx.shape[0]):
+        v = idx[k]
+        hs = m.vseg[first[k]]
+        m.nv = v
+        if hs < 0 or insert_point(m, m.xy[v, 0], m.xy[v, 1], np.int64(hs // 3), np.int64(hs)) < 0:
+            m.nv = nv
+            return -(k + 1)
+    m.nv = nv
+    return 0
+
+
+@njit(cache=True)
+def boundary_is(m, ring_next):
+    """Whether the triangles are glued consistently and bounded by the rings: every
+    paired half-edge runs opposite to its twin, and the unpaired ones are exactly
+    ``u -> ring_next[u]`` for the ring vertices u (``ring_next`` -1 elsewhere),
+    each once.  With every triangle strictly counter-clockwise
+    (:func:`count_not_ccw`) the triangles then cover the region the rings bound
+    exactly once: the covering count at a point is the rings' winding number."""
+    seen = np.zeros(ring_next.shape[0], np.int8)
+    for h in range(3 * m.nt):
+        g = m.tw[h]
+        if g >= 0:
+            if m.tv[g] != m.tv[nxt(h)] or m.tv[nxt(g)] != m.tv[h]:
+                return False
+            continue
+        u = m.tv[h]
+        if ring_next[u] != m.tv[nxt(h)] or seen[u]:
+            return False
+        seen[u] = 1
+    for u in range(ring_next.shape[0]):
+        if ring_next[u] >= 0 and not seen[u]:
+            return False
+    return True
 
 
 @njit(cache=True)

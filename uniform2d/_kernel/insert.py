@@ -44,7 +44,7 @@ from numba import njit, types
 from numba.experimental import structref
 
 from . import heap
-from .cdt import circumcircle, insert_point, locate, new_tag, nxt, prv, reserve
+from .cdt import circumcircle, insert_point, locate, locate_scan, new_tag, nxt, prv, reserve, snap
 from .predicates import dot2d, orient2d
 
 REL_TIE = 1e-9
@@ -55,9 +55,17 @@ ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
 
 
 @njit(cache=True, inline="always")
-def better(w1, x1, y1, w2, x2, y2, xtol):
+def tied_above(W, wg):
+    """Weights above this tie with W: within REL_TIE of it, or within ``wg`` (the
+    rounding of points to the caller's coordinates far from the origin, which
+    can move a weight that much)."""
+    return W * (1.0 - REL_TIE) - wg
+
+
+@njit(cache=True, inline="always")
+def better(w1, x1, y1, w2, x2, y2, xtol, wg):
     """The tie rule for two candidates: does 1 come before 2?"""
-    hi = max(w1, w2) * (1.0 - REL_TIE)
+    hi = tied_above(max(w1, w2), wg)
     if w1 < hi or w2 < hi:
         return w1 > w2
     if x1 < x2 - xtol:
@@ -241,7 +249,7 @@ def eval_segment(m, h, xtol):
                 if d2 < wmin and (k < 2 or _visible(m, np.int64(ne), x, y, z)):
                     wmin = d2
             val = np.sqrt(wmin) / size_at(m, x, y)
-            if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol):
+            if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol, m.wg):
                 bv, bx_, by_ = val, x, y
     if bv < 0.0:
         return half / size_at(m, mx, my), mx, my
@@ -455,15 +463,15 @@ def _gather(m, M, P, xtol):
         if _revalidate(m, M, P, s, np.inf, xtol):
             W = w
             break
-    while M.size > 0 and (W < 0.0 or heap.top_key(M) >= W * (1.0 - REL_TIE)):
+    while M.size > 0 and (W < 0.0 or heap.top_key(M) >= tied_above(W, m.wg)):
         key, a, b = heap.pop(M)
         alive, w, x, y = _current(m, a, b, xtol)
         if not alive:
             continue
-        if w < key and (W < 0.0 or w < W * (1.0 - REL_TIE)):
+        if w < key and (W < 0.0 or w < tied_above(W, m.wg)):
             heap.push(M, w, a, b)  # stale subsegment key; it may come back
             continue
-        if W < 0.0 and P.nslots == P.nfree and heap.top_key(M) < w * (1.0 - REL_TIE):
+        if W < 0.0 and P.nslots == P.nfree and heap.top_key(M) < tied_above(w, m.wg):
             return w, a, b, x, y  # alone in its tied group
         _pool_add(P, a, b, w, x, y, xtol)
         if w > W:
@@ -488,7 +496,7 @@ def _lclean(m, M, P, L, loc, thr, xtol):
 @njit(cache=True)
 def _choose(m, M, P, W, xtol):
     """Step 2: the slot of the canonical candidate (or -1)."""
-    thr = W * (1.0 - REL_TIE)
+    thr = tied_above(W, m.wg)
     while True:
         xw = _lclean(m, M, P, P.wx, np.int64(1), thr, xtol)
         xo = _lclean(m, M, P, P.lo, np.int64(0), thr, xtol)
@@ -547,12 +555,14 @@ def _choose(m, M, P, W, xtol):
 
 
 @njit(cache=True)
-def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
+def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
     """Insert n points; returns n, or a negative status on failure.
 
-    A circumcentre closer than ``snap`` to a boundary subsegment of its triangle
+    A circumcentre closer than ``snap_d`` to a boundary subsegment of its triangle
     is placed on that subsegment (it is numerically on the boundary; inside it
-    would only make a sliver).  On failure ``out_*[j]`` describe the failing
+    would only make a sliver).  Every point is rounded to what the caller's
+    coordinates hold (:func:`cdt.snap`) before it is located and inserted, so the
+    exact predicates decide on the coordinates actually returned.  On failure ``out_*[j]`` describe the failing
     point and the status is ``code - 100 * j``.
     """
     for j in range(n):
@@ -566,20 +576,25 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
             a, w, x, y = P.pa[s], P.pw[s], P.px[s], P.py[s]
             _pool_kill(P, np.int64(s))
         if a >= 0:
+            x, y = snap(m, x, y)
             loc = locate(m, np.int64(a), x, y, np.int64(64))
+            if loc < -(m.tv.shape[0] + 1):  # the walk gave up: look everywhere
+                loc = locate_scan(m, x, y)
+                if loc < 0:
+                    return ERR_LOCATE - 100 * j
             if loc >= 0:
                 t0 = loc
-                hsplit = _near_boundary(m, loc, x, y, snap)
-            elif loc > -(m.tv.shape[0] + 2):
+                hsplit = _near_boundary(m, loc, x, y, snap_d)
+            else:
                 hsplit = -loc - 1  # the rounded circumcentre crossed this boundary edge
                 t0 = hsplit // 3
-            else:
-                return ERR_LOCATE - 100 * j
             if hsplit >= 0:
                 x, y = _project(m, hsplit, x, y)
+                x, y = snap(m, x, y)
         else:
             hsplit = m.vseg[-a - 1]
             t0 = hsplit // 3
+            x, y = snap(m, x, y)
         out_xy[j, 0] = x
         out_xy[j, 1] = y
         out_w[j] = w * size_at(m, x, y)  # the distance (w is distance / size)
