@@ -13,6 +13,7 @@ INSERT), the two-phase mesh T+, and optimality certificates.
 from .errors import (
     FileFormatError,
     InsufficientPointsError,
+    InternalError,
     InvalidPolygonError,
     InvalidSitesError,
     Uniform2dError,
@@ -52,5 +53,6 @@ __all__ = [
     "InvalidSitesError",
     "UnsupportedFormatError",
     "FileFormatError",
+    "InternalError",
     "__version__",
 ]

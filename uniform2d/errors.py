@@ -13,6 +13,7 @@ __all__ = [
     "InvalidSitesError",
     "UnsupportedFormatError",
     "FileFormatError",
+    "InternalError",
 ]
 
 
@@ -38,3 +39,11 @@ class UnsupportedFormatError(Uniform2dError, ValueError):
 
 class FileFormatError(Uniform2dError, ValueError):
     """A file could be opened but its content is not a usable polygon or mesh."""
+
+
+class InternalError(RuntimeError):
+    """uniform2d made a mesh that fails its own validity check.
+
+    Not a :class:`Uniform2dError`: the input is fine, the library is wrong.  The
+    mesh is not returned; the message asks for the polygon and n to be reported.
+    """

@@ -29,7 +29,8 @@ from scipy.spatial import cKDTree
 from ._kernel import cdt, heap
 from ._kernel import insert as kinsert
 from ._kernel.distance import to_segments
-from .errors import InsufficientPointsError, InvalidSitesError
+from ._kernel.validity import mesh_problem
+from .errors import InsufficientPointsError, InternalError, InvalidSitesError
 from .polygon import Polygon
 from .sizefield import SizeField
 
@@ -132,6 +133,19 @@ def boundary_tol(polygon: Polygon) -> float:
     computed on an edge, ``a + t (b - a)``, that far off it.
     """
     return max(BOUNDARY_TOL * _extent(polygon), _rounding(polygon))
+
+
+def ensure_valid(points, triangles, polygon: Polygon, n_steiner: int, what: str) -> None:
+    """Raise :class:`~uniform2d.errors.InternalError` unless the mesh is a valid
+    triangulation of P with exactly ``n_steiner`` Steiner points (the checks of
+    :mod:`uniform2d._kernel.validity`; cheap enough to run on every mesh returned)."""
+    problem = mesh_problem(points, triangles, polygon, n_steiner, boundary_tol(polygon))
+    if problem is not None:
+        raise InternalError(
+            f"{what} made an invalid mesh ({problem}). This is a bug in uniform2d, not a "
+            f"problem with the input: please report it with the polygon "
+            f"({len(polygon.vertices)} vertices, {polygon.n_holes} holes) and n = {n_steiner}"
+        )
 
 
 def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
@@ -269,6 +283,7 @@ def insert_on_edges(polygon: Polygon, n: int, sites: np.ndarray, edges: np.ndarr
     library's own callers (T+'s boundary points, the optimiser's sliding points)
     come here, and a site near a polygon vertex is simply a boundary site.  A
     site that cannot be placed where it says it is raises ``RuntimeError``.
+    Every mesh made here passes :func:`ensure_valid` before it is returned.
     """
     centre, scale = _normaliser(polygon)
     extent = _extent(polygon)
@@ -320,6 +335,7 @@ def insert_on_edges(polygon: Polygon, n: int, sites: np.ndarray, edges: np.ndarr
     mesh_points = np.concatenate([V, sites, points], axis=0)
     triangles = cdt.triangle_list(m)
     del m, xy
+    ensure_valid(mesh_points, triangles, polygon, len(mesh_points) - nV, "insert")
     for arr in (points, weights, out_b, mesh_points, triangles):
         arr.setflags(write=False)
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
