@@ -58,7 +58,7 @@ from scipy.spatial import cKDTree
 from ._kernel import cdt, relax
 from ._kernel.distance import to_segments
 from .errors import InsufficientPointsError
-from .insert import _normaliser, _size_grid, boundary_tol, insert
+from .insert import _grain, _normaliser, _size_grid, boundary_tol, insert, insert_on_edges
 from .mesh import Mesh
 from .polygon import Polygon
 from .quality import edge_lengths
@@ -447,6 +447,7 @@ def improve(
     sweeps: int | None = None,
     exponents=None,
     spread_sweeps: int | None = None,
+    edges=None,
 ):
     """Move the Steiner points of a mesh of P to make it more uniform, exactly n kept.
 
@@ -483,6 +484,10 @@ def improve(
         Sweeps of the final stage that lowers the spread of the (normalised) edge
         lengths while the objective's extremes are held
         (:func:`uniform2d._kernel.relax.spread`).
+    edges : array_like of int, shape (k,), optional
+        The polygon edge each site lies on, -1 for an interior site (the
+        optimiser's own sites: placed by index, not judged by distance).
+        Default: found by distance, as :func:`uniform2d.insert` does.
 
     Returns
     -------
@@ -491,7 +496,8 @@ def improve(
     triangles : ndarray, shape (M, 3), int64
         The exact constrained Delaunay triangulation of ``points`` (CCW).
     info : dict
-        Spring rounds and sweeps made, the objective value reached.
+        Spring rounds and sweeps made, the objective value reached, and
+        ``edges``: the polygon edge of each returned site (-1 inside).
 
     Examples
     --------
@@ -507,11 +513,15 @@ def improve(
         polygon = Polygon(polygon)
     if objective not in OBJECTIVES:
         raise ValueError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
-    res = insert(polygon, 0, sites=sites)
+    if edges is None:
+        res = insert(polygon, 0, sites=sites)
+    else:
+        res = insert_on_edges(polygon, 0, np.asarray(sites, dtype=np.float64).reshape(-1, 2), edges)
     nV = len(polygon.vertices)
     if len(res.mesh_points) == nV:
-        return np.array(res.mesh_points), np.array(res.triangles), {"spring_rounds": 0, "sweeps": 0}
-    st = _load(polygon, res, size, href, frozen)
+        info = {"spring_rounds": 0, "sweeps": 0, "edges": np.empty(0, np.int64)}
+        return np.array(res.mesh_points), np.array(res.triangles), info
+    st = _load(polygon, res, size, href, frozen, edges)
     N = len(st.xy)
     sched = SCHEDULE_LARGE if N > LARGE else SCHEDULE if size is None else SCHEDULE_GRADED
     spring_rounds = sched[0] if spring_rounds is None else spring_rounds
@@ -547,8 +557,13 @@ def improve(
         xy[:] = best_xy
         t[:] = best_t
 
-    fin = insert(polygon, 0, sites=_unload(polygon, st)[nV:])
-    info = {"spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value}
+    fin = insert_on_edges(polygon, 0, _unload(polygon, st)[nV:], st.eid[nV:])
+    info = {
+        "spring_rounds": int(rounds),
+        "sweeps": int(done),
+        "objective_value": value,
+        "edges": st.eid[nV:].copy(),
+    }
     return np.array(fin.mesh_points), np.array(fin.triangles), info
 
 
@@ -568,15 +583,22 @@ class _Loaded(NamedTuple):
     scale: float
 
 
-def _load(polygon: Polygon, res, size, href, frozen) -> _Loaded:
-    """Load an :class:`~uniform2d.insert.InsertResult` (polygon + sites) into a Tri."""
-    from .insert import _classify_sites
+def _load(polygon: Polygon, res, size, href, frozen, edges=None) -> _Loaded:
+    """Load an :class:`~uniform2d.insert.InsertResult` (polygon + sites) into a Tri;
+    ``edges`` as :func:`improve`'s (None: found by distance)."""
+    from .insert import _classify_sites, edge_parameters
 
     nV = len(polygon.vertices)
     P0 = np.array(res.mesh_points, dtype=np.float64)
     T0 = np.array(res.triangles, dtype=np.int32)
     N = len(P0)
-    _, boundary = _classify_sites(polygon, P0[nV:], boundary_tol(polygon))
+    if edges is None:
+        _, boundary = _classify_sites(polygon, P0[nV:], boundary_tol(polygon))
+    else:
+        edges = np.asarray(edges, dtype=np.int64)
+        on = np.flatnonzero(edges >= 0)
+        tb = edge_parameters(polygon, P0[nV:], edges)
+        boundary = [(int(i), int(edges[i]), float(tb[i])) for i in on]
     a, d, _ = _edge_geometry(polygon)
     centre, scale = _normaliser(polygon)
 
@@ -592,7 +614,7 @@ def _load(polygon: Polygon, res, size, href, frozen) -> _Loaded:
         t[nV + i] = ti
 
     grid = _size_grid(size, centre, scale)
-    m, xy = cdt.allocate(N, len(T0), grid)
+    m, xy = cdt.allocate(N, len(T0), grid, (centre, scale, _grain(polygon, centre) / scale))
     xy[:] = (P0 - centre) / scale
     cdt.set_nv(m, N)
     cdt.build_adjacency(m, T0)
@@ -610,18 +632,14 @@ def _load(polygon: Polygon, res, size, href, frozen) -> _Loaded:
 
 
 def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:
-    """The kernel's points in the caller's coordinates: polygon vertices exactly,
-    boundary points recomputed on their polygon edge."""
-    a, d, _ = _edge_geometry(polygon)
-    nV = len(polygon.vertices)
+    """The kernel's points in the caller's coordinates, exactly: the kernel rounds
+    every place to what these coordinates hold (:func:`uniform2d._kernel.cdt.snap`)."""
     out = st.xy * st.scale + st.centre
-    out[:nV] = polygon.vertices
-    sl = st.role == relax.SLIDE
-    out[sl] = a[st.eid[sl]] + st.t[sl, None] * d[st.eid[sl]]
+    out[: len(polygon.vertices)] = polygon.vertices
     return out
 
 
-def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, options):
+def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, options, edges):
     """Relocation moves: the one change of structure point moves cannot make.
 
     Each try takes the interior point whose edges are shortest on average (away
@@ -630,12 +648,11 @@ def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, opti
     (:data:`RELOCATE` schedule); the move is kept if the objective improves.  A
     failed edge is not tried again until a move succeeds; at most
     :data:`RELOCATE_TRIES` tries.  The count of points never changes.
+    ``edges`` (as :func:`improve`'s) says which sites are on the boundary.
 
     Returns (points, triangles, moves kept).
     """
     nV = len(polygon.vertices)
-    a, d, _ = _edge_geometry(polygon)
-    on_edge = boundary_tol(polygon)
     value = objective_value(objective, *_extremes(pts, tri), h)
     fixed = np.asarray(frozen, dtype=bool).copy()
     failed = set()
@@ -647,12 +664,13 @@ def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, opti
             break
         failed.add(tuple(target))
         new = 0.5 * (pts[target[0]] + pts[target[1]])  # on P's boundary if the edge is
+        new_edge = _common_edge(polygon, edges, *target)
         total = np.zeros(len(pts))
         count = np.zeros(len(pts))
         np.add.at(total, E.ravel(), np.repeat(L, 2))
         np.add.at(count, E.ravel(), 1.0)
         sites = pts[nV:]
-        free = (to_segments(sites, a, a + d, 2.0 * on_edge) > on_edge) & ~fixed
+        free = (edges < 0) & ~fixed
         free &= np.hypot(*(sites - new).T) > RELOCATE_RADIUS * h
         if not free.any():
             break
@@ -661,17 +679,37 @@ def _relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, opti
         old = sites[r].copy()
         trial = sites.copy()
         trial[r] = new
+        trial_edges = edges.copy()
+        trial_edges[r] = new_edge
         near = np.minimum(np.hypot(*(trial - new).T), np.hypot(*(trial - old).T))
         local = fixed | (near > RELOCATE_RADIUS * h)
-        p2, t2, _ = improve(
-            polygon, trial, objective=objective, href=h, frozen=local, **{**options, **RELOCATE}
+        p2, t2, info2 = improve(
+            polygon, trial, objective=objective, href=h, frozen=local, edges=trial_edges,
+            **{**options, **RELOCATE},
         )
         v2 = objective_value(objective, *_extremes(p2, t2), h)
         if v2 < value:
-            pts, tri, value = p2, t2, v2
+            pts, tri, value, edges = p2, t2, v2, info2["edges"]
             kept += 1
             failed.clear()
     return pts, tri, kept
+
+
+def _common_edge(polygon: Polygon, edges, u: int, v: int) -> int:
+    """The polygon edge both mesh points u and v lie on, or -1: the polygon edge
+    of the midpoint of mesh edge u-v (a mesh edge joining two points of one polygon
+    edge runs along it).  ``edges`` as :func:`improve`'s, for the points after
+    the polygon's vertices (a vertex lies on the two edges that meet there)."""
+    nV = len(polygon.vertices)
+    E = polygon.edges
+
+    def on(w):
+        if w >= nV:
+            return {int(edges[w - nV])} - {-1}
+        return {int(e) for e in np.flatnonzero((E[:, 0] == w) | (E[:, 1] == w))}
+
+    both = on(int(u)) & on(int(v))
+    return min(both) if both else -1
 
 
 # ----------------------------------------------------------------------------- driver
@@ -722,31 +760,36 @@ def optimize_mesh(
     best = None
     for spacing, edge, layered in variants:
         m = _boundary_counts(L, spacing * h, n)
-        bpts, _, _ = _boundary_points(a, d, m)
+        bpts, beid, _ = _boundary_points(a, d, m)
         rows = _boundary_rows(polygon, m, spacing * h) if layered else None
         ipts = _seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
         # the lattice deeper than BAND sizes inside P is uniform already: it stays
         deep = to_segments(ipts, a, a + d, 2.0 * BAND * h) > BAND * h
         frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
         sites = np.concatenate([bpts, ipts])
+        edges = np.concatenate([beid, np.full(len(ipts), -1, np.int64)])
         val = 0.0
         if len(variants) > 1:  # a short trial run ranks the starts
             trial = {**options, **TRIAL}
-            pts, tri, _ = improve(
-                polygon, sites, objective=objective, href=h, frozen=frozen, **trial
+            pts, tri, tinfo = improve(
+                polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **trial
             )
-            sites = pts[nV:]
+            sites, edges = pts[nV:], tinfo["edges"]
             val = objective_value(objective, *_extremes(pts, tri), h)
             if objective == "balanced" and CV_WEIGHT:
                 _, Ls = edge_lengths(pts, tri)
                 val *= (Ls.std() / Ls.mean()) ** CV_WEIGHT
         if best is None or val < best[0]:
-            best = (val, sites, frozen, len(bpts), spacing, edge, layered)
-    _, sites, frozen, k, spacing, edge, layered = best
-    pts, tri, run = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **options)
+            best = (val, sites, edges, frozen, len(bpts), spacing, edge, layered)
+    _, sites, edges, frozen, k, spacing, edge, layered = best
+    pts, tri, run = improve(
+        polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **options
+    )
     moved = 0
     if n + nV <= RELOCATE_MAX:
-        pts, tri, moved = _relocate(polygon, pts, tri, frozen, objective, h, options)
+        pts, tri, moved = _relocate(
+            polygon, pts, tri, frozen, objective, h, options, run["edges"]
+        )
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = _quality_objective(objective, q_new, h)
     v_tp = _quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
