@@ -11,6 +11,7 @@ INSERT), the two-phase mesh T+, and optimality certificates.
 """
 
 from .errors import (
+    CoordinatePrecisionError,
     FileFormatError,
     InsufficientPointsError,
     InternalError,
@@ -54,5 +55,6 @@ __all__ = [
     "UnsupportedFormatError",
     "FileFormatError",
     "InternalError",
+    "CoordinatePrecisionError",
     "__version__",
 ]

@@ -14,6 +14,7 @@ __all__ = [
     "UnsupportedFormatError",
     "FileFormatError",
     "InternalError",
+    "CoordinatePrecisionError",
 ]
 
 
@@ -23,6 +24,11 @@ class Uniform2dError(Exception):
 
 class InvalidPolygonError(Uniform2dError, ValueError):
     """The polygon is not a valid simple polygon with holes (the message says where)."""
+
+
+class CoordinatePrecisionError(InvalidPolygonError):
+    """The polygon lies so far from the origin for its size that its coordinates
+    cannot hold the points the mesh needs (move it nearer the origin)."""
 
 
 class InsufficientPointsError(Uniform2dError, ValueError):

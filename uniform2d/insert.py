@@ -13,7 +13,17 @@ compared to within 1e-9 of the bounding-box size, so the sequence is canonical
 and invariant under scaling and translation.  See ``uniform2d._kernel.insert``
 for how the tied group is found in O(log n) a step.  The kernel works on coordinates
 normalised exactly (see ``_normaliser``); the polygon vertices and sites are
-returned exactly as given, the inserted points mapped back.
+returned exactly as given, the inserted points mapped back exactly: each was
+rounded to what the caller's coordinates hold before it was inserted, so the
+returned mesh is exactly the constrained Delaunay triangulation the exact
+predicates built.  Far from the origin that rounding (a few units in the last
+place of the coordinates) is also the precision of the points and weights.
+
+Sites: :func:`insert` decides by distance which are on the boundary (the
+caller's sites); :func:`insert_on_edges` takes the edge of each site from its
+caller (the library's own sites), so no tolerance judges them.  Either way a
+boundary site splits its edge's constraint in order along it, and every mesh
+passes :func:`ensure_valid` before it is returned.
 """
 
 from __future__ import annotations
@@ -26,11 +36,16 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ._kernel import cdt, heap
+from ._kernel import cdt, heap, polytri
 from ._kernel import insert as kinsert
 from ._kernel.distance import to_segments
 from ._kernel.validity import mesh_problem
-from .errors import InsufficientPointsError, InternalError, InvalidSitesError
+from .errors import (
+    CoordinatePrecisionError,
+    InsufficientPointsError,
+    InternalError,
+    InvalidSitesError,
+)
 from .polygon import Polygon
 from .sizefield import SizeField
 
@@ -323,6 +338,13 @@ def insert_on_edges(polygon: Polygon, n: int, sites: np.ndarray, edges: np.ndarr
     status = kinsert.run(m, M, P, n, out_xy, out_w, out_b, xtol, snap / scale)
     if status != n:
         j = -status // 100
+        if status + 100 * j == kinsert.ERR_PRECISION:
+            raise CoordinatePrecisionError(
+                f"the polygon is {extent:.3g} across at {float(np.abs(V).max()):.3g} from the "
+                f"origin, where coordinates are {np.spacing(np.abs(V).max()):.3g} apart: too "
+                f"coarse to place point {j + 1} of {n}; translate the polygon nearer the origin "
+                "(e.g. subtract its centre) or ask for fewer points"
+            )
         raise RuntimeError(
             f"INSERT kernel failed (status {status}) at step {j}, point {tuple(out_xy[j])}, "
             f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
@@ -367,33 +389,33 @@ def _initial(allxy, rings, chains, nV, nmax, tmax, grid, normal):
     """The triangulation of the rings (boundary sites included), exactly CDT.
 
     GEOS triangulates the rings; its result is used only if it passes the exact
-    check (every triangle strictly counter-clockwise, the boundary exactly the
-    rings' edges).  GEOS decides with floating point, and a site rounded a few
-    units in the last place off a rotated edge makes the ring locally reflex:
-    GEOS may then cut a flat or inverted ear.  Otherwise the polygon's own rings
-    are triangulated and each boundary site splits its edge's constraint by
-    index (:func:`cdt.split_sites`).
+    check (every triangle strictly counter-clockwise, twins opposite, the
+    boundary exactly the rings' edges).  GEOS decides in floating point: on
+    collinear vertices, or a site rounded a few ulps off a rotated edge (which
+    makes the ring locally reflex), it may cut a flat or inverted ear.  Then the
+    polygon's own rings are triangulated exactly (:mod:`._kernel.polytri`) and
+    each boundary site splits its edge's constraint by index
+    (:func:`cdt.split_sites`).
     """
     m, xy = cdt.allocate(nmax, tmax, grid, normal)
     xy[: len(allxy)] = allxy
     cdt.set_nv(m, len(allxy))
-    ok = _load_triangles(m, allxy, rings)
-    if ok or not chains:
-        if not ok:
+    if not _load_triangles(m, allxy, rings):
+        log.debug("insert: GEOS's triangulation failed the exact check; exact fallback")
+        m, xy = cdt.allocate(nmax, tmax, grid, normal)
+        xy[: len(allxy)] = allxy
+        cdt.set_nv(m, len(allxy))
+        own = [[v for v in r if v < nV] for r in rings]
+        tris = polytri.triangulate(allxy[:nV], own)
+        if cdt.build_adjacency(m, tris) != nV or not _valid(m, allxy, own):
             raise RuntimeError("could not triangulate the polygon exactly (please report it)")
-        cdt.legalize_all(m)
-        return m, xy
-    m, xy = cdt.allocate(nmax, tmax, grid, normal)
-    xy[: len(allxy)] = allxy
-    cdt.set_nv(m, len(allxy))
-    own = [[v for v in r if v < nV] for r in rings]
-    if not _load_triangles(m, allxy, own):
-        raise RuntimeError("could not triangulate the polygon exactly (please report it)")
-    idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
-    first = np.array([([e] + c)[j] for e, c in chains for j in range(len(c))], dtype=np.int64)
-    status = cdt.split_sites(m, idx, first)
-    if status < 0:
-        raise RuntimeError(f"could not put boundary site {int(idx[-status - 1]) - nV} on its edge")
+        if chains:
+            idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
+            first = np.array([([e] + c)[j] for e, c in chains for j in range(len(c))], np.int64)
+            status = cdt.split_sites(m, idx, first)
+            if status < 0:
+                k = int(idx[-status - 1]) - nV
+                raise RuntimeError(f"could not put boundary site {k} on its edge")
     cdt.legalize_all(m)
     return m, xy
 

@@ -45,6 +45,27 @@ boundary point the subsegment ``hs`` is left out of the fan and becomes the two
 boundary half-edges ``a->p`` and ``p->b``.  Every new triangle is checked to be
 strictly counter-clockwise with the exact predicate before anything is written.
 
+Invariants that keep the triangulation valid
+--------------------------------------------
+Every triangle is strictly counter-clockwise (exact ``orient2d``), twins run in
+opposite directions, and the twinless half-edges are exactly the rings' edges
+split at their boundary vertices.  Each operation keeps this by construction:
+
+* the initial triangulation is accepted only after :func:`count_not_ccw` and
+  :func:`boundary_is` say so (GEOS decides in floating point and can cut a flat
+  or inverted ear where a boundary site is rounded a few ulps off a rotated
+  edge); otherwise the caller triangulates the polygon's own rings and
+  :func:`split_sites` puts each boundary site on its constraint by index;
+* :func:`insert_point` writes nothing until every new triangle is checked
+  strictly counter-clockwise; where a rounded point leaves the Bowyer-Watson
+  cavity not star-shaped it falls back to a split of the point's triangle and
+  Lawson flips (:func:`_split_and_flip`), which needs only the point strictly
+  inside that triangle's fan;
+* a flip is made only for an illegal edge, whose quadrilateral is strictly
+  convex, and never across a constraint;
+* new points are rounded to the caller's coordinates (:func:`snap`) before any
+  of this, so every decision is made on the coordinates actually returned.
+
 The initial triangulation comes from ``shapely.constrained_delaunay_triangles``
 and is then made exactly (constrained) Delaunay by Lawson flips decided with
 our own exact ``incircle``: a flip replaces the diagonal of the quadrilateral

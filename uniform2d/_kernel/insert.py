@@ -37,6 +37,16 @@ Pool members are validated whenever they are served (a dead triangle is dropped,
 a subsegment whose value or point changed goes back to M with its fresh value),
 and thresholds only decrease, so the pool always holds exactly the tied group
 (plus stale entries skipped lazily).  Cost: O(log n) amortised per step.
+
+Rounding.  The chosen point is rounded to the caller's coordinates
+(:func:`cdt.snap`) and then located exactly from its candidate's triangle (a
+walk by exact ``orient2d``, a full scan should the walk give up): a rounded
+circumcentre that crossed a boundary edge, or lies within ``snap_d`` of one,
+is put on that subsegment and rounded again; a boundary point splits its
+subsegment by index (``vseg``), wherever rounding put it across the edge's
+line.  Far from the origin that rounding can move a weight by ``m.wg``, which
+the tie threshold absorbs (:func:`tied_above`), so the canonical order does not
+depend on the polygon's position.
 """
 
 import numpy as np
@@ -52,6 +62,7 @@ DISK_SLACK = 1e-12  # inclusive slack when collecting sites near a subsegment (h
 
 ERR_EMPTY = -10  # no candidate left (cannot happen for a valid polygon)
 ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
+ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inserted
 
 
 @njit(cache=True, inline="always")
@@ -601,9 +612,41 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
         out_b[j] = hsplit >= 0
         k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
-            return k - 100 * j
+            k, x, y = _insert_nearby(m, x, y, t0, hsplit)
+            if k < 0:
+                return k - 100 * j
+            out_xy[j, 0] = x
+            out_xy[j, 1] = y
         push_new(m, M, k, hsplit >= 0)
     return n
+
+
+@njit(cache=True)
+def _insert_nearby(m, x, y, t0, hs):
+    """Insert at one of the 8 points the caller's coordinates hold next to (x, y).
+
+    Only far from the origin, where those coordinates are coarse, can the
+    rounded point miss the region in which its insertion is valid (a subsegment a
+    few units in the last place long, next to a corner); a neighbouring
+    representable point, tried in a fixed order, may be inside it.  Returns
+    (status, x, y) as :func:`cdt.insert_point`."""
+    s = m.gs
+    cx = m.gc[0]
+    cy = m.gc[1]
+    X = x * s + cx
+    Y = y * s + cy
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            if dx == 0 and dy == 0:
+                continue
+            Xn = np.nextafter(X, dx * np.inf) if dx != 0 else X
+            Yn = np.nextafter(Y, dy * np.inf) if dy != 0 else Y
+            xn = (Xn - cx) / s
+            yn = (Yn - cy) / s
+            k = insert_point(m, xn, yn, np.int64(t0), np.int64(hs))
+            if k >= 0:
+                return k, xn, yn
+    return ERR_PRECISION, x, y
 
 
 @njit(cache=True)
