@@ -21,7 +21,7 @@ from fuzzgen import KINDS, rings
 from invariants import check_mesh
 
 SETTINGS = settings(
-    max_examples=25, deadline=None, derandomize=True,
+    max_examples=40, deadline=None, derandomize=True,
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
 
@@ -58,7 +58,7 @@ def test_insert_and_tplus_on_hard_domains(kind, seed, n):
 
 
 @pytest.mark.parametrize("kind", KINDS)
-@settings(SETTINGS, max_examples=6)
+@settings(SETTINGS, max_examples=10)
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 60))
 def test_uniform_mesh_on_hard_domains(kind, seed, n):
     poly = _polygon(seed, kind)

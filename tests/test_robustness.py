@@ -1,6 +1,6 @@
 """Valid polygons that once gave a wrong mesh or a crash, and the invariants that fixed them.
 
-``data/robustness_reproducers.json`` holds the cases a fuzzer found (outer ring,
+``data/robustness_reproducers.json`` holds the cases fuzzers found (outer ring,
 holes, the call, n, and what was seen then): rotated rectilinear outlines where
 T+ returned triangles covering 1.01x the area, 'could not insert site',
 INSERT kernel status -501/-3901, ZeroDivisionError in the relaxation, an
@@ -41,12 +41,16 @@ def _check(poly, n, pts, tri):
     check_mesh(pts, tri, poly, area_rtol=_area_rtol(poly))
 
 
-@pytest.mark.parametrize("i", range(len(CASES)), ids=[f"{c['name']}-{c['n']}" for c in CASES])
+MESHABLE = [c for c in CASES if c["name"] != "fuzz_sliver_too_coarse"]
+
+
+@pytest.mark.parametrize("i", range(len(MESHABLE)), ids=[f"{c['name']}-{c['n']}" for c in MESHABLE])
 def test_reproducer_meshes_correctly(i):
-    c = CASES[i]
+    c = MESHABLE[i]
     poly = Polygon(c["outer"], c["holes"])
     mesh = getattr(uniform2d, c["call"])(poly, c["n"])
-    _check(poly, c["n"], mesh.points, mesh.triangles)
+    pts = mesh.mesh_points if c["call"] == "insert" else mesh.points
+    _check(poly, c["n"], pts, mesh.triangles)
 
 
 def test_tplus_on_the_rotated_octagon_is_valid_for_every_n():
@@ -155,3 +159,55 @@ def test_the_final_check_sees_a_boundary_point_off_its_edge():
     pts[on[0], 1] = -1e-3
     with pytest.raises(InternalError, match="off its polygon edge"):
         ensure_valid(pts, tri, SQ, 6, "test")
+
+
+# -- the exact fallback triangulation --------------------------------------------------
+def _exact_triangles(poly):
+    from uniform2d._kernel import polytri
+
+    rings, k = [], 0
+    for r in poly.rings:
+        rings.append(list(range(k, k + len(r))))
+        k += len(r)
+    return polytri.triangulate(poly.vertices, rings)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_exact_triangulation_of_polygons_with_holes_and_collinear_vertices(seed):
+    """GEOS can cut flat ears on collinear vertices; polytri decides exactly."""
+    from polygen import with_holes
+
+    p = with_holes(seed)
+    # split every outer edge at 1/4 and 1/2: collinear within an ulp, and exactly
+    # collinear where the edge is axis-parallel after rounding to a grid
+    outer = []
+    for a, b in zip(p.outer, np.roll(p.outer, -1, axis=0)):
+        outer += [a, a + 0.25 * (b - a), a + 0.5 * (b - a)]
+    q = Polygon(np.round(np.array(outer) * 64) / 64, p.holes)
+    tri = _exact_triangles(q)
+    nb = len(q.vertices)
+    assert len(tri) == nb + 2 * q.n_holes - 2
+    check_mesh(q.vertices, tri, q, delaunay=False)
+
+
+def test_exact_triangulation_of_a_ring_geos_gets_wrong():
+    """A fuzzer's rotated rectilinear ring with vertices on its edges: GEOS's
+    triangulation fails the exact check, so insert falls back to polytri."""
+    c = BY_NAME["fuzz_collinear_exact_fallback"]
+    poly = Polygon(c["outer"], c["holes"])
+    tri = _exact_triangles(poly)
+    check_mesh(poly.vertices, tri, poly, delaunay=False)
+    res = uniform2d.insert(poly, c["n"])
+    _check(poly, c["n"], res.mesh_points, res.triangles)
+
+
+def test_too_coarse_coordinates_are_refused_with_advice():
+    """A sliver 7 units in the last place wide, 4e6 from the origin: the 47th
+    point has no representable place.  That is the input's limit, said as such."""
+    c = BY_NAME["fuzz_sliver_too_coarse"]
+    poly = Polygon(c["outer"], c["holes"])
+    with pytest.raises(uniform2d.CoordinatePrecisionError, match="nearer the origin"):
+        uniform2d.insert(poly, c["n"])
+    assert issubclass(uniform2d.CoordinatePrecisionError, uniform2d.InvalidPolygonError)
+    res = uniform2d.insert(poly.transformed(1.0, -np.round(poly.vertices.mean(axis=0))), c["n"])
+    assert len(res.points) == c["n"]
