@@ -10,9 +10,9 @@ short edges, exactly and nearly collinear vertices, sharp spikes, rotated
 rectilinear outlines, 1-4 holes, 1:100 slivers, at scales 1e-6..1e6 and half of
 them offset by up to 1e7.  Each domain gets three calls, n drawn log-uniformly:
 
-    insert(P, n)        n in [1, 400]
-    tplus(P, n)         n in [1, 400]
-    uniform_mesh(P, n)  n in [1, 100]   (the optimiser is the expensive call)
+    insert(P, n)        n in [1, 1000]
+    tplus(P, n)         n in [1, 1000]
+    uniform_mesh(P, n)  n in [1, 300]   (the optimiser is the expensive call)
 
 Every returned mesh is checked by ``tests/invariants.check_mesh`` (exactly
 |V| + n points, strictly counter-clockwise triangles, edges glued in opposite
@@ -51,7 +51,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-CALLS = (("insert", 400), ("tplus", 400), ("uniform_mesh", 100))
+CALLS = (("insert", 1000), ("tplus", 1000), ("uniform_mesh", 300))
 
 
 def _ns(case_seed):
