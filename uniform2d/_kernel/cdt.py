@@ -344,6 +344,13 @@ def legalize_all(m):
 def legalize_stack(m, todo, sp):
     """Lawson flips starting from the half-edges ``todo[:sp]`` (each edge that
     becomes suspect is pushed); returns the flip count.  ``todo`` grows as needed."""
+    return _lawson(m, todo, sp, np.int32(-1), 0)
+
+
+@njit(cache=True)
+def _lawson(m, todo, sp, tag, k):
+    """:func:`legalize_stack`; with ``tag`` >= 0 also appends every rewritten slot
+    not yet marked ``tag`` to ``cav`` from ``cav[k]`` on, and returns the new k."""
     flips = 0
     while sp > 0:
         sp -= 1
@@ -354,6 +361,13 @@ def legalize_stack(m, todo, sp):
         u = m.tw[h] // 3
         flip(m, h)
         flips += 1
+        if tag >= 0:
+            for s in (t, u):
+                if m.tmark[s] != tag:
+                    m.tmark[s] = tag
+                    reserve(m, k + 1)
+                    m.cav[k] = s
+                    k += 1
         todo = grown(todo, sp + 4)
         # the four outer edges of the new pair
         todo[sp] = 3 * t
@@ -361,7 +375,7 @@ def legalize_stack(m, todo, sp):
         todo[sp + 2] = 3 * u
         todo[sp + 3] = 3 * u + 1
         sp += 4
-    return flips
+    return k if tag >= 0 else flips
 
 
 @njit(cache=True)
@@ -616,28 +630,7 @@ def _split_and_flip(m, x, y, t0, hs):
         if tw[3 * s] >= 0:
             todo[sp] = 3 * s
             sp += 1
-    k = nb
-    while sp > 0:
-        sp -= 1
-        h = todo[sp]
-        if not _not_delaunay(m, h):
-            continue
-        t = h // 3
-        u = tw[h] // 3
-        flip(m, h)
-        for s in (t, u):
-            if m.tmark[s] != tag:
-                m.tmark[s] = tag
-                reserve(m, k + 1)
-                m.cav[k] = s
-                k += 1
-        todo = grown(todo, sp + 4)
-        todo[sp] = 3 * t
-        todo[sp + 1] = 3 * t + 1
-        todo[sp + 2] = 3 * u
-        todo[sp + 3] = 3 * u + 1
-        sp += 4
-    return k
+    return _lawson(m, todo, np.int64(sp), tag, nb)
 
 
 @njit(cache=True)

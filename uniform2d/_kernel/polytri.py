@@ -40,15 +40,21 @@ def _sign(xy, a, b, c):
 
 
 @njit(cache=True)
+def _first_out(m, a):
+    """A half-edge leaving a to start a counter-clockwise turn from: its boundary
+    half-edge if it has one (the turn then ends at -1), else any."""
+    if m.vseg[a] >= 0:
+        return m.vseg[a]
+    for h in range(3 * m.nt):
+        if m.tv[h] == a:
+            return h
+    return -1
+
+
+@njit(cache=True)
 def _out_edge(m, a, b):
-    """The half-edge a -> b, or -1: a turn around a (from its boundary half-edge if
-    it has one, where the turn ends at -1)."""
-    h0 = m.vseg[a]
-    if h0 < 0:
-        for h in range(3 * m.nt):
-            if m.tv[h] == a:
-                h0 = h
-                break
+    """The half-edge a -> b, or -1 (a turn around a)."""
+    h0 = _first_out(m, a)
     h = h0
     while True:
         if m.tv[nxt(h)] == b:
@@ -65,12 +71,7 @@ def _crossings(m, u, v, ql, qr):
     xy = m.xy
     if _out_edge(m, u, v) >= 0:
         return 0
-    h0 = m.vseg[u]
-    if h0 < 0:
-        for h in range(3 * m.nt):
-            if m.tv[h] == u:
-                h0 = h
-                break
+    h0 = _first_out(m, u)
     h = h0
     e = -1
     while True:  # the triangle (u, b, c) at u that the segment enters
