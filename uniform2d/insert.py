@@ -36,7 +36,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from ._kernel import cdt, heap, polytri
+from ._kernel import cavity, cdt, heap, polytri
 from ._kernel import insert as kinsert
 from ._kernel.distance import to_segments
 from ._kernel.validity import mesh_problem
@@ -321,7 +321,7 @@ def insert_on_edges(polygon: Polygon, n: int, sites: np.ndarray, edges: np.ndarr
     if n_int:
         idx = nV + interior
         idx = idx[hilbert_order(allxy[idx])]
-        status = cdt.insert_sites(m, idx)
+        status = cavity.insert_sites(m, idx)
         if status < 0:
             raise RuntimeError(f"could not insert site {int(idx[-status - 1]) - nV}")
 
@@ -395,7 +395,7 @@ def _initial(allxy, rings, chains, nV, nmax, tmax, grid, normal):
     makes the ring locally reflex), it may cut a flat or inverted ear.  Then the
     polygon's own rings are triangulated exactly (:mod:`._kernel.polytri`) and
     each boundary site splits its edge's constraint by index
-    (:func:`cdt.split_sites`).
+    (:func:`._kernel.cavity.split_sites`).
     """
     m, xy = cdt.allocate(nmax, tmax, grid, normal)
     xy[: len(allxy)] = allxy
@@ -412,7 +412,7 @@ def _initial(allxy, rings, chains, nV, nmax, tmax, grid, normal):
         if chains:
             idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
             first = np.array([([e] + c)[j] for e, c in chains for j in range(len(c))], np.int64)
-            status = cdt.split_sites(m, idx, first)
+            status = cavity.split_sites(m, idx, first)
             if status < 0:
                 k = int(idx[-status - 1]) - nV
                 raise RuntimeError(f"could not put boundary site {k} on its edge")

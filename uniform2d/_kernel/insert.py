@@ -54,7 +54,8 @@ from numba import njit, types
 from numba.experimental import structref
 
 from . import heap
-from .cdt import circumcircle, insert_point, locate, locate_scan, new_tag, nxt, prv, reserve, snap
+from .cavity import insert_point
+from .cdt import circumcircle, locate, locate_scan, new_tag, nxt, prv, reserve, snap
 from .predicates import dot2d, orient2d
 
 REL_TIE = 1e-9
@@ -629,7 +630,7 @@ def _insert_nearby(m, x, y, t0, hs):
     rounded point miss the region in which its insertion is valid (a subsegment a
     few units in the last place long, next to a corner); a neighbouring
     representable point, tried in a fixed order, may be inside it.  Returns
-    (status, x, y) as :func:`cdt.insert_point`."""
+    (status, x, y) as :func:`.cavity.insert_point`."""
     s = m.gs
     cx = m.gc[0]
     cy = m.gc[1]

@@ -6,7 +6,7 @@ the exact ``orient2d`` and ``incircle``, so it is correct for every simple
 polygon with holes (the only input :class:`uniform2d.Polygon` accepts):
 
 1. the Delaunay triangulation of the ring vertices inside a large enclosing
-   triangle, by incremental insertion (:func:`cdt.insert_sites`);
+   triangle, by incremental insertion (:func:`.cavity.insert_sites`);
 2. every ring edge recovered by flips (Sloan's method): the edges crossing it are
    queued, a crossing edge whose quadrilateral is strictly convex is flipped, one
    that is not waits for its turn; each flip removes a crossing or moves it on,
@@ -23,7 +23,8 @@ GEOS's result fails the exact check.
 import numpy as np
 from numba import njit
 
-from .cdt import allocate, build_adjacency, flip, insert_sites, nxt, prv, set_nv, triangle_list
+from .cavity import insert_sites
+from .cdt import allocate, build_adjacency, flip, nxt, prv, set_nv, triangle_list
 from .predicates import orient2d
 
 __all__ = ["triangulate"]
