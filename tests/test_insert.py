@@ -222,7 +222,11 @@ def test_scale_and_offset_invariance(case_id, scale, offset):
     exp_p = np.asarray(base.points) * scale + np.asarray(offset)
     dp = np.abs(np.asarray(moved.points) - exp_p).max(axis=1)
     dw = np.abs(np.asarray(moved.weights) / (np.asarray(base.weights) * scale) - 1)
-    bad = (dp > P_TOL * c.size * scale) | (dw > W_TOL)
+    # far from the origin every point is rounded to what the coordinates hold
+    # before it is inserted (so the mesh is exactly the certified one): a weight
+    # can then move by that rounding, a few units in the last place of the offset
+    grain = 4 * np.spacing(np.abs(np.asarray(offset)).max()) / (np.asarray(base.weights) * scale)
+    bad = (dp > P_TOL * c.size * scale) | (dw > W_TOL + grain)
     bad |= np.asarray(moved.on_boundary) != np.asarray(base.on_boundary)
     if bad.any():
         j = int(np.flatnonzero(bad)[0])

@@ -35,11 +35,14 @@ def phase1(polygon: Polygon, n: int) -> dict:
     d, _ = cKDTree(sites).query(sites, k=2)
     d_n = float(d[:, 1].min())
     V = polygon.vertices
+    # the documented piece count: a ratio within tau of an integer j counts as j
+    tau = 1e-9 + 16 * np.finfo(float).eps * float(np.abs(V).max()) / d_n
     pts, gaps = [], []
     for ring in polygon.rings:
         for a, b in zip(ring, np.roll(ring, -1, axis=0)):
             L = math.dist(a, b)
-            m = max(1, math.ceil(L / (3 * d_n)))
+            r = L / (3 * d_n)
+            m = max(1, math.ceil(r - tau * r))
             gaps.append(L / m)
             pts += [a + (b - a) * (i / m) for i in range(1, m)]
     k = len(pts)

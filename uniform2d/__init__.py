@@ -13,9 +13,11 @@ INSERT), the two-phase mesh T+, and optimality certificates.
 import logging
 
 from .errors import (
+    CoordinatePrecisionError,
     FileFormatError,
     InsufficientPointsError,
     InvalidArgumentError,
+    InternalError,
     InvalidPolygonError,
     InvalidSitesError,
     Uniform2dError,
@@ -59,5 +61,7 @@ __all__ = [
     "UnsupportedFormatError",
     "FileFormatError",
     "InvalidArgumentError",
+    "InternalError",
+    "CoordinatePrecisionError",
     "__version__",
 ]

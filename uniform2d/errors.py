@@ -20,6 +20,8 @@ __all__ = [
     "FileFormatError",
     "InvalidArgumentError",
     "ArgumentTypeError",
+    "InternalError",
+    "CoordinatePrecisionError",
 ]
 
 
@@ -29,6 +31,11 @@ class Uniform2dError(ValueError):
 
 class InvalidPolygonError(Uniform2dError):
     """The polygon is not a valid simple polygon with holes (the message says where)."""
+
+
+class CoordinatePrecisionError(InvalidPolygonError):
+    """The polygon lies so far from the origin for its size that its coordinates
+    cannot hold the points the mesh needs (move it nearer the origin)."""
 
 
 class InsufficientPointsError(Uniform2dError):
@@ -53,3 +60,11 @@ class InvalidArgumentError(Uniform2dError):
 
 class ArgumentTypeError(InvalidArgumentError, TypeError):
     """A function argument has the wrong type (also a ``TypeError``)."""
+
+
+class InternalError(RuntimeError):
+    """uniform2d made a mesh that fails its own validity check.
+
+    Not a :class:`Uniform2dError`: the input is fine, the library is wrong.  The
+    mesh is not returned; the message asks for the polygon and n to be reported.
+    """

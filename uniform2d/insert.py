@@ -17,7 +17,17 @@ and invariant under scaling and translation.  See ``uniform2d._kernel.insert``
 for how the tied group is found in O(log n) a step.  The polygon and its sites are
 loaded into the kernel by :mod:`uniform2d.triangulation`, on coordinates
 normalised exactly there; the polygon vertices and sites are returned exactly as
-given, the inserted points mapped back.
+given, the inserted points mapped back exactly: each was rounded to what the
+caller's coordinates hold before it was inserted, so the returned mesh is
+exactly the constrained Delaunay triangulation the exact predicates built.  Far
+from the origin that rounding (a few units in the last place of the
+coordinates) is also the precision of the points and weights.
+
+Sites: :func:`insert` decides by distance which are on the boundary (the
+caller's sites); :func:`insert_on_edges` takes the edge of each site from its
+caller (the library's own sites), so no tolerance judges them.  Either way a
+boundary site splits its edge's constraint in order along it, and every mesh
+passes :func:`uniform2d.triangulation.ensure_valid` before it is returned.
 """
 
 from __future__ import annotations
@@ -31,12 +41,12 @@ from scipy.spatial import cKDTree
 
 from ._kernel import heap
 from ._kernel import insert as kinsert
-from .errors import InsufficientPointsError
+from ._kernel.outcomes import ERR_PRECISION, RUN_STRIDE, run_failure
+from .errors import CoordinatePrecisionError, InsufficientPointsError
 from .polygon import Polygon
-from ._kernel.outcomes import run_failure
-from .triangulation import _extent, _rounding, load, unload
+from .triangulation import _extent, _rounding, ensure_valid, load, site_edges, unload
 
-__all__ = ["insert", "InsertResult"]
+__all__ = ["insert", "insert_on_edges", "InsertResult"]
 
 log = logging.getLogger(__name__)
 
@@ -127,15 +137,27 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
         polygon = Polygon(polygon)
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 0:
         raise InsufficientPointsError(f"n must be a non-negative integer, got {n!r}")
-    n = int(n)
-    loaded = load(polygon, sites, size=size, room=n)
-    m, xy, centre, scale = loaded.m, loaded.xy, loaded.centre, loaded.scale
-    sites = loaded.sites
+    sites, edges = site_edges(polygon, sites)
+    return insert_on_edges(polygon, int(n), sites, edges, size)
+
+
+def insert_on_edges(polygon: Polygon, n: int, sites, edges, size=None) -> InsertResult:
+    """:func:`insert` for sites whose place is known by construction.
+
+    ``edges[i]`` is the polygon edge site i lies on, or -1 for an interior site.
+    Nothing is classified by distance, so no tolerance can misjudge a site: the
+    library's own callers (T+'s boundary points) come here, and a site near a
+    polygon vertex is simply a boundary site.  A site that cannot be placed
+    where it says it is raises ``RuntimeError``.  Every mesh made here passes
+    :func:`~uniform2d.triangulation.ensure_valid` before it is returned.
+    """
+    loaded = load(polygon, sites, size=size, room=n, edges=edges)
+    m, centre, scale, sites = loaded.m, loaded.centre, loaded.scale, loaded.sites
     extent = _extent(polygon)
     tmax = loaded.max_triangles
 
     # points nearer the boundary than this go on it: SNAP of the size, or more if
-    # rounding the result back to the caller's coordinates could move a point that far
+    # the caller's coordinates are too coarse there to hold a point nearer
     snap = max(SNAP * extent, _rounding(polygon))
     M = heap.new_heap(tmax + tmax // 2 + 64)  # ~1.9 n entries live; grows if needed
     kinsert.push_initial(m, M)
@@ -143,23 +165,36 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     out_xy = np.empty((n, 2), np.float64)
     out_w = np.empty(n, np.float64)
     out_b = np.zeros(n, np.bool_)
-    xtol = kinsert.REL_TIE * extent / scale
+    xtol = (kinsert.REL_TIE * extent + loaded.grain) / scale
     status = kinsert.run(m, M, P, n, out_xy, out_w, out_b, xtol, snap / scale)
     if status != n:
-        j, what = run_failure(status)
-        raise RuntimeError(
-            f"INSERT kernel failed ({what}, status {status}) at step {j}, point {tuple(out_xy[j])}, "
-            f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
-        )
+        _fail(polygon, status, n, out_xy, out_w, out_b)
 
     del M, P  # the queues are done: release them before the outputs are built
-    out_xy *= scale
-    out_xy += centre
-    points = out_xy
+    # exact: the kernel rounded every point to what these coordinates hold (cdt.snap)
+    points = out_xy * scale + centre
     weights = out_w * scale
     mesh_points = np.concatenate([polygon.vertices, sites, points], axis=0)
-    triangles = unload(loaded, mesh_points)
-    del m, xy, loaded
+    triangles = unload(loaded)
+    del m, loaded
+    ensure_valid(mesh_points, triangles, polygon, len(mesh_points) - len(polygon.vertices), "insert")
     for arr in (points, weights, out_b, mesh_points, triangles):
         arr.setflags(write=False)
     return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
+
+
+def _fail(polygon: Polygon, status: int, n: int, out_xy, out_w, out_b):
+    """Raise for a failed kernel run: the caller's coordinates too coarse, or a bug."""
+    j, what = run_failure(status)
+    if status + RUN_STRIDE * j == ERR_PRECISION:
+        V = polygon.vertices
+        raise CoordinatePrecisionError(
+            f"the polygon is {_extent(polygon):.3g} across at {float(np.abs(V).max()):.3g} from "
+            f"the origin, where coordinates are {np.spacing(np.abs(V).max()):.3g} apart: too "
+            f"coarse to place point {j + 1} of {n}; translate the polygon nearer the origin "
+            "(e.g. subtract its centre) or ask for fewer points"
+        )
+    raise RuntimeError(
+        f"INSERT kernel failed ({what}, status {status}) at step {j}, point {tuple(out_xy[j])}, "
+        f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
+    )

@@ -3,7 +3,9 @@
 1. Run INSERT for n points; d_n = l(S_n ∪ V, S_n ∪ V), the smallest distance
    among the polygon vertices and the inserted points.
 2. Put points on every polygon edge (outer ring and holes) at equal spacing: an
-   edge of length L gets m = max(1, ⌈L / (hi · d_n)⌉) pieces (hi = 3 by default).
+   edge of length L gets m = max(1, ⌈L / (hi · d_n)⌉) pieces (hi = 3 by default),
+   where a ratio L / (hi · d_n) within the precision of the coordinates of an
+   integer j counts as j (see "The piece count" below).
 3. k = number of boundary points placed; run INSERT again for n − k points from
    the sites V ∪ (those k points).
 4. T+ = the constrained Delaunay triangulation of all of them: exactly n Steiner
@@ -29,6 +31,17 @@ Lemma 5 needs.  Since k is known, ``info`` reports all three conditions and
 the theorem is taken to apply when d_n ≤ l(V,V)/2 and n ≥ 2k hold -- exactly
 what the proof uses.  Then every edge of T+ is ≤ 6 d_n and the edge ratio ≤ 6.
 
+The piece count.  On polygons with exact geometry (rectilinear outlines, regular
+polygons) d_n is often exactly L / (3 j) for some edge, and the computed ratio
+L / (3 d_n) then lands within rounding of the integer j, on either side: ⌈·⌉
+alone would give j or j + 1 depending on the scale and the position of the
+polygon.  So the ratio r is compared with a tolerance τ r, τ = 1e-9 (the
+tie tolerance of INSERT) plus the relative error rounding the coordinates
+can put on a length of size d_n there: m = max(1, ⌈r − τ r⌉).  An edge within
+τ of j pieces gets j, with gaps at most 3 d_n (1 + τ); the rule is the same at
+every scale and offset up to rounding, and flips only for a ratio within
+~1e-16 of j − τ j, which no exact geometry produces.
+
 Other ``spacing=(lo, hi)``.  The edges get m = max(1, ⌈L/(hi·d_n)⌉) pieces, so
 gaps are ≤ hi·d_n, and ≥ hi·d_n/2 on split edges.  Redoing the proofs with hi:
 the gaps must stay ≥ d_n, so hi ≥ 2; Lemma 5's circles get radius hi/2·d_n and
@@ -52,7 +65,9 @@ import numbers
 import numpy as np
 
 from .errors import InsufficientPointsError, InvalidArgumentError
-from .insert import insert
+from ._kernel.insert import REL_TIE
+from .insert import insert, insert_on_edges
+from .triangulation import ensure_valid
 from .mesh import Mesh
 from .polygon import Polygon
 
@@ -61,25 +76,39 @@ __all__ = ["tplus", "boundary_points"]
 log = logging.getLogger(__name__)
 
 
-def boundary_points(polygon: Polygon, gap: float):
+def boundary_points(polygon: Polygon, gap: float, rtol: float = 0.0):
     """Equally spaced points on every polygon edge, at most ``gap`` apart.
 
     Returns ``(points (k, 2) float64, pieces (E,) int)``: an edge of length L is
-    cut into m = max(1, ⌈L / gap⌉) equal pieces (m − 1 new points on it).
+    cut into m = max(1, ⌈r − rtol · r⌉) equal pieces, r = L / gap (m − 1 new points
+    on it; see the module docstring for ``rtol``).  ``edge_of(pieces)`` gives the
+    edge each point lies on.
     """
     V = polygon.vertices
     E = polygon.edges
     a, b = V[E[:, 0]], V[E[:, 1]]
-    L = np.hypot(*(b - a).T)
-    m = np.maximum(1, np.ceil(L / gap)).astype(np.int64)
+    r = np.hypot(*(b - a).T) / gap
+    m = np.maximum(1, np.ceil(r - rtol * r)).astype(np.int64)
     pts = [a[e] + (b[e] - a[e]) * (np.arange(1, m[e])[:, None] / m[e]) for e in range(len(E))]
     return np.concatenate(pts, axis=0) if pts else np.empty((0, 2)), m
+
+
+def edge_of(pieces: np.ndarray) -> np.ndarray:
+    """The polygon edge of each point :func:`boundary_points` placed."""
+    return np.repeat(np.arange(len(pieces)), pieces - 1)
+
+
+def ratio_tolerance(polygon: Polygon, d_n: float) -> float:
+    """τ of the piece count (module docstring): 1e-9, plus the relative error that
+    rounding the coordinates (a few units in the last place of the largest)
+    can put on a length of d_n."""
+    return REL_TIE + 16.0 * np.finfo(float).eps * float(np.abs(polygon.vertices).max()) / d_n
 
 
 def _phase1(polygon, n, hi):
     res = insert(polygon, n)
     d_n = res.min_distance()
-    pts, m = boundary_points(polygon, hi * d_n)
+    pts, m = boundary_points(polygon, hi * d_n, ratio_tolerance(polygon, d_n))
     return res, d_n, pts, m
 
 
@@ -155,7 +184,8 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
             f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n; "
             f"the smallest n that works for this polygon is {need}"
         )
-    res2 = insert(polygon, n - k, sites=bpts)
+    # the boundary points are on their edges by construction: placed by index
+    res2 = insert_on_edges(polygon, n - k, bpts, edge_of(m))
 
     V = polygon.vertices
     E = polygon.edges
@@ -178,7 +208,8 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
         "gap_min": float(gaps.min() / d_n),
         "gap_max": float(gaps.max() / d_n),
         "gaps_within_spacing": bool(
-            np.all(gaps >= lo * d_n * (1 - 1e-12)) and np.all(gaps <= hi * d_n * (1 + 1e-12))
+            np.all(gaps >= lo * d_n * (1 - 1e-12))
+            and np.all(gaps <= hi * d_n * (1 + ratio_tolerance(polygon, d_n)))
         ),
         "w_last": float(res2.weights[-1]) if len(res2.weights) else float("nan"),
         "l(V,V)": lVV,
@@ -188,6 +219,7 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
         "edge_ratio_bound": 2 * hi if applies else None,
     }
     log.debug("tplus: n=%d d_n=%g k=%d theorem=%s", n, d_n, k, info["theorem_applies"])
+    ensure_valid(res2.mesh_points, res2.triangles, polygon, n, "tplus")
     return Mesh(
         points=np.array(res2.mesh_points),
         triangles=np.array(res2.triangles),

@@ -1,9 +1,10 @@
 """Loading a polygon and its sites into the kernel's constrained Delaunay triangulation.
 
 The service INSERT, the optimiser and the surface layer share: sites checked
-and sorted into interior and boundary ones, coordinates normalised exactly for
-the kernel, the rings triangulated and made exactly Delaunay, and the result
-re-certified on the caller's coordinates.
+and sorted into interior and boundary ones (or, for the library's own sites,
+placed on their edge by index), coordinates normalised exactly for the kernel,
+and the rings triangulated and made exactly Delaunay.  :func:`ensure_valid` is
+the cheap exact check every mesh passes before the library returns it.
 
 :func:`triangulate` is the exact CDT of P and some points; :func:`load` leaves
 it in the kernel for INSERT to continue; :func:`load_mesh` loads a mesh that is
@@ -19,14 +20,18 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ._kernel import cdt
+from ._kernel import cavity, cdt, polytri
 from ._kernel.distance import to_segments
 from ._kernel.outcomes import failed_site
-from .errors import InvalidSitesError
+from ._kernel.validity import mesh_problem
+from .errors import InternalError, InvalidSitesError
 from .polygon import Polygon
 from .sizefield import SizeField
 
-__all__ = ["triangulate", "load", "unload", "load_mesh", "Loaded", "boundary_tol", "hilbert_order"]
+__all__ = [
+    "triangulate", "load", "unload", "load_mesh", "Loaded", "site_edges", "edge_parameters",
+    "ensure_valid", "boundary_tol", "hilbert_order",
+]
 
 log = logging.getLogger(__name__)
 
@@ -35,26 +40,33 @@ BOUNDARY_TOL = 1e-10
 
 
 def _normaliser(polygon: Polygon):
-    """(centre, scale) with x_norm = (x - centre) / scale, exact both ways when possible.
+    """(centre, scale) with x_norm = (x - centre) / scale, exact both ways.
 
     ``scale`` is the power of two nearest max(width, height), so dividing by it
-    and multiplying back are exact.  A polygon near the origin (bounding-box
-    centre within 2 sizes of it) is not translated: the kernel then works on an
-    exact image of the caller's coordinates and the returned mesh is exactly the
-    one the predicates certified.  A polygon far from the origin is translated by
-    its centre rounded to a multiple of 2**-20 scale, which keeps the subtraction
-    exact for coordinates on that scale; mapping the points back then rounds
-    them to what the caller's coordinates can represent there, and the mesh is
-    re-legalised on those (:func:`_recertify`).
+    and multiplying back are exact.  A coordinate whose bounding-box centre is
+    within 2 sizes of the origin is not translated; one farther away is
+    translated by its centre rounded to a multiple of 2**-20 scale.  Then
+    X - centre is exact for every float X in the polygon's box (Sterbenz: X and
+    centre are within a factor 2 of each other), so the kernel works on an exact
+    image of the caller's coordinates, and new points rounded to what those
+    coordinates can hold (:func:`cdt.snap`) map back exactly: the mesh the
+    predicates certified is the one the caller gets.
     """
     xmin, ymin, xmax, ymax = polygon.bounds
     size = max(xmax - xmin, ymax - ymin)
     scale = 2.0 ** round(np.log2(size))
     centre = np.array([(xmin + xmax) / 2.0, (ymin + ymax) / 2.0])
-    if np.abs(centre).max() <= 2.0 * size:
-        return np.zeros(2), scale
     q = scale * 2.0**-20
-    return np.round(centre / q) * q, scale
+    return np.where(np.abs(centre) <= 2.0 * size, 0.0, np.round(centre / q) * q), scale
+
+
+def _grain(polygon: Polygon, centre) -> float:
+    """How far rounding a new point to the caller's coordinates (:func:`cdt.snap`)
+    can move a distance: a few units in the last place of the translated
+    coordinates, 0 where nothing is translated (there the rounding is exact)."""
+    if not centre.any():
+        return 0.0
+    return 4.0 * float(np.spacing(np.abs(centre).max() + _extent(polygon)))
 
 
 def _extent(polygon: Polygon) -> float:
@@ -78,6 +90,19 @@ def boundary_tol(polygon: Polygon) -> float:
     computed on an edge, ``a + t (b - a)``, that far off it.
     """
     return max(BOUNDARY_TOL * _extent(polygon), _rounding(polygon))
+
+
+def ensure_valid(points, triangles, polygon: Polygon, n_steiner: int, what: str) -> None:
+    """Raise :class:`~uniform2d.errors.InternalError` unless the mesh is a valid
+    triangulation of P with exactly ``n_steiner`` Steiner points (the checks of
+    :mod:`uniform2d._kernel.validity`; cheap enough to run on every mesh returned)."""
+    problem = mesh_problem(points, triangles, polygon, n_steiner, boundary_tol(polygon))
+    if problem is not None:
+        raise InternalError(
+            f"{what} made an invalid mesh ({problem}). This is a bug in uniform2d, not a "
+            f"problem with the input: please report it with the polygon "
+            f"({len(polygon.vertices)} vertices, {polygon.n_holes} holes) and n = {n_steiner}"
+        )
 
 
 def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
@@ -140,40 +165,6 @@ def _check_sites(polygon: Polygon, sites) -> np.ndarray:
         i = int(first[np.flatnonzero(counts > 1)[0]])
         raise InvalidSitesError(f"site {i} {tuple(s[i])} is given more than once")
     return s
-
-
-#: (smallest extent, largest coordinate) for which :func:`_recertify` can decide
-#: the in-circle test exactly on the caller's coordinates.
-RECERTIFY_RANGE = (1e-60, 1e60)
-
-
-def _recertify(m, xy, mesh_points):
-    """Make the triangulation exactly Delaunay for the points the caller gets.
-
-    Far from the origin (:func:`_normaliser` translated) the caller's coordinates
-    cannot hold the kernel's new points exactly, so the points returned are
-    rounded images of the ones the predicates certified, and a near-cocircular
-    quadruple can change sides.  The exact predicates work on any float64, so
-    the mesh is re-legalised on the returned coordinates themselves, where their
-    fourth powers stay normal floats (:data:`RECERTIFY_RANGE`; the exact
-    arithmetic needs that).  Should rounding have turned a triangle over (a point
-    within rounding of an edge), the kernel's triangulation is kept and a warning
-    logged.
-    """
-    lo, hi = RECERTIFY_RANGE
-    if np.abs(mesh_points).max() > hi or np.ptp(mesh_points, axis=0).max() < lo:
-        log.debug("insert: coordinates outside %s: the kernel's mesh is kept", RECERTIFY_RANGE)
-        return
-    kept = xy[: len(mesh_points)].copy()
-    xy[: len(mesh_points)] = mesh_points
-    if cdt.count_not_ccw(m) == 0:
-        cdt.legalize_all(m)
-    else:
-        xy[: len(mesh_points)] = kept
-        log.warning(
-            "insert: rounding the points to the caller's coordinates turned a triangle "
-            "over; the triangulation is the one certified before rounding"
-        )
 
 
 def _size_grid(size, centre, scale):
@@ -261,8 +252,13 @@ class Loaded:
         for the points still to come.
     sites : ndarray, shape (k, 2)
         The checked sites, in the caller's coordinates.
+    edges : ndarray, shape (k,), int64
+        The polygon edge each site lies on, -1 for an interior site.
     centre, scale :
         The normalisation: kernel coordinates are ``(x - centre) / scale``.
+    grain : float
+        How far rounding a new point to the caller's coordinates can move a
+        distance (:func:`_grain`), in the caller's units.
     max_triangles : int
         The triangle capacity allocated.
     """
@@ -270,78 +266,168 @@ class Loaded:
     m: object
     xy: np.ndarray
     sites: np.ndarray
+    edges: np.ndarray
     centre: np.ndarray
     scale: float
+    grain: float
     max_triangles: int
 
 
-def _spliced_rings(polygon: Polygon, boundary, nV: int) -> list[list[int]]:
-    """The polygon's rings with the boundary sites spliced in, as kernel vertex indices."""
-    by_edge: dict[int, list[tuple[float, int]]] = {}
-    for i, e, t in boundary:
-        by_edge.setdefault(e, []).append((t, nV + i))
-    rings = []
+def edge_parameters(polygon: Polygon, sites: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Parameter t in [0, 1] of each site's projection on its polygon edge (0 for
+    interior sites, ``edges`` -1)."""
+    t = np.zeros(len(sites))
+    on = np.flatnonzero(edges >= 0)
+    if len(on):
+        V, E = polygon.vertices, polygon.edges[edges[on]]
+        a = V[E[:, 0]]
+        d = V[E[:, 1]] - a
+        t[on] = np.clip(((sites[on] - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
+    return t
+
+
+def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
+    """The rings with the boundary sites spliced in (kernel vertex indices), and the
+    chains of sites per polygon edge: (start vertex, [sites in order along it])."""
+    nV = len(polygon.vertices)
+    t = edge_parameters(polygon, sites, edges)
+    by_edge: dict[int, list[int]] = {}
+    for i in np.lexsort((np.arange(len(sites)), t)):
+        if edges[i] >= 0:
+            by_edge.setdefault(int(edges[i]), []).append(nV + int(i))
+    rings, chains = [], []
     for r in range(len(polygon.rings)):
         lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
         ring = []
         for e in range(lo, hi):
             ring.append(e)  # edge e starts at vertex e (Polygon.edges layout)
-            ring.extend(k for _, k in sorted(by_edge.get(e, [])))
+            ring.extend(by_edge.get(e, []))
+            if e in by_edge:
+                chains.append((e, by_edge[e]))
         rings.append(ring)
-    return rings
+    return rings, chains
 
 
-def load(polygon: Polygon, sites=None, *, size=None, room: int = 0) -> Loaded:
-    """Build the exact constrained Delaunay triangulation of P's vertices and ``sites``.
+def _initial(allxy, rings, chains, nV, nmax, tmax, grid, normal):
+    """The triangulation of the rings (boundary sites included), exactly CDT.
 
-    Sites are checked (:class:`~uniform2d.errors.InvalidSitesError` if outside
-    P, repeated, non-finite or on a polygon vertex); those on the boundary are
-    spliced into their ring, so they split its edges; the rings are
-    triangulated and made exactly Delaunay, then the interior sites inserted in
-    Hilbert order.  ``room`` points more fit in the arrays (INSERT's n);
-    ``size`` is the size field the kernel reads (see :func:`uniform2d.insert`).
+    GEOS triangulates the rings; its result is used only if it passes the exact
+    check (every triangle strictly counter-clockwise, twins opposite, the
+    boundary exactly the rings' edges).  GEOS decides in floating point: on
+    collinear vertices, or a site rounded a few ulps off a rotated edge (which
+    makes the ring locally reflex), it may cut a flat or inverted ear.  Then the
+    polygon's own rings are triangulated exactly (:mod:`._kernel.polytri`) and
+    each boundary site splits its edge's constraint by index
+    (:func:`._kernel.cavity.split_sites`).
+    """
+    m, xy = cdt.allocate(nmax, tmax, grid, normal)
+    xy[: len(allxy)] = allxy
+    cdt.set_nv(m, len(allxy))
+    if not _load_triangles(m, allxy, rings):
+        log.debug("insert: GEOS's triangulation failed the exact check; exact fallback")
+        m, xy = cdt.allocate(nmax, tmax, grid, normal)
+        xy[: len(allxy)] = allxy
+        cdt.set_nv(m, len(allxy))
+        own = [[v for v in r if v < nV] for r in rings]
+        tris = polytri.triangulate(allxy[:nV], own)
+        if cdt.build_adjacency(m, tris) != nV or not _valid(m, allxy, own):
+            raise RuntimeError("could not triangulate the polygon exactly (please report it)")
+        if chains:
+            idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
+            first = np.array([([e] + c)[j] for e, c in chains for j in range(len(c))], np.int64)
+            status = cavity.split_sites(m, idx, first)
+            if status < 0:
+                k = int(idx[-status - 1]) - nV
+                raise RuntimeError(f"could not put boundary site {k} on its edge")
+    cdt.legalize_all(m)
+    return m, xy
+
+
+def _load_triangles(m, allxy, rings) -> bool:
+    """Load GEOS's triangulation of ``rings``; whether it is valid (exact check)."""
+    try:
+        tris = _initial_triangles(allxy, rings)
+    except (RuntimeError, shapely.errors.GEOSException):
+        return False
+    nb0 = sum(len(r) for r in rings)
+    if len(tris) != nb0 + 2 * (len(rings) - 1) - 2:
+        return False
+    if cdt.build_adjacency(m, tris) != nb0:
+        return False
+    return _valid(m, allxy, rings)
+
+
+def _valid(m, allxy, rings) -> bool:
+    ring_next = np.full(len(allxy), -1, np.int64)
+    for r in rings:
+        ring_next[np.asarray(r)] = np.roll(np.asarray(r), -1)
+    return cdt.count_not_ccw(m) == 0 and cdt.boundary_is(m, ring_next)
+
+
+def site_edges(polygon: Polygon, sites) -> tuple[np.ndarray, np.ndarray]:
+    """The caller's ``sites`` checked, and the polygon edge each lies on (-1 inside).
+
+    Raises :class:`~uniform2d.errors.InvalidSitesError` if a site is outside P,
+    repeated, non-finite or on a polygon vertex.  Which edge a site lies on is
+    decided by distance (:func:`boundary_tol`): the library's own sites carry
+    their edge instead (``edges`` of :func:`load`).
     """
     sites = _check_sites(polygon, sites)
-    centre, scale = _normaliser(polygon)
-    interior, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
+    _, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
+    edges = np.full(len(sites), -1, np.int64)
+    for i, e, _t in boundary:
+        edges[i] = e
+    return sites, edges
 
+
+def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) -> Loaded:
+    """Build the exact constrained Delaunay triangulation of P's vertices and ``sites``.
+
+    Without ``edges`` the sites are the caller's: checked and sorted by
+    :func:`site_edges`.  With ``edges`` (the polygon edge of each site, -1
+    inside) they are the library's own, placed by construction: nothing is
+    judged by distance, so no tolerance can misjudge a site near a vertex.
+    Boundary sites split their edge's constraint in order along it; the rings
+    are triangulated and made exactly Delaunay (:func:`_initial`), then the
+    interior sites inserted in Hilbert order.  ``room`` points more fit in the
+    arrays (INSERT's n); ``size`` is the size field the kernel reads (see
+    :func:`uniform2d.insert`).
+    """
+    if edges is None:
+        sites, edges = site_edges(polygon, sites)
+    else:
+        sites = np.asarray(sites, dtype=np.float64).reshape(-1, 2)
+        edges = np.asarray(edges, dtype=np.int64)
+    centre, scale = _normaliser(polygon)
+    grain = _grain(polygon, centre)
     V = polygon.vertices
     nV = len(V)
-    rings = _spliced_rings(polygon, boundary, nV)
+    interior = np.flatnonzero(edges < 0)
+    rings, chains = _rings_with_sites(polygon, sites, edges)
     allxy = np.concatenate([(V - centre) / scale, (sites - centre) / scale], axis=0)
     nb0 = sum(len(r) for r in rings)
     t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
     tmax = t0 + 2 * (len(interior) + room) + 4
-    m, xy = cdt.allocate(nV + len(sites) + room, tmax, _size_grid(size, centre, scale))
-    xy[: len(allxy)] = allxy
-    cdt.set_nv(m, len(allxy))
-
-    tris = _initial_triangles(allxy, rings)
-    if len(tris) != t0:
-        raise RuntimeError(f"initial triangulation has {len(tris)} triangles, expected {t0}")
-    nbh = cdt.build_adjacency(m, tris)
-    if nbh != nb0:
-        raise RuntimeError("initial triangulation does not cover the polygon boundary")
-    cdt.legalize_all(m)
-
-    if interior:
-        idx = nV + np.asarray(interior, dtype=np.int64)
+    grid = _size_grid(size, centre, scale)
+    m, xy = _initial(allxy, rings, chains, nV, nV + len(sites) + room, tmax, grid,
+                     (centre, scale, grain / scale))
+    if len(interior):
+        idx = nV + interior
         idx = idx[hilbert_order(allxy[idx])]
-        status = cdt.insert_sites(m, idx)
+        status = cavity.insert_sites(m, idx)
         if status < 0:
             raise RuntimeError(f"could not insert site {int(idx[failed_site(status)]) - nV}")
-    return Loaded(m, xy, sites, centre, scale, tmax)
+    return Loaded(m, xy, sites, edges, centre, scale, grain, tmax)
 
 
-def unload(loaded: Loaded, mesh_points: np.ndarray) -> np.ndarray:
-    """The triangles (M, 3) of the kernel's mesh, exactly Delaunay for ``mesh_points``
-    (its vertices in the caller's coordinates; see :func:`_recertify`)."""
-    if loaded.centre.any():
-        _recertify(loaded.m, loaded.xy, mesh_points)
+def unload(loaded: Loaded) -> np.ndarray:
+    """The triangles (M, 3) of the kernel's mesh.  They are exactly the constrained
+    Delaunay triangulation of the points the caller gets: the kernel rounded
+    every new point to what the caller's coordinates hold (:func:`cdt.snap`)."""
     return cdt.triangle_list(loaded.m)
 
 
-def triangulate(polygon: Polygon, sites=None) -> tuple[np.ndarray, np.ndarray]:
+def triangulate(polygon: Polygon, sites=None, edges=None) -> tuple[np.ndarray, np.ndarray]:
     """The exact constrained Delaunay triangulation of P with extra ``sites``.
 
     Parameters
@@ -349,6 +435,9 @@ def triangulate(polygon: Polygon, sites=None) -> tuple[np.ndarray, np.ndarray]:
     polygon : Polygon
     sites : array_like, shape (k, 2), optional
         Points inside P or on its boundary (those on it split their edges).
+    edges : array_like of int, shape (k,), optional
+        The polygon edge each site lies on (-1 inside), for sites placed by
+        construction; by default decided by distance (see :func:`load`).
 
     Returns
     -------
@@ -367,27 +456,36 @@ def triangulate(polygon: Polygon, sites=None) -> tuple[np.ndarray, np.ndarray]:
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
-    loaded = load(polygon, sites)
+    loaded = load(polygon, sites, edges=edges)
     points = np.concatenate([polygon.vertices, loaded.sites], axis=0)
-    return points, unload(loaded, points)
+    triangles = unload(loaded)
+    ensure_valid(points, triangles, polygon, len(points) - len(polygon.vertices), "triangulate")
+    return points, triangles
 
 
-def load_mesh(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, size=None):
+def load_mesh(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, size=None, edges=None):
     """A triangulated mesh of P (polygon vertices first) loaded into the kernel.
 
     Returns ``(m, xy, centre, scale, boundary, graded)``: the kernel's
-    triangulation made exactly Delaunay in normalised coordinates, its
-    coordinate array, the normalisation, for every point on P's boundary
-    ``(index among the points after the polygon vertices, polygon edge,
-    parameter on it)``, and whether the kernel reads a (non-constant) size field.
+    triangulation made exactly Delaunay in normalised coordinates (new points
+    rounded to the caller's coordinates, :func:`cdt.snap`), its coordinate
+    array, the normalisation, for every point on P's boundary ``(index among
+    the points after the polygon vertices, polygon edge, parameter on it)``,
+    and whether the kernel reads a (non-constant) size field.  ``edges`` as
+    :func:`load`'s (None: found by distance).
     """
     nV = len(polygon.vertices)
     P0 = np.asarray(points, dtype=np.float64)
     T0 = np.asarray(triangles, dtype=np.int32)
-    _, boundary = _classify_sites(polygon, P0[nV:], boundary_tol(polygon))
+    if edges is None:
+        _, boundary = _classify_sites(polygon, P0[nV:], boundary_tol(polygon))
+    else:
+        edges = np.asarray(edges, dtype=np.int64)
+        tb = edge_parameters(polygon, P0[nV:], edges)
+        boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
     centre, scale = _normaliser(polygon)
     grid = _size_grid(size, centre, scale)
-    m, xy = cdt.allocate(len(P0), len(T0), grid)
+    m, xy = cdt.allocate(len(P0), len(T0), grid, (centre, scale, _grain(polygon, centre) / scale))
     xy[:] = (P0 - centre) / scale
     cdt.set_nv(m, len(P0))
     cdt.build_adjacency(m, T0)

@@ -67,6 +67,9 @@ def uniform_mesh(
                 f"size {size!r} is larger than the polygon needs: it asks for no Steiner "
                 "points; use a smaller size"
             )
+    from .triangulation import ensure_valid
     from .optimize import optimize_mesh
 
-    return optimize_mesh(polygon, n, objective=objective)
+    mesh = optimize_mesh(polygon, n, objective=objective)
+    ensure_valid(mesh.points, mesh.triangles, polygon, n, "uniform_mesh")
+    return mesh

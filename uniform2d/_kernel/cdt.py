@@ -21,29 +21,24 @@ whether a triangle still exists.  Everything is preallocated to its final size a
 held by one mutable ``Tri`` structref (a numba record passed by reference: one
 reference count per call, where a tuple of arrays costs one per array).
 
-Insertion (Bowyer-Watson, cavity stopped at constraints)
---------------------------------------------------------
-To insert ``p`` lying in triangle ``t0`` (or on its boundary subsegment ``hs``)::
+Invariants that keep the triangulation valid
+--------------------------------------------
+Every triangle is strictly counter-clockwise (exact ``orient2d``), twins run in
+opposite directions, and the twinless half-edges are exactly the rings' edges
+split at their boundary vertices.  Each operation keeps this by construction:
 
-        before: the cavity C              after: a fan around p
-         c ________ d                     c ________ d
-          |\\      /|                       |\\      /|
-          | \\ t1 / |     every t with p     | \\    / |    each edge u->v of the
-          |  \\  /  |     inside its         |  \\  /  |    cavity boundary gets
-          | p.\\/   |     circumcircle,      |---p----|    the new triangle
-          |   /\\   |     reachable from t0  |  /  \\  |    (u, v, p), re-using
-          | t0 \\   |     without crossing   | /    \\ |    the cavity's slots
-          |/    \\ t2|     a constraint      |/      \\|
-         a -------- b                     a -------- b
-
-The cavity grows from ``t0`` across an unconstrained edge ``u->v`` only when
-``p`` sees that edge from inside (``orient2d(u, v, p) >= 0``) and lies strictly
-inside the neighbour's circumcircle.  The visibility condition keeps the
-cavity star-shaped from ``p`` even when a hole sits inside some circumcircle,
-where plain Bowyer-Watson would capture triangles hidden behind the hole.  For a
-boundary point the subsegment ``hs`` is left out of the fan and becomes the two
-boundary half-edges ``a->p`` and ``p->b``.  Every new triangle is checked to be
-strictly counter-clockwise with the exact predicate before anything is written.
+* the initial triangulation is accepted only after :func:`count_not_ccw` and
+  :func:`boundary_is` say so (GEOS decides in floating point and can cut a flat
+  or inverted ear where a boundary site is rounded a few ulps off a rotated
+  edge); otherwise the caller triangulates the polygon's own rings and
+  :func:`.cavity.split_sites` puts each boundary site on its constraint by index;
+* insertion (:mod:`.cavity`) writes nothing until every new triangle is checked
+  strictly counter-clockwise, and falls back to split-and-flip where a rounded
+  point leaves the Bowyer-Watson cavity not star-shaped;
+* a flip is made only for an illegal edge, whose quadrilateral is strictly
+  convex, and never across a constraint;
+* new points are rounded to the caller's coordinates (:func:`snap`) before any
+  of this, so every decision is made on the coordinates actually returned.
 
 The initial triangulation comes from ``shapely.constrained_delaunay_triangles``
 and is then made exactly (constrained) Delaunay by Lawson flips decided with
@@ -68,15 +63,15 @@ from .predicates import incircle, orient2d
 
 __all__ = [
     "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
-    "insert_point",
-    "insert_sites", "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
+    "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
+    "snap", "boundary_is", "count_not_ccw",
 ]  # fmt: skip
 
 #: Initial size of the scratch buffers; cavities and searches are small in practice,
 #: and the buffers double when one is not.
 SCRATCH = 256
 
-# Status codes returned by insert_point (>= 0 means success: number of new triangles).
+# Status codes returned by cavity.insert_point (>= 0 means success: number of new triangles).
 ERR_ORIENT = -1  # a new triangle would not be strictly counter-clockwise
 
 
@@ -112,16 +107,19 @@ _FIELDS = [
     "sgv",  # (ny, nx) float64 size-field values
     "hmin",  # float64 smallest size value (1.0 without a field)
     "sized",  # int64 1 when a size field is in use
+    "gc",  # (2,) float64 the caller's origin in these coordinates' units (see snap)
+    "gs",  # float64 the caller's units per unit here (a power of two)
+    "wg",  # float64 how far rounding to the caller's coordinates can move a distance
 ]
 structref.define_proxy(Tri, TriType, _FIELDS)
 
 
 @njit(cache=True)
 def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
-             sgx, sgy, sgv, sized):  # fmt: skip
+             sgx, sgy, sgv, sized, gc, gs, wg):  # fmt: skip
     hmin = sgv.min() if sized else 1.0
     return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
-               0, 0, 0, sgx, sgy, sgv, hmin, sized)  # fmt: skip
+               0, 0, 0, sgx, sgy, sgv, hmin, sized, gc, gs, wg)  # fmt: skip
 
 
 @njit(cache=True)
@@ -135,13 +133,17 @@ def set_nv(m, nv):
     m.nv = nv
 
 
-def allocate(nmax, tmax, size_grid=None):
+def allocate(nmax, tmax, size_grid=None, grid=None):
     """Preallocate a triangulation for at most ``nmax`` vertices and ``tmax`` triangles.
 
     ``size_grid`` is an optional ``(x (nx,), y (ny,), values (ny, nx))`` size field in
-    the kernel's coordinates.  Returns ``(m, xy)``: the state and its coordinate
-    array (shared, for filling).
+    the kernel's coordinates.  ``grid`` is ``(centre, scale)`` of the map to the
+    caller's coordinates, X = x * scale + centre (default: the identity), which
+    :func:`snap` rounds new points to, optionally with a third entry: how far that
+    rounding can move a distance (here; 0 by default).  Returns ``(m, xy)``: the state and its
+    coordinate array (shared, for filling).
     """
+    gc, gs, wg = (np.zeros(2), 1.0, 0.0) if grid is None else (tuple(grid) + (0.0,))[:3]
     if size_grid is None:
         size_grid = (np.array([0.0, 1.0]), np.array([0.0, 1.0]), np.ones((2, 2)))
         sized = 0
@@ -167,6 +169,9 @@ def allocate(nmax, tmax, size_grid=None):
         gy,
         gv,
         sized,
+        np.ascontiguousarray(gc, dtype=np.float64),
+        float(gs),
+        float(wg),
     )
     return m, xy
 
@@ -195,6 +200,23 @@ def prv(h):
 @njit(cache=True)
 def _orient_v(xy, u, v, x, y):
     return orient2d(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y)
+
+
+@njit(cache=True)
+def snap(m, x, y):
+    """(x, y) rounded to the nearest point the caller's coordinates can hold.
+
+    New points (circumcentres, boundary points, moved points) are rounded before
+    any decision is made on them, so the mesh the predicates certify is exactly
+    the one the caller gets.  With ``scale`` a power of two and each component of
+    ``centre`` either 0 or at least twice the polygon's size from 0 (Sterbenz:
+    X - centre is then exact for every X in the polygon's box), X - centre and the
+    division are exact; near the origin (centre 0) this is the identity.
+    """
+    s = m.gs
+    cx = m.gc[0]
+    cy = m.gc[1]
+    return ((x * s + cx) - cx) / s, ((y * s + cy) - cy) / s
 
 
 @njit(cache=True)
@@ -295,6 +317,13 @@ def legalize_all(m):
 def legalize_stack(m, todo, sp):
     """Lawson flips starting from the half-edges ``todo[:sp]`` (each edge that
     becomes suspect is pushed); returns the flip count.  ``todo`` grows as needed."""
+    return _lawson(m, todo, sp, np.int32(-1), 0)
+
+
+@njit(cache=True)
+def _lawson(m, todo, sp, tag, k):
+    """:func:`legalize_stack`; with ``tag`` >= 0 also appends every rewritten slot
+    not yet marked ``tag`` to ``cav`` from ``cav[k]`` on, and returns the new k."""
     flips = 0
     while sp > 0:
         sp -= 1
@@ -305,6 +334,13 @@ def legalize_stack(m, todo, sp):
         u = m.tw[h] // 3
         flip(m, h)
         flips += 1
+        if tag >= 0:
+            for s in (t, u):
+                if m.tmark[s] != tag:
+                    m.tmark[s] = tag
+                    reserve(m, k + 1)
+                    m.cav[k] = s
+                    k += 1
         todo = grown(todo, sp + 4)
         # the four outer edges of the new pair
         todo[sp] = 3 * t
@@ -312,7 +348,7 @@ def legalize_stack(m, todo, sp):
         todo[sp + 2] = 3 * u
         todo[sp + 3] = 3 * u + 1
         sp += 4
-    return flips
+    return k if tag >= 0 else flips
 
 
 @njit(cache=True)
@@ -394,136 +430,29 @@ def locate_scan(m, x, y):
     return -1
 
 
-# --------------------------------------------------------------------------------------
-# Insertion
-# --------------------------------------------------------------------------------------
 @njit(cache=True)
-def insert_point(m, x, y, t0, hs):
-    """Insert (x, y) lying in triangle t0, or on its boundary half-edge hs (else hs = -1).
-
-    The new vertex gets index ``nv``.  On success returns the number k of new
-    triangles, whose slots are ``cav[:k]``; on failure a negative status and the
-    triangulation is unchanged.
-    """
-    xy = m.xy
-    tv = m.tv
-    tw = m.tw
-    tag = new_tag(m)
-    # 1. grow the cavity
-    ncav = 0
-    m.cav[ncav] = t0
-    ncav += 1
-    m.tmark[t0] = tag
-    sp = 0
-    m.stack[sp] = t0
-    sp += 1
-    while sp > 0:
-        sp -= 1
-        t = m.stack[sp]
-        for i in range(3):
-            h = 3 * t + i
-            if h == hs:
-                continue
-            g = tw[h]
-            if g < 0:
-                continue
-            n = g // 3
-            if m.tmark[n] == tag:
-                continue
-            u = tv[h]
-            v = tv[nxt(h)]
-            if _orient_v(xy, u, v, x, y) < 0.0:
-                continue
-            w = tv[prv(g)]
-            if incircle(xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1], xy[w, 0], xy[w, 1], x, y) > 0.0:
-                reserve(m, ncav + 3)
-                m.tmark[n] = tag
-                m.cav[ncav] = n
-                ncav += 1
-                m.stack[sp] = n
-                sp += 1
-    # 2. its boundary, checked before anything is written
-    nb = 0
-    for k in range(ncav):
-        t = m.cav[k]
-        for i in range(3):
-            h = 3 * t + i
-            if h == hs:
-                continue
-            g = tw[h]
-            if g >= 0 and m.tmark[g // 3] == tag:
-                continue
-            if _orient_v(xy, tv[h], tv[nxt(h)], x, y) <= 0.0:
-                return ERR_ORIENT
-            m.bh[nb] = h
-            nb += 1
-    # 3. the fan: read every boundary edge before slots are overwritten
-    p = m.nv
-    xy[p, 0] = x
-    xy[p, 1] = y
-    m.vseg[p] = -1
-    m.nv = p + 1
-    nt = m.nt
-    bu = m.vbuf  # reused as scratch: u, v, outer twin of each boundary edge
-    for k in range(nb):
-        h = m.bh[k]
-        m.stack[k] = tw[h]
-        bu[k] = tv[h]
-        m.ebuf[k] = tv[nxt(h)]
-    for k in range(ncav, nb):
-        m.cav[k] = nt + (k - ncav)
-    if nb > ncav:
-        m.nt = nt + (nb - ncav)
-    for k in range(nb):
-        s = m.cav[k]
-        u = bu[k]
-        _set_triangle(m, np.int64(s), np.int64(u), np.int64(m.ebuf[k]), np.int64(p))
-        _link(m, 3 * s, m.stack[k])
-        tw[3 * s + 1] = -1
-        tw[3 * s + 2] = -1
-        m.vmark[u] = tag
-        m.vmap[u] = k
-    for k in range(nb):
-        s = m.cav[k]
-        v = m.ebuf[k]
-        if m.vmark[v] == tag:
-            j = m.cav[m.vmap[v]]
-            tw[3 * s + 1] = 3 * j + 2
-            tw[3 * j + 2] = 3 * s + 1
-    for k in range(nb):
-        s = m.cav[k]
-        if tw[3 * s + 1] < 0:
-            m.vseg[tv[3 * s + 1]] = 3 * s + 1  # v -> p is a new boundary half-edge
-        if tw[3 * s + 2] < 0:
-            m.vseg[p] = 3 * s + 2  # p -> u
-    return nb
-
-
-@njit(cache=True)
-def insert_sites(m, idx):
-    """Insert the vertices ``idx`` (coordinates already in ``xy``) in the given order,
-    each keeping its own index.  Walks from the last new triangle, so a spatially
-    coherent order makes each location O(1).  Returns 0, or -(k + 1) if site k
-    could not be inserted."""
-    nv = m.nv
-    t = 0
-    for k in range(idx.shape[0]):
-        v = idx[k]
-        x = m.xy[v, 0]
-        y = m.xy[v, 1]
-        loc = locate(m, np.int64(t), x, y, np.int64(4096))
-        if loc < 0:
-            loc = locate_scan(m, x, y)
-            if loc < 0:
-                m.nv = nv
-                return -(k + 1)
-        m.nv = v
-        if insert_point(m, x, y, np.int64(loc), np.int64(-1)) < 0:
-            m.nv = nv
-            return -(k + 1)
-        t = m.cav[0]
-    m.nv = nv
-    return 0
+def boundary_is(m, ring_next):
+    """Whether the triangles are glued consistently and bounded by the rings: every
+    paired half-edge runs opposite to its twin, and the unpaired ones are exactly
+    ``u -> ring_next[u]`` for the ring vertices u (``ring_next`` -1 elsewhere),
+    each once.  With every triangle strictly counter-clockwise
+    (:func:`count_not_ccw`) the triangles then cover the region the rings bound
+    exactly once: the covering count at a point is the rings' winding number."""
+    seen = np.zeros(ring_next.shape[0], np.int8)
+    for h in range(3 * m.nt):
+        g = m.tw[h]
+        if g >= 0:
+            if m.tv[g] != m.tv[nxt(h)] or m.tv[nxt(g)] != m.tv[h]:
+                return False
+            continue
+        u = m.tv[h]
+        if ring_next[u] != m.tv[nxt(h)] or seen[u]:
+            return False
+        seen[u] = 1
+    for u in range(ring_next.shape[0]):
+        if ring_next[u] >= 0 and not seen[u]:
+            return False
+    return True
 
 
 @njit(cache=True)

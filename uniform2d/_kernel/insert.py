@@ -37,6 +37,16 @@ Pool members are validated whenever they are served (a dead triangle is dropped,
 a subsegment whose value or point changed goes back to M with its fresh value),
 and thresholds only decrease, so the pool always holds exactly the tied group
 (plus stale entries skipped lazily).  Cost: O(log n) amortised per step.
+
+Rounding.  The chosen point is rounded to the caller's coordinates
+(:func:`cdt.snap`) and then located exactly from its candidate's triangle (a
+walk by exact ``orient2d``, a full scan should the walk give up): a rounded
+circumcentre that crossed a boundary edge, or lies within ``snap_d`` of one,
+is put on that subsegment and rounded again; a boundary point splits its
+subsegment by index (``vseg``), wherever rounding put it across the edge's
+line.  Far from the origin that rounding can move a weight by ``m.wg``, which
+the tie threshold absorbs (:func:`tied_above`), so the canonical order does not
+depend on the polygon's position.
 """
 
 import numpy as np
@@ -44,7 +54,8 @@ from numba import njit, types
 from numba.experimental import structref
 
 from . import heap
-from .cdt import circumcircle, insert_point, locate, new_tag, nxt, prv, reserve
+from .cavity import insert_point
+from .cdt import circumcircle, locate, locate_scan, new_tag, nxt, prv, reserve, snap
 from .predicates import dot2d, orient2d
 
 REL_TIE = 1e-9
@@ -52,12 +63,21 @@ DISK_SLACK = 1e-12  # inclusive slack when collecting sites near a subsegment (h
 
 ERR_EMPTY = -10  # no candidate left (cannot happen for a valid polygon)
 ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
+ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inserted
 
 
 @njit(cache=True, inline="always")
-def better(w1, x1, y1, w2, x2, y2, xtol):
+def tied_above(W, wg):
+    """Weights above this tie with W: within REL_TIE of it, or within ``wg`` (the
+    rounding of points to the caller's coordinates far from the origin, which
+    can move a weight that much)."""
+    return W * (1.0 - REL_TIE) - wg
+
+
+@njit(cache=True, inline="always")
+def better(w1, x1, y1, w2, x2, y2, xtol, wg):
     """The tie rule for two candidates: does 1 come before 2?"""
-    hi = max(w1, w2) * (1.0 - REL_TIE)
+    hi = tied_above(max(w1, w2), wg)
     if w1 < hi or w2 < hi:
         return w1 > w2
     if x1 < x2 - xtol:
@@ -241,7 +261,7 @@ def eval_segment(m, h, xtol):
                 if d2 < wmin and (k < 2 or _visible(m, np.int64(ne), x, y, z)):
                     wmin = d2
             val = np.sqrt(wmin) / size_at(m, x, y)
-            if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol):
+            if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol, m.wg):
                 bv, bx_, by_ = val, x, y
     if bv < 0.0:
         return half / size_at(m, mx, my), mx, my
@@ -455,15 +475,15 @@ def _gather(m, M, P, xtol):
         if _revalidate(m, M, P, s, np.inf, xtol):
             W = w
             break
-    while M.size > 0 and (W < 0.0 or heap.top_key(M) >= W * (1.0 - REL_TIE)):
+    while M.size > 0 and (W < 0.0 or heap.top_key(M) >= tied_above(W, m.wg)):
         key, a, b = heap.pop(M)
         alive, w, x, y = _current(m, a, b, xtol)
         if not alive:
             continue
-        if w < key and (W < 0.0 or w < W * (1.0 - REL_TIE)):
+        if w < key and (W < 0.0 or w < tied_above(W, m.wg)):
             heap.push(M, w, a, b)  # stale subsegment key; it may come back
             continue
-        if W < 0.0 and P.nslots == P.nfree and heap.top_key(M) < w * (1.0 - REL_TIE):
+        if W < 0.0 and P.nslots == P.nfree and heap.top_key(M) < tied_above(w, m.wg):
             return w, a, b, x, y  # alone in its tied group
         _pool_add(P, a, b, w, x, y, xtol)
         if w > W:
@@ -488,7 +508,7 @@ def _lclean(m, M, P, L, loc, thr, xtol):
 @njit(cache=True)
 def _choose(m, M, P, W, xtol):
     """Step 2: the slot of the canonical candidate (or -1)."""
-    thr = W * (1.0 - REL_TIE)
+    thr = tied_above(W, m.wg)
     while True:
         xw = _lclean(m, M, P, P.wx, np.int64(1), thr, xtol)
         xo = _lclean(m, M, P, P.lo, np.int64(0), thr, xtol)
@@ -547,12 +567,14 @@ def _choose(m, M, P, W, xtol):
 
 
 @njit(cache=True)
-def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
+def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
     """Insert n points; returns n, or a negative status on failure.
 
-    A circumcentre closer than ``snap`` to a boundary subsegment of its triangle
+    A circumcentre closer than ``snap_d`` to a boundary subsegment of its triangle
     is placed on that subsegment (it is numerically on the boundary; inside it
-    would only make a sliver).  On failure ``out_*[j]`` describe the failing
+    would only make a sliver).  Every point is rounded to what the caller's
+    coordinates hold (:func:`cdt.snap`) before it is located and inserted, so the
+    exact predicates decide on the coordinates actually returned.  On failure ``out_*[j]`` describe the failing
     point and the status is ``code - 100 * j``.
     """
     for j in range(n):
@@ -566,29 +588,87 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap):
             a, w, x, y = P.pa[s], P.pw[s], P.px[s], P.py[s]
             _pool_kill(P, np.int64(s))
         if a >= 0:
+            x, y = snap(m, x, y)
             loc = locate(m, np.int64(a), x, y, np.int64(64))
+            if loc < -(m.tv.shape[0] + 1):  # the walk gave up: look everywhere
+                loc = locate_scan(m, x, y)
+                if loc < 0:
+                    return ERR_LOCATE - 100 * j
             if loc >= 0:
                 t0 = loc
-                hsplit = _near_boundary(m, loc, x, y, snap)
-            elif loc > -(m.tv.shape[0] + 2):
+                hsplit = _near_boundary(m, loc, x, y, snap_d)
+            else:
                 hsplit = -loc - 1  # the rounded circumcentre crossed this boundary edge
                 t0 = hsplit // 3
-            else:
-                return ERR_LOCATE - 100 * j
             if hsplit >= 0:
                 x, y = _project(m, hsplit, x, y)
+                x, y = snap(m, x, y)
         else:
             hsplit = m.vseg[-a - 1]
             t0 = hsplit // 3
+            x, y = snap(m, x, y)
         out_xy[j, 0] = x
         out_xy[j, 1] = y
         out_w[j] = w * size_at(m, x, y)  # the distance (w is distance / size)
         out_b[j] = hsplit >= 0
-        k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
+        k = ERR_PRECISION
+        if _between(m, hsplit, x, y):
+            k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
-            return k - 100 * j
+            k, x, y = _insert_nearby(m, x, y, t0, hsplit)
+            if k < 0:
+                return k - 100 * j
+            out_xy[j, 0] = x
+            out_xy[j, 1] = y
         push_new(m, M, k, hsplit >= 0)
     return n
+
+
+@njit(cache=True)
+def _between(m, h, x, y):
+    """Whether (x, y) projects strictly inside boundary subsegment h (exact; True
+    for h = -1).  A point rounded past an end of its subsegment would fold the
+    boundary chain back on itself: valid triangles, but not a mesh of P."""
+    if h < 0:
+        return True
+    xy = m.xy
+    u = m.tv[h]
+    v = m.tv[nxt(h)]
+    return (
+        dot2d(x, y, xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1]) > 0.0
+        and dot2d(x, y, xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1]) > 0.0
+    )
+
+
+@njit(cache=True)
+def _insert_nearby(m, x, y, t0, hs):
+    """Insert at one of the 8 points the caller's coordinates hold next to (x, y).
+
+    Only far from the origin, where those coordinates are coarse, can the
+    rounded point miss the region in which its insertion is valid (a subsegment a
+    few units in the last place long, next to a corner); a neighbouring
+    representable point, tried in a fixed order, may be inside it (and, for a
+    boundary point, strictly between its subsegment's ends).  Returns
+    (status, x, y) as :func:`.cavity.insert_point`."""
+    s = m.gs
+    cx = m.gc[0]
+    cy = m.gc[1]
+    X = x * s + cx
+    Y = y * s + cy
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            if dx == 0 and dy == 0:
+                continue
+            Xn = np.nextafter(X, dx * np.inf) if dx != 0 else X
+            Yn = np.nextafter(Y, dy * np.inf) if dy != 0 else Y
+            xn = (Xn - cx) / s
+            yn = (Yn - cy) / s
+            if not _between(m, hs, xn, yn):
+                continue
+            k = insert_point(m, xn, yn, np.int64(t0), np.int64(hs))
+            if k >= 0:
+                return k, xn, yn
+    return ERR_PRECISION, x, y
 
 
 @njit(cache=True)

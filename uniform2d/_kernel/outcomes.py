@@ -7,15 +7,18 @@ decode them by name, not by arithmetic repeated at every call site.
 * :func:`uniform2d._kernel.insert.run` returns the number of points inserted,
   or ``code - RUN_STRIDE * j`` when step j failed with ``code`` (one of
   :data:`RUN_CODES`).
-* :func:`uniform2d._kernel.cdt.insert_sites` returns a non-negative count, or
+* :func:`uniform2d._kernel.cavity.insert_sites` returns a non-negative count, or
   ``-(k + 1)`` when site k (position in its index array) could not be inserted.
 """
 
 from __future__ import annotations
 
-from .insert import ERR_EMPTY, ERR_LOCATE
+from .insert import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
 
-__all__ = ["ERR_EMPTY", "ERR_LOCATE", "RUN_CODES", "RUN_STRIDE", "run_failure", "failed_site"]
+__all__ = [
+    "ERR_EMPTY", "ERR_LOCATE", "ERR_PRECISION", "RUN_CODES", "RUN_STRIDE", "run_failure",
+    "failed_site",
+]
 
 #: Multiplier of the failing step in :func:`uniform2d._kernel.insert.run`'s status.
 RUN_STRIDE = 100
@@ -23,6 +26,7 @@ RUN_STRIDE = 100
 RUN_CODES = {
     ERR_EMPTY: "no candidate left",
     ERR_LOCATE: "a circumcentre could not be located",
+    ERR_PRECISION: "the caller's coordinates cannot hold a point there",
 }
 
 

@@ -14,6 +14,10 @@ Vertex roles (``role[v]``)
 
 Every move keeps the mesh valid, exactly
 ----------------------------------------
+Every trial place is first rounded to what the caller's coordinates hold
+(:func:`cdt.snap`; the identity near the origin), so the points the optimiser
+hands back are exactly the ones decided on here; a SLIDE vertex may then sit a
+rounding off its edge's line, and stays on its constraint by index.
 A move is only made if every triangle around the moved vertex stays strictly
 counter-clockwise (exact ``orient2d``).  With the boundary chain in order that
 means the triangles still tile P, so nothing has to be located again.  After a
@@ -68,7 +72,7 @@ ends at -1)::
 import numpy as np
 from numba import njit
 
-from .cdt import legalize_stack, nxt, prv
+from .cdt import legalize_stack, nxt, prv, snap
 from .heap import grown
 from .insert import size_at
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO, combine
@@ -339,8 +343,7 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
                 step = lim
             if step == 0.0:
                 continue
-            new[v, 0] = xy[v, 0] + dx
-            new[v, 1] = xy[v, 1] + dy
+            new[v, 0], new[v, 1] = snap(m, xy[v, 0] + dx, xy[v, 1] + dy)
             moved[v] = True
             biggest = max(biggest, step)
         else:
@@ -356,8 +359,7 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
             if dtv == 0.0:
                 continue
             newt[v] = t[v] + dtv
-            new[v, 0] = ea[e, 0] + newt[v] * ex
-            new[v, 1] = ea[e, 1] + newt[v] * ey
+            new[v, 0], new[v, 1] = snap(m, ea[e, 0] + newt[v] * ex, ea[e, 1] + newt[v] * ey)
             moved[v] = True
             biggest = max(biggest, abs(dtv) * np.sqrt(L2))
     return biggest
@@ -622,6 +624,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
             ok = False
             for _k in range(TRIES):
                 x, y, tt = _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
+                x, y = snap(m, x, y)
                 if _star_ok(x, y, x0, y0, ns, nt, SP, flat * (href * hv[v]) ** 2):
                     E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, False)
                     if E1 < E0:
@@ -760,6 +763,7 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
             ok = False
             for _k in range(TRIES):
                 x, y, tt = _at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
+                x, y = snap(m, x, y)
                 if _star_ok(x, y, x0, y0, ns, nt, SP, flat * (href * hv[v]) ** 2):
                     E1 = _star_spread(x, y, ns, nt, SP, TR, L, cbar, g2, ext, False)
                     if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:

@@ -35,6 +35,7 @@ def improve(
     sweeps: int | None = None,
     exponents=None,
     spread_sweeps: int | None = None,
+    edges=None,
 ):
     """Move the Steiner points of a mesh of P to make it more uniform, exactly n kept.
 
@@ -67,6 +68,10 @@ def improve(
         Override the fields of the default
         :class:`~uniform2d.optimize.schedule.Schedule` (see
         :func:`~uniform2d.optimize.schedule.schedule_for`).
+    edges : array_like of int, shape (k,), optional
+        The polygon edge each site lies on, -1 for an interior site (the
+        optimiser's own sites: placed by index, not judged by distance).
+        Default: found by distance, as :func:`uniform2d.insert` does.
 
     Returns
     -------
@@ -75,7 +80,8 @@ def improve(
     triangles : ndarray, shape (M, 3), int64
         The exact constrained Delaunay triangulation of ``points`` (CCW).
     info : dict
-        Spring rounds and sweeps made, the objective value reached.
+        Spring rounds and sweeps made, the objective value reached, and
+        ``edges``: the polygon edge of each returned site (-1 inside).
 
     Examples
     --------
@@ -90,18 +96,21 @@ def improve(
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     obj = objective_code(objective)
-    P0, T0 = triangulate(polygon, sites)
+    P0, T0 = triangulate(polygon, sites, edges)
     nV = len(polygon.vertices)
     if len(P0) == nV:
-        return P0, T0, {"spring_rounds": 0, "sweeps": 0}
-    st = _load(polygon, P0, T0, size, href, frozen)
+        return P0, T0, {"spring_rounds": 0, "sweeps": 0, "edges": np.empty(0, np.int64)}
+    st = _load(polygon, P0, T0, size, href, frozen, edges)
     sched = S.schedule_for(len(st.xy), size is not None)._replace(
         **{k: v for k, v in dict(spring_rounds=spring_rounds, sweeps=sweeps, exponents=exponents,
                                  spread_sweeps=spread_sweeps).items() if v is not None}
     )
     rounds, done, value = _run(st, sched, obj)
-    points, triangles = triangulate(polygon, _unload(polygon, st)[nV:])
-    info = {"spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value}
+    edges = st.eid[nV:].copy()
+    points, triangles = triangulate(polygon, _unload(polygon, st)[nV:], edges)
+    info = {
+        "spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value, "edges": edges,
+    }
     return points, triangles, info
 
 
@@ -156,13 +165,14 @@ class _Loaded(NamedTuple):
     scale: float
 
 
-def _load(polygon: Polygon, points, triangles, size, href, frozen) -> _Loaded:
+def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -> _Loaded:
     """Load a mesh of P (its vertices first, then the sites) into the kernel, with
     the role of every point: polygon vertices and ``frozen`` sites fixed, sites
-    on the boundary sliding along their edge, the others free."""
+    on the boundary sliding along their edge, the others free; ``edges`` as
+    :func:`improve`'s."""
     nV = len(polygon.vertices)
     T0 = np.asarray(triangles, dtype=np.int32)
-    m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size)
+    m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
     N = len(xy)
     a, d, _ = polygon_edges(polygon)
     role = np.full(N, relax.FREE, np.int8)
@@ -188,12 +198,8 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen) -> _Loaded:
 
 
 def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:
-    """The kernel's points in the caller's coordinates: polygon vertices exactly,
-    boundary points recomputed on their polygon edge."""
-    a, d, _ = polygon_edges(polygon)
-    nV = len(polygon.vertices)
+    """The kernel's points in the caller's coordinates, exactly: the kernel rounds
+    every place to what these coordinates hold (:func:`uniform2d._kernel.cdt.snap`)."""
     out = st.xy * st.scale + st.centre
-    out[:nV] = polygon.vertices
-    sl = st.role == relax.SLIDE
-    out[sl] = a[st.eid[sl]] + st.t[sl, None] * d[st.eid[sl]]
+    out[: len(polygon.vertices)] = polygon.vertices
     return out

@@ -28,44 +28,48 @@ log = logging.getLogger(__name__)
 
 
 def _start(polygon: Polygon, n: int, h: float, variant):
-    """The sites of one start (boundary points, then the lattice) and which stay put."""
+    """The sites of one start (boundary points, then the lattice), the polygon edge of
+    each (-1 inside) and which stay put."""
     spacing, edge, layered = variant
     a, d, L = polygon_edges(polygon)
     m = boundary_counts(L, spacing * h, n)
-    bpts, _, _ = boundary_points(a, d, m)
+    bpts, beid, _ = boundary_points(a, d, m)
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
     ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays
     deep = to_segments(ipts, a, a + d, 2.0 * S.BAND * h) > S.BAND * h
     frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
-    return np.concatenate([bpts, ipts]), frozen, len(bpts)
+    edges = np.concatenate([beid, np.full(len(ipts), -1, np.int64)])
+    return np.concatenate([bpts, ipts]), edges, frozen, len(bpts)
 
 
-def _trial_value(polygon: Polygon, sites, frozen, objective: str, h: float, options):
-    """A short run from a start: (its sites after the run, its rank; lower is better)."""
+def _trial_value(polygon: Polygon, sites, edges, frozen, objective: str, h: float, options):
+    """A short run from a start: (its sites after the run, their edges, its rank;
+    lower is better)."""
     nV = len(polygon.vertices)
-    pts, tri, _ = improve(
-        polygon, sites, objective=objective, href=h, frozen=frozen, **{**options, **S.TRIAL}
+    pts, tri, info = improve(
+        polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges,
+        **{**options, **S.TRIAL},
     )
     val = objective_value(objective, *extremes(pts, tri), h)
     if objective == "balanced" and S.CV_WEIGHT:
         _, Ls = edge_lengths(pts, tri)
         val *= (Ls.std() / Ls.mean()) ** S.CV_WEIGHT
-    return pts[nV:], val
+    return pts[nV:], info["edges"], val
 
 
 def _best_start(polygon: Polygon, n: int, h: float, objective: str, options):
     """Every start of :func:`~uniform2d.optimize.seed.variants`, ranked by a short run
-    when there are several: (sites, frozen, boundary points, variant) of the best."""
+    when there are several: (sites, edges, frozen, boundary points, variant) of the best."""
     tried = variants(polygon, n)
     best = None
     for variant in tried:
-        sites, frozen, k = _start(polygon, n, h, variant)
+        sites, edges, frozen, k = _start(polygon, n, h, variant)
         val = 0.0
         if len(tried) > 1:
-            sites, val = _trial_value(polygon, sites, frozen, objective, h, options)
+            sites, edges, val = _trial_value(polygon, sites, edges, frozen, objective, h, options)
         if best is None or val < best[0]:
-            best = (val, sites, frozen, k, variant)
+            best = (val, sites, edges, frozen, k, variant)
     return best[1:]
 
 
@@ -122,11 +126,13 @@ def optimize_mesh(
     tp, q_tp, d_n = _reference(polygon, n, start)
 
     h = target_size(polygon, n)
-    sites, frozen, k, (spacing, edge, layered) = _best_start(polygon, n, h, objective, options)
-    pts, tri, run = improve(polygon, sites, objective=objective, href=h, frozen=frozen, **options)
+    sites, edges, frozen, k, (spacing, edge, layered) = _best_start(polygon, n, h, objective, options)
+    pts, tri, run = improve(
+        polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **options
+    )
     moved = 0
     if n + nV <= S.RELOCATE_MAX:
-        pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options)
+        pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options, run["edges"])
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf

@@ -4,11 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._kernel.distance import to_segments
-from ..geometry import polygon_edges
 from ..polygon import Polygon
 from ..quality import edge_lengths
-from ..triangulation import boundary_tol
 from . import schedule as S
 from .moves import improve
 from .objective import extremes, objective_value
@@ -26,7 +23,7 @@ def _donor(pts, E, L, nV, free):
     return int(np.argmin(mean))
 
 
-def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, options):
+def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, options, edges):
     """Move single points to where the mesh is sparsest while the objective improves.
 
     Each try takes the interior point whose edges are shortest on average (away
@@ -35,12 +32,12 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
     place (``schedule.RELOCATE``); the move is kept if the objective improves.
     A failed edge is not tried again until a move succeeds; at most
     ``schedule.RELOCATE_TRIES`` tries.  The count of points never changes.
+    ``edges`` (as :func:`~uniform2d.optimize.improve`'s) says which sites are on
+    the boundary: they are known by construction, never judged by distance.
 
     Returns (points, triangles, moves kept).
     """
     nV = len(polygon.vertices)
-    a, d, _ = polygon_edges(polygon)
-    on_edge = boundary_tol(polygon)
     value = objective_value(objective, *extremes(pts, tri), h)
     fixed = np.asarray(frozen, dtype=bool).copy()
     failed = set()
@@ -52,8 +49,9 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
             break
         failed.add(tuple(target))
         new = 0.5 * (pts[target[0]] + pts[target[1]])  # on P's boundary if the edge is
+        new_edge = _common_edge(polygon, edges, *target)
         sites = pts[nV:]
-        free = (to_segments(sites, a, a + d, 2.0 * on_edge) > on_edge) & ~fixed
+        free = (edges < 0) & ~fixed
         free &= np.hypot(*(sites - new).T) > S.RELOCATE_RADIUS * h
         if not free.any():
             break
@@ -61,14 +59,34 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
         old = sites[r].copy()
         trial = sites.copy()
         trial[r] = new
+        trial_edges = edges.copy()
+        trial_edges[r] = new_edge
         near = np.minimum(np.hypot(*(trial - new).T), np.hypot(*(trial - old).T))
         local = fixed | (near > S.RELOCATE_RADIUS * h)
-        p2, t2, _ = improve(
-            polygon, trial, objective=objective, href=h, frozen=local, **{**options, **S.RELOCATE}
+        p2, t2, info2 = improve(
+            polygon, trial, objective=objective, href=h, frozen=local, edges=trial_edges,
+            **{**options, **S.RELOCATE},
         )
         v2 = objective_value(objective, *extremes(p2, t2), h)
         if v2 < value:
-            pts, tri, value = p2, t2, v2
+            pts, tri, value, edges = p2, t2, v2, info2["edges"]
             kept += 1
             failed.clear()
     return pts, tri, kept
+
+
+def _common_edge(polygon: Polygon, edges, u: int, v: int) -> int:
+    """The polygon edge both mesh points u and v lie on, or -1: the polygon edge
+    of the midpoint of mesh edge u-v (a mesh edge joining two points of one polygon
+    edge runs along it).  ``edges`` as :func:`improve`'s, for the points after
+    the polygon's vertices (a vertex lies on the two edges that meet there)."""
+    nV = len(polygon.vertices)
+    E = polygon.edges
+
+    def on(w):
+        if w >= nV:
+            return {int(edges[w - nV])} - {-1}
+        return {int(e) for e in np.flatnonzero((E[:, 0] == w) | (E[:, 1] == w))}
+
+    both = on(int(u)) & on(int(v))
+    return min(both) if both else -1

@@ -1,0 +1,143 @@
+"""The final check every mesh passes before the library returns it.
+
+The kernel keeps its triangulation valid by construction (exact predicates on
+the coordinates actually stored; see :mod:`uniform2d._kernel.cdt`), and this
+check says so again, independently and cheaply (vectorised numpy, the exact
+``orient2d`` only where its floating-point filter cannot decide), on the
+arrays the caller gets.  A mesh of P with n Steiner points is valid when
+
+* it has exactly ``|V| + n`` points, finite, the polygon's vertices first and
+  unchanged, every point a corner of some triangle;
+* every triangle is strictly counter-clockwise (exact);
+* no directed edge occurs twice, so an edge is shared by at most two triangles,
+  in opposite directions;
+* the unpaired (boundary) edges chain, from each polygon vertex, through Steiner
+  points only, to the next vertex of its ring, every point on the way within
+  :func:`uniform2d.insert.boundary_tol` of that polygon edge and in order along
+  it, and there are no other boundary edges;
+* the triangle areas add up to P's area (up to what the boundary points' offsets
+  and rounding allow).
+
+Why that is enough: the triangles form a surface whose border is the chain of
+unpaired edges, a copy of P's boundary moved by at most the tolerance at its
+Steiner points.  With every triangle positively oriented, the number of
+triangles covering a point is the winding number of that border around it:
+1 inside P, 0 outside.  So the triangles cover P exactly once and nothing else,
+and no point lies outside.
+"""
+
+import numpy as np
+from numba import njit
+
+from .predicates import orient2d
+
+__all__ = ["mesh_problem"]
+
+
+@njit(cache=True)
+def _not_ccw(points, triangles):
+    """Number of triangles that are not strictly counter-clockwise (exact)."""
+    bad = 0
+    for t in range(triangles.shape[0]):
+        a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        if orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
+                    points[c, 0], points[c, 1]) <= 0.0:  # fmt: skip
+            bad += 1
+    return bad
+
+
+@njit(cache=True)
+def _walk(succ, ring_next, nV, edge_of):
+    """Follow the boundary successor ``succ`` from every polygon vertex to the next
+    vertex of its ring, writing the polygon edge (the start vertex's index) of the
+    Steiner points met into ``edge_of``.  Returns the number of boundary edges
+    walked, or -1 if a walk leaves its edge (meets another polygon vertex, a
+    dead end or a loop)."""
+    walked = 0
+    n = succ.shape[0]
+    for a in range(nV):
+        cur = a
+        for _ in range(n + 1):
+            nxt = succ[cur]
+            if nxt < 0:
+                return -1
+            walked += 1
+            if nxt == ring_next[a]:
+                break
+            if nxt < nV or edge_of[nxt] >= 0:
+                return -1
+            edge_of[nxt] = a
+            cur = nxt
+        else:
+            return -1
+    return walked
+
+
+def mesh_problem(points, triangles, polygon, n_steiner, boundary_tol):
+    """None if the mesh is a valid triangulation of ``polygon`` with ``n_steiner``
+    Steiner points (module docstring), else what is wrong, in a few words."""
+    P = np.asarray(points)
+    T = np.asarray(triangles)
+    V = polygon.vertices
+    nV = len(V)
+    if P.ndim != 2 or P.shape[1] != 2 or P.dtype != np.float64 or len(P) != nV + n_steiner:
+        return f"{len(P)} points of shape {P.shape}, expected ({nV + n_steiner}, 2) float64"
+    if not np.isfinite(P).all() or not np.array_equal(P[:nV], V):
+        return "the points do not start with the polygon's vertices, or are not finite"
+    if T.ndim != 2 or T.shape[1] != 3 or len(T) == 0 or T.min() < 0 or T.max() >= len(P):
+        return f"triangles of shape {T.shape} do not index the points"
+    if np.bincount(T.ravel(), minlength=len(P)).min() == 0:
+        return "a point is not a corner of any triangle"
+    T = np.ascontiguousarray(T, dtype=np.int64)
+    bad = _not_ccw(np.ascontiguousarray(P), T)
+    if bad:
+        return f"{bad} triangles are not strictly counter-clockwise"
+    # directed edges: unique; the boundary is the set without a reverse
+    u = T.ravel()
+    v = T[:, [1, 2, 0]].ravel()
+    N = np.int64(len(P))
+    key = u * N + v
+    skey = np.sort(key)
+    if (skey[1:] == skey[:-1]).any():
+        return "an edge occurs twice in the same direction (overlapping triangles)"
+    rev = v * N + u
+    pos = np.minimum(np.searchsorted(skey, rev), len(skey) - 1)
+    bnd = skey[pos] != rev
+    bu, bv = u[bnd], v[bnd]
+    succ = np.full(len(P), -1, np.int64)
+    if len(np.unique(bu)) != len(bu):
+        return "a boundary vertex has two outgoing boundary edges"
+    succ[bu] = bv
+    E = polygon.edges
+    ring_next = np.empty(nV, np.int64)
+    ring_next[E[:, 0]] = E[:, 1]
+    edge_of = np.full(len(P), -1, np.int64)
+    walked = _walk(succ, ring_next, nV, edge_of)
+    if walked != len(bu):
+        return "the mesh boundary is not the polygon's boundary split at mesh points"
+    on = np.flatnonzero(edge_of >= 0)
+    if len(on):
+        e = edge_of[on]  # vertex a starts edge a (Polygon.edges layout)
+        a = V[E[e, 0]]
+        d = V[E[e, 1]] - a
+        rel = P[on] - a
+        L = np.hypot(d[:, 0], d[:, 1])
+        off = np.abs(d[:, 0] * rel[:, 1] - d[:, 1] * rel[:, 0]) / L
+        if off.max() > boundary_tol:
+            return f"a boundary point is {off.max():.3g} off its polygon edge"
+        t = (rel * d).sum(axis=1) / (L * L)
+        tt = np.full(len(P), np.nan)
+        tt[on] = t
+        tt[:nV] = 0.0
+        nxt_t = np.where(bv < nV, 1.0, tt[bv])
+        if not (nxt_t > tt[bu]).all() or not ((t > 0.0) & (t < 1.0)).all():
+            return "boundary points are out of order along their polygon edge"
+    q = P[T]
+    area = 0.5 * (
+        (q[:, 1, 0] - q[:, 0, 0]) * (q[:, 2, 1] - q[:, 0, 1])
+        - (q[:, 1, 1] - q[:, 0, 1]) * (q[:, 2, 0] - q[:, 0, 0])
+    ).sum()
+    slack = 1e-9 * polygon.area + 2.0 * polygon.perimeter * boundary_tol
+    if abs(area - polygon.area) > slack:
+        return f"the triangles cover {area!r}, the polygon has area {polygon.area!r}"
+    return None
