@@ -178,7 +178,7 @@ def test_guide_stats_example_is_the_real_output(fresh, tmp_path):
 
 
 def test_guide_error_example_is_the_real_message(tmp_path):
-    shown = _shown("guide.md", "## 10. Errors")
+    shown = _shown("guide.md", "## 11. Errors")
     command, message = shown[0], shown[1]
     assert command == "$ uniform2d mesh bowtie.json -n 50 -o bowtie.vtu"
     (tmp_path / "bowtie.json").write_text('{"outer": [[0, 0], [2, 2], [2, 0], [0, 1]]}')
