@@ -18,6 +18,7 @@ from .errors import (
     InvalidArgumentError,
     InvalidPolygonError,
     InvalidSitesError,
+    TooManyPointsError,
     Uniform2dError,
     UnsupportedFormatError,
 )
@@ -54,6 +55,7 @@ __all__ = [
     "mesh_formats",
     "Uniform2dError",
     "InvalidPolygonError",
+    "TooManyPointsError",
     "InsufficientPointsError",
     "InvalidSitesError",
     "UnsupportedFormatError",

@@ -20,6 +20,7 @@ __all__ = [
     "FileFormatError",
     "InvalidArgumentError",
     "ArgumentTypeError",
+    "TooManyPointsError",
 ]
 
 
@@ -53,3 +54,8 @@ class InvalidArgumentError(Uniform2dError):
 
 class ArgumentTypeError(InvalidArgumentError, TypeError):
     """A function argument has the wrong type (also a ``TypeError``)."""
+
+
+class TooManyPointsError(InvalidArgumentError, MemoryError):
+    """More points were asked for than this machine's memory can hold (also a
+    ``MemoryError``); refused before any work starts."""
