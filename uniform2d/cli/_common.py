@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import logging
 import math
@@ -38,18 +39,91 @@ def positive_float(text: str) -> float:
     return value
 
 
+def announce_compile(quiet: bool = False) -> bool:
+    """Say once on stderr that the kernels are being compiled, if they are about
+    to be (a cold numba cache) and not --quiet; return whether it was said."""
+    from ..compile_cache import COMPILE_NOTICE, kernels_cold
+    from .main import PROG
+
+    if quiet or not kernels_cold():
+        return False
+    print(f"{PROG}: {COMPILE_NOTICE}", file=sys.stderr, flush=True)
+    return True
+
+
+def add_parallel_options(parser, what: str) -> None:
+    """``--jobs K`` and ``--scheduler ADDRESS`` (one or the other) for a command
+    running many independent ``what``; they arrive as ``args.jobs``, ``args.scheduler``."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--jobs", "-j", type=positive_int, default=1, metavar="K",
+                       help=f"run {what} in K local processes (default 1)")
+    group.add_argument("--scheduler", metavar="ADDRESS",
+                       help=f"run {what} on an existing Dask cluster, e.g. tcp://host:8786 "
+                       "(needs the 'dask' extra)")
+
+
+def check_parallel_options(args) -> None:
+    """Refuse a --jobs below 1 and a --scheduler without Dask, before any work."""
+    from .._parallel import check_jobs
+
+    if args.jobs < 1:
+        raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
+    try:
+        check_jobs(args.jobs, args.scheduler)
+    except ImportError:
+        raise ImportError("--scheduler needs the 'dask' extra: pip install 'uniform2d[dask]'") from None
+
+
 def print_json(obj) -> None:
     json.dump(jsonable(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
 
 
+def shows_progress(quiet: bool) -> bool:
+    """Whether progress bars go to stderr: it is a terminal and not --quiet."""
+    return not quiet and sys.stderr.isatty()
+
+
 def progress(iterable, *, total: int, quiet: bool, desc: str):
     """A tqdm bar on stderr when there is more than one item, stderr is a TTY and not --quiet."""
-    if total < 2 or quiet or not sys.stderr.isatty():
+    if total < 2 or not shows_progress(quiet):
         return iterable
     from tqdm import tqdm
 
     return tqdm(iterable, total=total, desc=desc, unit="file", file=sys.stderr)
+
+
+def file_bar(total: int, quiet: bool, desc: str):
+    """A tqdm bar over a batch's files (updated as each finishes), disabled as
+    :func:`progress` would be."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit="file", file=sys.stderr,
+                disable=total < 2 or not shows_progress(quiet))
+
+
+class PhaseBar:
+    """``progress(phase, done, total)`` for :func:`uniform2d.uniform_mesh`: a tqdm
+    bar over the phases of one run, shown only once the run has taken ``delay``
+    seconds (short runs stay silent).  The bar moves by one per phase, by a
+    fraction within a phase that has several steps."""
+
+    def __init__(self, phases, desc: str, *, delay: float = 2.0, file=None):
+        from tqdm import tqdm
+
+        self.phases = list(phases)
+        self.bar = tqdm(total=len(self.phases), desc=desc, unit="phase", delay=delay,
+                        miniters=0, mininterval=0, leave=False,
+                        file=file if file is not None else sys.stderr,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {postfix} [{elapsed}]")
+
+    def __call__(self, phase: str, done: int, total: int) -> None:
+        at = self.phases.index(phase) if phase in self.phases else len(self.phases) - 1
+        self.bar.set_postfix_str(f"{phase} {done}/{total}" if total > 1 else phase, refresh=False)
+        self.bar.update(at + done / max(total, 1) - self.bar.n)
+
+    def close(self) -> None:
+        self.bar.close()
 
 
 
@@ -77,14 +151,21 @@ def attempt(work: Callable, item) -> Outcome:
         return Outcome(item, error=exc)
 
 
-def map_inputs(work: Callable, items: Iterable) -> Iterator[Outcome]:
-    """One :class:`Outcome` per item, in order, each as soon as it is known.
+def map_inputs(work: Callable, items: Iterable, *, jobs: int = 1, scheduler=None,
+               bar=None) -> Iterator[Outcome]:
+    """One :class:`Outcome` per item, in order, each as soon as it and those
+    before it are known.
 
     The one loop over a batch's inputs: a failed input never stops the others.
-    ``work`` gets one item and returns a plain value (no printing), so that a
-    parallel map can take this one's place.
+    ``work`` gets one item and returns a plain value (no printing).  With
+    ``jobs`` > 1 the items run in that many local processes, with ``scheduler``
+    on a Dask cluster (:func:`uniform2d._parallel.ordered_map`); ``work`` must
+    then be picklable (a module-level function, or a ``functools.partial`` of one).
     """
-    return (attempt(work, item) for item in items)
+    from .._parallel import ordered_map
+
+    return ordered_map(functools.partial(attempt, work), items, jobs=jobs, scheduler=scheduler,
+                       bar=bar)
 
 
 def report_failure(name, exc: BaseException) -> str:

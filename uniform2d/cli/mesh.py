@@ -29,7 +29,11 @@ import sys
 from pathlib import Path
 
 from ._common import (
+    PhaseBar,
+    add_parallel_options,
+    announce_compile,
     batch_status,
+    check_parallel_options,
     check_output_dir,
     check_output_file,
     map_inputs,
@@ -37,8 +41,9 @@ from ._common import (
     positive_float,
     positive_int,
     print_json,
-    progress,
+    file_bar,
     report_failure,
+    shows_progress,
 )
 
 log = logging.getLogger(__name__)
@@ -75,6 +80,7 @@ def add_parser(subparsers):
                    help="also write a figure of the mesh (.png, .pdf, .svg); a name ending in '/' "
                    "is a directory receiving <input name>.png (with several inputs --plot must be "
                    "a directory)")
+    add_parallel_options(p, "the inputs")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true",
                       help="print the quality summary and optimality certificates")
@@ -171,21 +177,24 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
     return plan
 
 
-def _mesh_one(polygon, args):
+def _mesh_one(polygon, args, progress=None):
     from ..tplus import tplus
     from ..uniform import steiner_count_for_size, uniform_mesh
     from ..errors import InsufficientPointsError
+    from ..resources import check_point_count
 
     if args.method == "uniform":
-        return uniform_mesh(polygon, n=args.n, size=args.size)
-    n = args.n
+        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
+    n, what = args.n, f"n = {args.n}"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
+        what = f"size {args.size!r} (n = {n})"
         if n < 1:
             raise InsufficientPointsError(
                 f"size {args.size!r} is larger than the polygon needs: it asks for no "
                 "Steiner points; use a smaller size"
             )
+    check_point_count(n + len(polygon.vertices), what)
     return tplus(polygon, n)
 
 
@@ -228,11 +237,17 @@ def _write_both(mesh, dst: Path, fig: Path | None) -> None:
 def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     """Mesh one input and write its files; returns what to show (no printing here)."""
     from ..io import read_polygon
+    from ..optimize.pipeline import PHASES
 
     src, dst, fig = job
     polygon = read_polygon(src)
     log.info("%s: %r", src, polygon)
-    mesh = _mesh_one(polygon, args)
+    bar = PhaseBar(PHASES, src.name) if getattr(args, "phase_bar", False) else None
+    try:
+        mesh = _mesh_one(polygon, args, bar)
+    finally:
+        if bar is not None:
+            bar.close()
     log.info("%s: %r", src, mesh)
     quality = mesh.quality() if (args.stats or args.json) else None
     dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
@@ -253,7 +268,12 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     }
 
 
-def _show(args, doc: dict, several: bool) -> None:
+def _show(args, doc: dict, several: bool, bar) -> None:
+    with bar.external_write_mode(file=sys.stdout):  # lines above the bar, not through it
+        _print(args, doc, several)
+
+
+def _print(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
             print(f"== {doc['input']} -> {doc['output']}")
@@ -267,11 +287,26 @@ def _show(args, doc: dict, several: bool) -> None:
 
 
 def run(args) -> int:
+    check_parallel_options(args)
     plan = _plan(args)
     several = len(plan) > 1
+    # one input runs here, where its phases can be shown as they pass
+    args.phase_bar = not several and shows_progress(args.quiet)
+    if args.jobs == 1 and args.scheduler is None:
+        announce_compile(args.quiet)
+    with file_bar(len(plan), args.quiet, "meshing") as bar:
+        outcomes = map_inputs(functools.partial(_process, args), plan, jobs=args.jobs,
+                              scheduler=args.scheduler, bar=bar)
+        failed, documents = _collect(args, outcomes, several, bar)
+    if args.json:
+        print_json(documents[0] if not several else documents)
+    return batch_status(failed, len(plan))
+
+
+def _collect(args, outcomes, several: bool, bar) -> tuple[int, list]:
+    """Show each outcome in input order; (failures, the documents for --json)."""
     documents, failed = [], 0
-    outcomes = map_inputs(functools.partial(_process, args), plan)
-    for outcome in progress(outcomes, total=len(plan), quiet=args.quiet, desc="meshing"):
+    for outcome in outcomes:
         src = outcome.item[0]
         if outcome.error is not None:
             if not several:
@@ -281,10 +316,8 @@ def run(args) -> int:
             continue
         doc = outcome.value
         documents.append({k: v for k, v in doc.items() if k != "summary"})
-        _show(args, doc, several)
-    if args.json:
-        print_json(documents[0] if not several else documents)
-    return batch_status(failed, len(plan))
+        _show(args, doc, several, bar)
+    return failed, documents
 
 
 def _print_tplus(info) -> None:
