@@ -111,15 +111,16 @@ class PhaseBar:
     def __init__(self, phases, desc: str, *, delay: float = 2.0, file=None):
         from tqdm import tqdm
 
-        self.phases = list(phases)
+        self.phases, self.desc = list(phases), desc
         self.bar = tqdm(total=len(self.phases), desc=desc, unit="phase", delay=delay,
                         miniters=0, mininterval=0, leave=False,
                         file=file if file is not None else sys.stderr,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {postfix} [{elapsed}]")
+                        bar_format="{desc} {percentage:3.0f}%|{bar}| [{elapsed}]")
 
     def __call__(self, phase: str, done: int, total: int) -> None:
         at = self.phases.index(phase) if phase in self.phases else len(self.phases) - 1
-        self.bar.set_postfix_str(f"{phase} {done}/{total}" if total > 1 else phase, refresh=False)
+        step = f"{phase} {done}/{total}" if total > 1 else phase
+        self.bar.set_description_str(f"{self.desc}: {step}", refresh=False)
         self.bar.update(at + done / max(total, 1) - self.bar.n)
 
     def close(self) -> None:
