@@ -225,3 +225,27 @@ def test_jobs_and_scheduler_errors(capsys, tmp_path, monkeypatch):
     code, _, err = run(capsys, "mesh", SQUARE, "-n", 20, "--scheduler", "tcp://127.0.0.1:1")
     assert "pip install 'uniform2d[dask]'" in one_error(code, err)
     assert files(tmp_path) == []
+
+
+def test_remesh_batches_keep_going_with_the_same_bytes_in_two_processes(capsys, tmp_path):
+    pytest.importorskip("igl")
+    pytest.importorskip("pymeshlab")
+    bad = tmp_path / "broken.obj"
+    bad.write_text("v 0 0 0\nf 1 2 3\n")
+    inputs = [DATA / "patches" / "cap60.obj", bad, DATA / "patches" / "plate_hole.obj"]
+    outputs = {}
+    for how in ("serial", "jobs"):
+        extra = ["--jobs", 2] if how == "jobs" else []
+        code, out, err = run(capsys, "remesh", *inputs, "-n", 60, "-o", f"{tmp_path}/{how}/",
+                             "--format", "ply", *extra)
+        lines = err.strip().splitlines()
+        assert code == 2 and len(lines) == 2, err
+        assert "broken.obj" in lines[0] and lines[1] == "uniform2d: error: 1 of 3 inputs failed"
+        assert files(tmp_path / how) == ["cap60.ply", "plate_hole.ply"]
+        assert [line.split()[1] for line in out.splitlines()] == [
+            f"{tmp_path}/{how}/cap60.ply", f"{tmp_path}/{how}/plate_hole.ply"]
+        outputs[how] = {n: (tmp_path / how / n).read_bytes() for n in files(tmp_path / how)}
+    assert outputs["serial"] == outputs["jobs"]
+    code, out, err = run(capsys, "remesh", *inputs, "-n", 60, "-o", tmp_path / "x.ply")
+    assert "with several inputs, -o must be a directory" in one_error(code, err)
+    assert not (tmp_path / "x.ply").exists()
