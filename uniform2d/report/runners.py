@@ -14,7 +14,7 @@ from .cases import run_case, warm_up
 
 log = logging.getLogger(__name__)
 
-__all__ = ["run_cases"]
+__all__ = ["run_cases", "iter_cases"]
 
 
 def _bar(total: int, progress: bool):
@@ -24,7 +24,13 @@ def _bar(total: int, progress: bool):
 
 
 def run_cases(cases, *, jobs: int = 1, scheduler=None, progress: bool = False) -> list[dict]:
-    """Run every case (see :func:`uniform2d.report.cases.run_case`).
+    """Every case's result, in the order of ``cases`` (see :func:`iter_cases`)."""
+    return list(iter_cases(cases, jobs=jobs, scheduler=scheduler, progress=progress))
+
+
+def iter_cases(cases, *, jobs: int = 1, scheduler=None, progress: bool = False):
+    """Run every case (see :func:`uniform2d.report.cases.run_case`), yielding each
+    result as soon as it and those before it are in.
 
     Parameters
     ----------
@@ -38,15 +44,14 @@ def run_cases(cases, *, jobs: int = 1, scheduler=None, progress: bool = False) -
     progress : bool
         Show a tqdm bar over cases on stderr.
 
-    Returns
-    -------
-    list of dict
+    Yields
+    ------
+    dict
         Results, in the order of ``cases``.
     """
     check_jobs(jobs, scheduler)
     todo = [c for c in cases if c["status"] != "not installed"]
     log.info("%d cases to run (%d not installed)", len(todo), len(cases) - len(todo))
     with _bar(len(cases), progress) as bar:
-        return list(
-            ordered_map(run_case, cases, jobs=jobs, scheduler=scheduler, initializer=warm_up, bar=bar)
-        )
+        yield from ordered_map(run_case, cases, jobs=jobs, scheduler=scheduler,
+                               initializer=warm_up, bar=bar)
