@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from uniform2d import Polygon, TooManyPointsError, Uniform2dError, uniform_mesh
+from test_cli_batch import files, one_error, run
 from uniform2d.cli.main import main
 from uniform2d.optimize.pipeline import PHASES
 
@@ -23,23 +24,6 @@ SQUARE = DATA / "benchmarks" / "square.json"
 PANEL = DATA / "truss_panel.json"
 BRACKET = DATA / "l_bracket.json"
 UNIT = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def one_error(code, err) -> str:
-    lines = err.strip().splitlines()
-    assert code == 2 and len(lines) == 1, err
-    assert lines[0].startswith("uniform2d: error: ") and "Traceback" not in err
-    return lines[0]
-
-
-def files(directory: Path) -> list[str]:
-    return sorted(str(p.relative_to(directory)) for p in directory.rglob("*"))
 
 
 # -- huge n --------------------------------------------------------------------------

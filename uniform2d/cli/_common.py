@@ -84,18 +84,9 @@ def shows_progress(quiet: bool) -> bool:
     return not quiet and sys.stderr.isatty()
 
 
-def progress(iterable, *, total: int, quiet: bool, desc: str):
-    """A tqdm bar on stderr when there is more than one item, stderr is a TTY and not --quiet."""
-    if total < 2 or not shows_progress(quiet):
-        return iterable
-    from tqdm import tqdm
-
-    return tqdm(iterable, total=total, desc=desc, unit="file", file=sys.stderr)
-
-
 def file_bar(total: int, quiet: bool, desc: str):
-    """A tqdm bar over a batch's files (updated as each finishes), disabled as
-    :func:`progress` would be."""
+    """A tqdm bar over a batch's files (updated as each finishes), on stderr when
+    there is more than one file, stderr is a terminal and not --quiet."""
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit="file", file=sys.stderr,
@@ -167,6 +158,26 @@ def map_inputs(work: Callable, items: Iterable, *, jobs: int = 1, scheduler=None
 
     return ordered_map(functools.partial(attempt, work), items, jobs=jobs, scheduler=scheduler,
                        bar=bar)
+
+
+def collect(outcomes: Iterable[Outcome], several: bool, show: Callable,
+            document: Callable) -> tuple[int, list]:
+    """Go through a batch's outcomes in input order: a failure is one line (the
+    only input's error is raised as it is), a success is ``show(value)``.
+    Returns (the number of failures, one ``document(value)`` or
+    ``{"input": ..., "error": ...}`` per input, for --json)."""
+    documents, failed = [], 0
+    for outcome in outcomes:
+        src = outcome.item[0]
+        if outcome.error is not None:
+            if not several:
+                raise outcome.error
+            failed += 1
+            documents.append({"input": str(src), "error": report_failure(src, outcome.error)})
+            continue
+        documents.append(document(outcome.value))
+        show(outcome.value)
+    return failed, documents
 
 
 def report_failure(name, exc: BaseException) -> str:

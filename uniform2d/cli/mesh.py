@@ -34,6 +34,7 @@ from ._common import (
     announce_compile,
     batch_status,
     check_parallel_options,
+    collect,
     check_output_dir,
     check_output_file,
     map_inputs,
@@ -42,7 +43,6 @@ from ._common import (
     positive_int,
     print_json,
     file_bar,
-    report_failure,
     shows_progress,
 )
 
@@ -292,32 +292,18 @@ def run(args) -> int:
     several = len(plan) > 1
     # one input runs here, where its phases can be shown as they pass
     args.phase_bar = not several and shows_progress(args.quiet)
-    if args.jobs == 1 and args.scheduler is None:
+    if args.scheduler is None:  # here, or in local workers sharing this cache
         announce_compile(args.quiet)
     with file_bar(len(plan), args.quiet, "meshing") as bar:
         outcomes = map_inputs(functools.partial(_process, args), plan, jobs=args.jobs,
                               scheduler=args.scheduler, bar=bar)
-        failed, documents = _collect(args, outcomes, several, bar)
+        failed, documents = collect(
+            outcomes, several, lambda doc: _show(args, doc, several, bar),
+            lambda doc: {k: v for k, v in doc.items() if k != "summary"},
+        )
     if args.json:
         print_json(documents[0] if not several else documents)
     return batch_status(failed, len(plan))
-
-
-def _collect(args, outcomes, several: bool, bar) -> tuple[int, list]:
-    """Show each outcome in input order; (failures, the documents for --json)."""
-    documents, failed = [], 0
-    for outcome in outcomes:
-        src = outcome.item[0]
-        if outcome.error is not None:
-            if not several:
-                raise outcome.error
-            failed += 1
-            documents.append({"input": str(src), "error": report_failure(src, outcome.error)})
-            continue
-        doc = outcome.value
-        documents.append({k: v for k, v in doc.items() if k != "summary"})
-        _show(args, doc, several, bar)
-    return failed, documents
 
 
 def _print_tplus(info) -> None:

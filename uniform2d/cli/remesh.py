@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import functools
 import logging
-import os
 import sys
 from pathlib import Path
 
@@ -24,13 +23,13 @@ from ._common import (
     check_output_dir,
     check_output_file,
     check_parallel_options,
+    collect,
     file_bar,
     map_inputs,
     names_directory,
     positive_float,
     positive_int,
     print_json,
-    report_failure,
 )
 
 log = logging.getLogger(__name__)
@@ -132,7 +131,12 @@ def _process(args, job) -> dict:
             "report": result.report.as_dict(), "summary": result.report.summary()}
 
 
-def _show(args, doc: dict, several: bool) -> None:
+def _show(args, doc: dict, several: bool, bar) -> None:
+    with bar.external_write_mode(file=sys.stdout):  # lines above the bar, not through it
+        _print(args, doc, several)
+
+
+def _print(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
             print(f"== {doc['input']} -> {doc['output']}")
@@ -154,20 +158,13 @@ def run(args) -> int:
         raise FileNotFoundError(2, "input file not found", str(src))
     if args.scheduler is None:
         announce_compile(args.quiet)
-    documents, failed = [], 0
     with file_bar(len(plan), args.quiet, "remeshing") as bar:
-        for outcome in map_inputs(functools.partial(_process, args), plan, jobs=args.jobs,
-                                  scheduler=args.scheduler, bar=bar):
-            src = outcome.item[0]
-            if outcome.error is not None:
-                if not several:
-                    raise outcome.error
-                failed += 1
-                documents.append({"input": str(src), "error": report_failure(src, outcome.error)})
-                continue
-            documents.append({k: outcome.value[k] for k in ("input", "output", "report")})
-            with bar.external_write_mode(file=sys.stdout):
-                _show(args, outcome.value, several)
+        outcomes = map_inputs(functools.partial(_process, args), plan, jobs=args.jobs,
+                              scheduler=args.scheduler, bar=bar)
+        failed, documents = collect(
+            outcomes, several, lambda doc: _show(args, doc, several, bar),
+            lambda doc: {k: doc[k] for k in ("input", "output", "report")},
+        )
     if args.json:
         print_json(documents[0] if not several else documents)
     return batch_status(failed, len(plan))

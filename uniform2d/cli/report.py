@@ -9,7 +9,13 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ._common import add_parallel_options, check_output_dir, check_parallel_options, positive_int
+from ._common import (
+    add_parallel_options,
+    announce_compile,
+    check_output_dir,
+    check_parallel_options,
+    positive_int,
+)
 
 DEFAULT_N = (200,)
 
@@ -46,6 +52,8 @@ def run(args) -> int:
 
     check_parallel_options(args)
     check_output_dir(Path(args.output), "-o")
+    if args.scheduler is None:
+        announce_compile(args.quiet)
     results = make_report(
         args.inputs,
         args.output,
