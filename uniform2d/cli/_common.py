@@ -180,6 +180,33 @@ def collect(outcomes: Iterable[Outcome], several: bool, show: Callable,
     return failed, documents
 
 
+def run_batch(args, process: Callable, plan: list, desc: str, show: Callable,
+              document: Callable) -> int:
+    """The batch loop of a command over ``plan`` (one tuple per input, its input
+    path first); returns the exit code.
+
+    ``process(args, job)`` (module-level: it may run in another process) does one
+    input and returns a dict; ``show(args, doc, several)`` prints it, above the
+    bar over files; ``document(doc)`` is what --json lists for it.  Runs in
+    ``args.jobs`` local processes or on the Dask cluster ``args.scheduler``.
+    """
+    several = len(plan) > 1
+    if args.scheduler is None:  # here, or in local workers sharing this cache
+        announce_compile(args.quiet)
+    with file_bar(len(plan), args.quiet, desc) as bar:
+
+        def shown(doc):
+            with bar.external_write_mode(file=sys.stdout):  # above the bar, not through it
+                show(args, doc, several)
+
+        outcomes = map_inputs(functools.partial(process, args), plan, jobs=args.jobs,
+                              scheduler=args.scheduler, bar=bar)
+        failed, documents = collect(outcomes, several, shown, document)
+    if args.json:
+        print_json(documents[0] if not several else documents)
+    return batch_status(failed, len(plan))
+
+
 def report_failure(name, exc: BaseException) -> str:
     """Print one ``uniform2d: error: <name>: ...`` line for a failed input; return the message."""
     from .main import PROG, error_message

@@ -22,7 +22,6 @@ and exit code 2.  ``--json`` then lists ``{"input": ..., "error": ...}`` for it.
 
 from __future__ import annotations
 
-import functools
 import logging
 import os
 import sys
@@ -31,18 +30,13 @@ from pathlib import Path
 from ._common import (
     PhaseBar,
     add_parallel_options,
-    announce_compile,
-    batch_status,
-    check_parallel_options,
-    collect,
     check_output_dir,
     check_output_file,
-    map_inputs,
+    check_parallel_options,
     names_directory,
     positive_float,
     positive_int,
-    print_json,
-    file_bar,
+    run_batch,
     shows_progress,
 )
 
@@ -268,12 +262,7 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     }
 
 
-def _show(args, doc: dict, several: bool, bar) -> None:
-    with bar.external_write_mode(file=sys.stdout):  # lines above the bar, not through it
-        _print(args, doc, several)
-
-
-def _print(args, doc: dict, several: bool) -> None:
+def _show(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
             print(f"== {doc['input']} -> {doc['output']}")
@@ -289,21 +278,10 @@ def _print(args, doc: dict, several: bool) -> None:
 def run(args) -> int:
     check_parallel_options(args)
     plan = _plan(args)
-    several = len(plan) > 1
     # one input runs here, where its phases can be shown as they pass
-    args.phase_bar = not several and shows_progress(args.quiet)
-    if args.scheduler is None:  # here, or in local workers sharing this cache
-        announce_compile(args.quiet)
-    with file_bar(len(plan), args.quiet, "meshing") as bar:
-        outcomes = map_inputs(functools.partial(_process, args), plan, jobs=args.jobs,
-                              scheduler=args.scheduler, bar=bar)
-        failed, documents = collect(
-            outcomes, several, lambda doc: _show(args, doc, several, bar),
-            lambda doc: {k: v for k, v in doc.items() if k != "summary"},
-        )
-    if args.json:
-        print_json(documents[0] if not several else documents)
-    return batch_status(failed, len(plan))
+    args.phase_bar = len(plan) == 1 and shows_progress(args.quiet)
+    return run_batch(args, _process, plan, "meshing", _show,
+                     lambda doc: {k: v for k, v in doc.items() if k != "summary"})
 
 
 def _print_tplus(info) -> None:

@@ -11,25 +11,19 @@ others go on (exit code 2 at the end), as with ``uniform2d mesh``.
 
 from __future__ import annotations
 
-import functools
 import logging
 import sys
 from pathlib import Path
 
 from ._common import (
     add_parallel_options,
-    announce_compile,
-    batch_status,
     check_output_dir,
     check_output_file,
     check_parallel_options,
-    collect,
-    file_bar,
-    map_inputs,
     names_directory,
     positive_float,
     positive_int,
-    print_json,
+    run_batch,
 )
 
 log = logging.getLogger(__name__)
@@ -131,12 +125,7 @@ def _process(args, job) -> dict:
             "report": result.report.as_dict(), "summary": result.report.summary()}
 
 
-def _show(args, doc: dict, several: bool, bar) -> None:
-    with bar.external_write_mode(file=sys.stdout):  # lines above the bar, not through it
-        _print(args, doc, several)
-
-
-def _print(args, doc: dict, several: bool) -> None:
+def _show(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
             print(f"== {doc['input']} -> {doc['output']}")
@@ -152,19 +141,7 @@ def run(args) -> int:
 
     check_parallel_options(args)
     plan = _plan(args, patch_layer())
-    several = len(plan) > 1
-    if not several and not plan[0][0].exists():
-        src = plan[0][0]
-        raise FileNotFoundError(2, "input file not found", str(src))
-    if args.scheduler is None:
-        announce_compile(args.quiet)
-    with file_bar(len(plan), args.quiet, "remeshing") as bar:
-        outcomes = map_inputs(functools.partial(_process, args), plan, jobs=args.jobs,
-                              scheduler=args.scheduler, bar=bar)
-        failed, documents = collect(
-            outcomes, several, lambda doc: _show(args, doc, several, bar),
-            lambda doc: {k: doc[k] for k in ("input", "output", "report")},
-        )
-    if args.json:
-        print_json(documents[0] if not several else documents)
-    return batch_status(failed, len(plan))
+    if len(plan) == 1 and not plan[0][0].exists():
+        raise FileNotFoundError(2, "input file not found", str(plan[0][0]))
+    return run_batch(args, _process, plan, "remeshing", _show,
+                     lambda doc: {k: doc[k] for k in ("input", "output", "report")})
