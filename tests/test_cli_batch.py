@@ -114,10 +114,10 @@ def test_batch_memory_error_fails_one_input_only(capsys, tmp_path, monkeypatch):
 
     real = cli_mesh._mesh_one
 
-    def mesh_one(polygon, args):
+    def mesh_one(polygon, args, *rest):
         if len(polygon.vertices) == 4:
             raise MemoryError("Unable to allocate 44.7 GiB")
-        return real(polygon, args)
+        return real(polygon, args, *rest)
 
     monkeypatch.setattr(cli_mesh, "_mesh_one", mesh_one)
     code, out, err = run(capsys, "mesh", SQUARE, PANEL, "-n", 30, "-o", tmp_path / "m")

@@ -20,6 +20,7 @@ from .errors import (
     InternalError,
     InvalidPolygonError,
     InvalidSitesError,
+    TooManyPointsError,
     Uniform2dError,
     UnsupportedFormatError,
 )
@@ -56,6 +57,7 @@ __all__ = [
     "mesh_formats",
     "Uniform2dError",
     "InvalidPolygonError",
+    "TooManyPointsError",
     "InsufficientPointsError",
     "InvalidSitesError",
     "UnsupportedFormatError",

@@ -22,6 +22,7 @@ __all__ = [
     "ArgumentTypeError",
     "InternalError",
     "CoordinatePrecisionError",
+    "TooManyPointsError",
 ]
 
 
@@ -68,3 +69,8 @@ class InternalError(RuntimeError):
     Not a :class:`Uniform2dError`: the input is fine, the library is wrong.  The
     mesh is not returned; the message asks for the polygon and n to be reported.
     """
+
+
+class TooManyPointsError(InvalidArgumentError, MemoryError):
+    """More points were asked for than this machine's memory can hold (also a
+    ``MemoryError``); refused before any work starts."""

@@ -9,6 +9,7 @@ from .errors import InsufficientPointsError, InvalidArgumentError
 from .geometry import vertex_count
 from .mesh import Mesh
 from .polygon import Polygon
+from .resources import check_point_count
 
 __all__ = ["uniform_mesh", "steiner_count_for_size"]
 
@@ -37,6 +38,7 @@ def uniform_mesh(
     *,
     size: float | None = None,
     objective: str = "balanced",
+    progress=None,
 ) -> Mesh:
     """The most uniform mesh uniform2d makes, with exactly ``n`` Steiner points.
 
@@ -47,7 +49,14 @@ def uniform_mesh(
     ``"max_perimeter"`` or ``"balanced"`` (all three), and is never worse on it than
     the paper's T+ (:func:`uniform2d.tplus`), which it falls back to otherwise.
     Any n >= 1 works, also one too small for T+ (there is then nothing to compare
-    with, and ``mesh.info["start"]`` is None).
+    with, and ``mesh.info["start"]`` is None).  An n whose mesh cannot fit in this
+    machine's memory is refused at once
+    (:class:`~uniform2d.errors.TooManyPointsError`, also a ``MemoryError``).
+
+    ``progress``, if given, is a callable ``progress(phase, done, total)`` told
+    how the run advances through its phases (``"T+"``: INSERT and T+ to compare
+    with; ``"seed"``: the starts tried; ``"relaxation"``; ``"relocation"``), for a
+    progress bar; the library itself never prints, it logs the phases (INFO).
 
     Examples
     --------
@@ -60,16 +69,20 @@ def uniform_mesh(
         polygon = Polygon(polygon)
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
+    what = f"n = {n}"
     if n is None:
         n = steiner_count_for_size(polygon, size)
+        what = f"size {size!r} (n = {n})"
         if n < 1:
             raise InsufficientPointsError(
                 f"size {size!r} is larger than the polygon needs: it asks for no Steiner "
                 "points; use a smaller size"
             )
-    from .triangulation import ensure_valid
+    if isinstance(n, numbers.Integral) and not isinstance(n, bool):
+        check_point_count(n + len(polygon.vertices), what)
     from .optimize import optimize_mesh
+    from .triangulation import ensure_valid
 
-    mesh = optimize_mesh(polygon, n, objective=objective)
+    mesh = optimize_mesh(polygon, n, objective=objective, progress=progress)
     ensure_valid(mesh.points, mesh.triangles, polygon, n, "uniform_mesh")
     return mesh

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import logging
 import math
@@ -38,18 +39,83 @@ def positive_float(text: str) -> float:
     return value
 
 
+def announce_compile(quiet: bool = False) -> bool:
+    """Say once on stderr that the kernels are being compiled, if they are about
+    to be (a cold numba cache) and not --quiet; return whether it was said."""
+    from ..compile_cache import COMPILE_NOTICE, kernels_cold
+    from .main import PROG
+
+    if quiet or not kernels_cold():
+        return False
+    print(f"{PROG}: {COMPILE_NOTICE}", file=sys.stderr, flush=True)
+    return True
+
+
+def add_parallel_options(parser, what: str) -> None:
+    """``--jobs K`` and ``--scheduler ADDRESS`` (one or the other) for a command
+    running many independent ``what``; they arrive as ``args.jobs``, ``args.scheduler``."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--jobs", "-j", type=positive_int, default=1, metavar="K",
+                       help=f"run {what} in K local processes (default 1)")
+    group.add_argument("--scheduler", metavar="ADDRESS",
+                       help=f"run {what} on an existing Dask cluster, e.g. tcp://host:8786 "
+                       "(needs the 'dask' extra)")
+
+
+def check_parallel_options(args) -> None:
+    """Refuse a --jobs below 1 and a --scheduler without Dask, before any work."""
+    from .._parallel import check_jobs
+
+    if args.jobs < 1:
+        raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
+    try:
+        check_jobs(args.jobs, args.scheduler)
+    except ImportError:
+        raise ImportError("--scheduler needs the 'dask' extra: pip install 'uniform2d[dask]'") from None
+
+
 def print_json(obj) -> None:
     json.dump(jsonable(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
 
 
-def progress(iterable, *, total: int, quiet: bool, desc: str):
-    """A tqdm bar on stderr when there is more than one item, stderr is a TTY and not --quiet."""
-    if total < 2 or quiet or not sys.stderr.isatty():
-        return iterable
+def shows_progress(quiet: bool) -> bool:
+    """Whether progress bars go to stderr: it is a terminal and not --quiet."""
+    return not quiet and sys.stderr.isatty()
+
+
+def file_bar(total: int, quiet: bool, desc: str):
+    """A tqdm bar over a batch's files (updated as each finishes), on stderr when
+    there is more than one file, stderr is a terminal and not --quiet."""
     from tqdm import tqdm
 
-    return tqdm(iterable, total=total, desc=desc, unit="file", file=sys.stderr)
+    return tqdm(total=total, desc=desc, unit="file", file=sys.stderr,
+                disable=total < 2 or not shows_progress(quiet))
+
+
+class PhaseBar:
+    """``progress(phase, done, total)`` for :func:`uniform2d.uniform_mesh`: a tqdm
+    bar over the phases of one run, shown only once the run has taken ``delay``
+    seconds (short runs stay silent).  The bar moves by one per phase, by a
+    fraction within a phase that has several steps."""
+
+    def __init__(self, phases, desc: str, *, delay: float = 2.0, file=None):
+        from tqdm import tqdm
+
+        self.phases, self.desc = list(phases), desc
+        self.bar = tqdm(total=len(self.phases), desc=desc, unit="phase", delay=delay,
+                        miniters=0, mininterval=0, leave=False,
+                        file=file if file is not None else sys.stderr,
+                        bar_format="{desc} {percentage:3.0f}%|{bar}| [{elapsed}]")
+
+    def __call__(self, phase: str, done: int, total: int) -> None:
+        at = self.phases.index(phase) if phase in self.phases else len(self.phases) - 1
+        step = f"{phase} {done}/{total}" if total > 1 else phase
+        self.bar.set_description_str(f"{self.desc}: {step}", refresh=False)
+        self.bar.update(at + done / max(total, 1) - self.bar.n)
+
+    def close(self) -> None:
+        self.bar.close()
 
 
 
@@ -77,14 +143,68 @@ def attempt(work: Callable, item) -> Outcome:
         return Outcome(item, error=exc)
 
 
-def map_inputs(work: Callable, items: Iterable) -> Iterator[Outcome]:
-    """One :class:`Outcome` per item, in order, each as soon as it is known.
+def map_inputs(work: Callable, items: Iterable, *, jobs: int = 1, scheduler=None,
+               bar=None) -> Iterator[Outcome]:
+    """One :class:`Outcome` per item, in order, each as soon as it and those
+    before it are known.
 
     The one loop over a batch's inputs: a failed input never stops the others.
-    ``work`` gets one item and returns a plain value (no printing), so that a
-    parallel map can take this one's place.
+    ``work`` gets one item and returns a plain value (no printing).  With
+    ``jobs`` > 1 the items run in that many local processes, with ``scheduler``
+    on a Dask cluster (:func:`uniform2d._parallel.ordered_map`); ``work`` must
+    then be picklable (a module-level function, or a ``functools.partial`` of one).
     """
-    return (attempt(work, item) for item in items)
+    from .._parallel import ordered_map
+
+    return ordered_map(functools.partial(attempt, work), items, jobs=jobs, scheduler=scheduler,
+                       bar=bar)
+
+
+def collect(outcomes: Iterable[Outcome], several: bool, show: Callable,
+            document: Callable) -> tuple[int, list]:
+    """Go through a batch's outcomes in input order: a failure is one line (the
+    only input's error is raised as it is), a success is ``show(value)``.
+    Returns (the number of failures, one ``document(value)`` or
+    ``{"input": ..., "error": ...}`` per input, for --json)."""
+    documents, failed = [], 0
+    for outcome in outcomes:
+        src = outcome.item[0]
+        if outcome.error is not None:
+            if not several:
+                raise outcome.error
+            failed += 1
+            documents.append({"input": str(src), "error": report_failure(src, outcome.error)})
+            continue
+        documents.append(document(outcome.value))
+        show(outcome.value)
+    return failed, documents
+
+
+def run_batch(args, process: Callable, plan: list, desc: str, show: Callable,
+              document: Callable) -> int:
+    """The batch loop of a command over ``plan`` (one tuple per input, its input
+    path first); returns the exit code.
+
+    ``process(args, job)`` (module-level: it may run in another process) does one
+    input and returns a dict; ``show(args, doc, several)`` prints it, above the
+    bar over files; ``document(doc)`` is what --json lists for it.  Runs in
+    ``args.jobs`` local processes or on the Dask cluster ``args.scheduler``.
+    """
+    several = len(plan) > 1
+    if args.scheduler is None:  # here, or in local workers sharing this cache
+        announce_compile(args.quiet)
+    with file_bar(len(plan), args.quiet, desc) as bar:
+
+        def shown(doc):
+            with bar.external_write_mode(file=sys.stdout):  # above the bar, not through it
+                show(args, doc, several)
+
+        outcomes = map_inputs(functools.partial(process, args), plan, jobs=args.jobs,
+                              scheduler=args.scheduler, bar=bar)
+        failed, documents = collect(outcomes, several, shown, document)
+    if args.json:
+        print_json(documents[0] if not several else documents)
+    return batch_status(failed, len(plan))
 
 
 def report_failure(name, exc: BaseException) -> str:

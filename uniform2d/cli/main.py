@@ -135,8 +135,8 @@ def _setup_logging(quiet: bool, verbose: int):
     saved = [(root, root.level)]
     root.addHandler(handler)
     root.setLevel(level)
-    # Third-party chatter (numba, matplotlib, trimesh) only with -vvv.
-    for name in ("numba", "matplotlib", "PIL", "trimesh"):
+    # Third-party chatter (numba, matplotlib, trimesh, Dask) only with -vvv.
+    for name in ("numba", "matplotlib", "PIL", "trimesh", "distributed", "tornado", "asyncio"):
         logger = logging.getLogger(name)
         saved.append((logger, logger.level))
         logger.setLevel(logging.DEBUG if verbose >= 3 else logging.WARNING)

@@ -22,23 +22,22 @@ and exit code 2.  ``--json`` then lists ``{"input": ..., "error": ...}`` for it.
 
 from __future__ import annotations
 
-import functools
 import logging
 import os
 import sys
 from pathlib import Path
 
 from ._common import (
-    batch_status,
+    PhaseBar,
+    add_parallel_options,
     check_output_dir,
     check_output_file,
-    map_inputs,
+    check_parallel_options,
     names_directory,
     positive_float,
     positive_int,
-    print_json,
-    progress,
-    report_failure,
+    run_batch,
+    shows_progress,
 )
 
 log = logging.getLogger(__name__)
@@ -75,6 +74,7 @@ def add_parser(subparsers):
                    help="also write a figure of the mesh (.png, .pdf, .svg); a name ending in '/' "
                    "is a directory receiving <input name>.png (with several inputs --plot must be "
                    "a directory)")
+    add_parallel_options(p, "the inputs")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true",
                       help="print the quality summary and optimality certificates")
@@ -171,21 +171,24 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
     return plan
 
 
-def _mesh_one(polygon, args):
+def _mesh_one(polygon, args, progress=None):
     from ..tplus import tplus
     from ..uniform import steiner_count_for_size, uniform_mesh
     from ..errors import InsufficientPointsError
+    from ..resources import check_point_count
 
     if args.method == "uniform":
-        return uniform_mesh(polygon, n=args.n, size=args.size)
-    n = args.n
+        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
+    n, what = args.n, f"n = {args.n}"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
+        what = f"size {args.size!r} (n = {n})"
         if n < 1:
             raise InsufficientPointsError(
                 f"size {args.size!r} is larger than the polygon needs: it asks for no "
                 "Steiner points; use a smaller size"
             )
+    check_point_count(n + len(polygon.vertices), what)
     return tplus(polygon, n)
 
 
@@ -228,11 +231,17 @@ def _write_both(mesh, dst: Path, fig: Path | None) -> None:
 def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     """Mesh one input and write its files; returns what to show (no printing here)."""
     from ..io import read_polygon
+    from ..optimize.pipeline import PHASES
 
     src, dst, fig = job
     polygon = read_polygon(src)
     log.info("%s: %r", src, polygon)
-    mesh = _mesh_one(polygon, args)
+    bar = PhaseBar(PHASES, src.name) if getattr(args, "phase_bar", False) else None
+    try:
+        mesh = _mesh_one(polygon, args, bar)
+    finally:
+        if bar is not None:
+            bar.close()
     log.info("%s: %r", src, mesh)
     quality = mesh.quality() if (args.stats or args.json) else None
     dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
@@ -267,24 +276,12 @@ def _show(args, doc: dict, several: bool) -> None:
 
 
 def run(args) -> int:
+    check_parallel_options(args)
     plan = _plan(args)
-    several = len(plan) > 1
-    documents, failed = [], 0
-    outcomes = map_inputs(functools.partial(_process, args), plan)
-    for outcome in progress(outcomes, total=len(plan), quiet=args.quiet, desc="meshing"):
-        src = outcome.item[0]
-        if outcome.error is not None:
-            if not several:
-                raise outcome.error
-            failed += 1
-            documents.append({"input": str(src), "error": report_failure(src, outcome.error)})
-            continue
-        doc = outcome.value
-        documents.append({k: v for k, v in doc.items() if k != "summary"})
-        _show(args, doc, several)
-    if args.json:
-        print_json(documents[0] if not several else documents)
-    return batch_status(failed, len(plan))
+    # one input runs here, where its phases can be shown as they pass
+    args.phase_bar = len(plan) == 1 and shows_progress(args.quiet)
+    return run_batch(args, _process, plan, "meshing", _show,
+                     lambda doc: {k: v for k, v in doc.items() if k != "summary"})
 
 
 def _print_tplus(info) -> None:

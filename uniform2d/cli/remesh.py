@@ -1,17 +1,30 @@
-"""``uniform2d remesh``: remesh a disk-like surface patch with near-equal 3-D edges.
+"""``uniform2d remesh``: remesh disk-like surface patches with near-equal 3-D edges.
 
 Wraps the ``remesh`` of the registered surface-patch layer (the ``surface``
 extra: trimesh, libigl, pymeshlab; found through :mod:`uniform2d.plugins`).
 Input: any triangle-mesh format the layer reads; output: one of its
-``WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb).
+``WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb).  One input: ``-o FILE``.
+Several: ``-o DIR`` (created if missing) receives ``<input stem><--format>``
+each, ``--plot`` must then be a directory too; a bad input is one line and the
+others go on (exit code 2 at the end), as with ``uniform2d mesh``.
 """
 
 from __future__ import annotations
 
 import logging
+import sys
 from pathlib import Path
 
-from ._common import check_output_file, positive_float, positive_int, print_json
+from ._common import (
+    add_parallel_options,
+    check_output_dir,
+    check_output_file,
+    check_parallel_options,
+    names_directory,
+    positive_float,
+    positive_int,
+    run_batch,
+)
 
 log = logging.getLogger(__name__)
 
@@ -21,52 +34,114 @@ PARAMS = ("lscm", "arap", "harmonic")
 def add_parser(subparsers):
     p = subparsers.add_parser(
         "remesh",
-        help="remesh a surface patch (needs the 'surface' extra)",
-        description="Remesh a disk-like triangulated surface patch (possibly with holes) "
+        help="remesh surface patches (needs the 'surface' extra)",
+        description="Remesh disk-like triangulated surface patches (possibly with holes) "
         "with exactly N vertices and near-equal 3-D edges: flatten it (libigl), mesh "
         "the flat domain with uniform2d, lift the mesh back.",
     )
-    p.add_argument("input", metavar="INPUT", help="surface mesh file (.obj, .off, .ply, .stl, ...)")
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="surface mesh file(s) (.obj, .off, .ply, .stl, ...)")
     count = p.add_mutually_exclusive_group(required=True)
     count.add_argument("-n", type=positive_int, metavar="N",
                        help="number of vertices of the output")
     count.add_argument("--size", type=positive_float, metavar="H", help="target 3-D edge length")
     p.add_argument("-o", "--output", required=True, metavar="OUTPUT",
-                   help="output mesh file (.obj, .off, .ply, .stl, .glb)")
+                   help="output mesh file (.obj, .off, .ply, .stl, .glb), or with several "
+                   "inputs a directory (created if missing)")
+    p.add_argument("--format", default=".obj", metavar="EXT",
+                   help="extension of outputs named after their input in a directory "
+                   "(default .obj)")
     p.add_argument("--param", choices=PARAMS, default="lscm",
                    help="parameterisation tried first (default lscm)")
-    p.add_argument("--plot", metavar="PNG", help="also write a figure of the 3-D mesh")
+    p.add_argument("--plot", metavar="PNG", help="also write a figure of the 3-D mesh (with "
+                   "several inputs a directory receiving <input stem>.png)")
+    add_parallel_options(p, "the inputs")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true", help="print the remesh report")
     show.add_argument("--json", action="store_true", help="print the report as JSON")
     return p
 
 
-def run(args) -> int:
+def _target(text: str | None, several: bool, option: str) -> tuple[Path | None, bool]:
+    """An output path and whether it names a directory (one input: a file unless
+    it ends in '/' or is a directory; several: always a directory)."""
+    if text is None:
+        return None, False
+    path = Path(text)
+    if several or names_directory(text):
+        if several and path.is_file():
+            raise ValueError(f"with several inputs, {option} must be a directory, got '{path}'")
+        check_output_dir(path, option)
+        return path, True
+    return path, False
+
+
+def _plan(args, layer) -> list[tuple[Path, Path, Path | None]]:
+    """(input, output, figure) per input, every check that needs no remeshing done."""
+    from ..plot import check_figure_path
+
+    inputs = [Path(s) for s in args.inputs]
+    several = len(inputs) > 1
+    ext = args.format if args.format.startswith(".") else "." + args.format
+    named_file = Path(args.output).suffix.lstrip(".").lower() in layer.WRITE_FORMATS
+    if several and named_file and not names_directory(args.output):
+        raise ValueError(f"with several inputs, -o must be a directory, got '{args.output}'")
+    out, out_dir = _target(args.output, several, "-o")
+    plot, plot_dir = _target(args.plot, several, "--plot")
+    plan = []
+    for src in inputs:
+        dst = out / (src.stem + ext) if out_dir else out
+        fig = (plot / (src.stem + ".png") if plot_dir else plot) if plot is not None else None
+        layer.check_output(dst)
+        if not out_dir:
+            check_output_file(dst, "-o")
+        if fig is not None and not plot_dir:
+            check_figure_path(fig)
+            check_output_file(fig, "--plot")
+        plan.append((src, dst, fig))
+    if len({d.resolve() for _, d, _ in plan}) != len(plan):
+        raise ValueError("two inputs have the same name: their outputs would overwrite each other")
+    return plan
+
+
+def _process(args, job) -> dict:
+    """Remesh one input and write its files; returns what to show (no printing here)."""
     from ..plugins import patch_layer
 
-    src, dst = Path(args.input), Path(args.output)
+    src, dst, fig = job
     layer = patch_layer()
-    layer.check_output(dst)
-    check_output_file(dst, "-o")
-    if args.plot:
-        from ..plot import check_figure_path
-
-        check_figure_path(args.plot)
-        check_output_file(Path(args.plot), "--plot")
     if not src.exists():
         raise FileNotFoundError(2, "input file not found", str(src))
     patch = layer.read_patch(src)
     log.info("%s: %r", src, patch)
     result = layer.remesh(patch, n_vertices=args.n, size=args.size, param=args.param)
+    dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
     result.write(dst)
-    if args.plot:
-        layer.plot_result(result, args.plot)
-    if args.json:
-        print_json({"input": str(src), "output": str(dst), "report": result.report.as_dict()})
-    elif args.stats:
-        print(result.report.summary())
-    elif not args.quiet:
-        print(f"wrote {dst} ({len(result.vertices)} vertices, {len(result.faces)} faces)"
-              + (f", figure {args.plot}" if args.plot else ""))
-    return 0
+    if fig is not None:
+        fig.parent.mkdir(parents=True, exist_ok=True)
+        layer.plot_result(result, fig)
+    return {"input": str(src), "output": str(dst), "plot": str(fig) if fig else None,
+            "n_vertices": len(result.vertices), "n_faces": len(result.faces),
+            "report": result.report.as_dict(), "summary": result.report.summary()}
+
+
+def _show(args, doc: dict, several: bool) -> None:
+    if args.stats:
+        if several:
+            print(f"== {doc['input']} -> {doc['output']}")
+        print(doc["summary"])
+    elif not args.quiet and not args.json:
+        print(f"wrote {doc['output']} ({doc['n_vertices']} vertices, {doc['n_faces']} faces)"
+              + (f", figure {doc['plot']}" if doc["plot"] else ""))
+    sys.stdout.flush()
+
+
+def run(args) -> int:
+    from ..plugins import patch_layer
+
+    check_parallel_options(args)
+    plan = _plan(args, patch_layer())
+    if len(plan) == 1 and not plan[0][0].exists():
+        raise FileNotFoundError(2, "input file not found", str(plan[0][0]))
+    return run_batch(args, _process, plan, "remeshing", _show,
+                     lambda doc: {k: doc[k] for k in ("input", "output", "report")})

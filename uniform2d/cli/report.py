@@ -9,7 +9,13 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ._common import check_output_dir, positive_int
+from ._common import (
+    add_parallel_options,
+    announce_compile,
+    check_output_dir,
+    check_parallel_options,
+    positive_int,
+)
 
 DEFAULT_N = (200,)
 
@@ -36,11 +42,7 @@ def add_parser(subparsers):
     p.add_argument("--peers", type=_peer_list, metavar="LIST",
                    help="comma-separated peers (default: gmsh,triangle,cvt,meshlab)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory")
-    run = p.add_mutually_exclusive_group()
-    run.add_argument("--jobs", "-j", type=positive_int, default=1, metavar="K",
-                     help="run cases in K local processes (default 1)")
-    run.add_argument("--scheduler", metavar="ADDRESS",
-                     help="run cases on an existing Dask cluster (needs the 'dask' extra)")
+    add_parallel_options(p, "cases")
     p.add_argument("--no-figures", action="store_true", help="leave the pictures out of index.html")
     return p
 
@@ -48,9 +50,10 @@ def add_parser(subparsers):
 def run(args) -> int:
     from ..report import make_report
 
-    if args.jobs < 1:
-        raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
+    check_parallel_options(args)
     check_output_dir(Path(args.output), "-o")
+    if args.scheduler is None:
+        announce_compile(args.quiet)
     results = make_report(
         args.inputs,
         args.output,

@@ -58,19 +58,39 @@ def _trial_value(polygon: Polygon, sites, edges, frozen, objective: str, h: floa
     return pts[nV:], info["edges"], val
 
 
-def _best_start(polygon: Polygon, n: int, h: float, objective: str, options):
+def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, report):
     """Every start of :func:`~uniform2d.optimize.seed.variants`, ranked by a short run
     when there are several: (sites, edges, frozen, boundary points, variant) of the best."""
     tried = variants(polygon, n)
     best = None
-    for variant in tried:
+    for i, variant in enumerate(tried):
+        report("seed", i, len(tried))
         sites, edges, frozen, k = _start(polygon, n, h, variant)
         val = 0.0
         if len(tried) > 1:
             sites, edges, val = _trial_value(polygon, sites, edges, frozen, objective, h, options)
         if best is None or val < best[0]:
             best = (val, sites, edges, frozen, k, variant)
+    report("seed", len(tried), len(tried))
     return best[1:]
+
+
+#: The phases :func:`optimize_mesh` reports, in order (relocation only for
+#: meshes of up to ``schedule.RELOCATE_MAX`` points).
+PHASES = ("T+", "seed", "relaxation", "relocation")
+
+
+def _reporter(progress):
+    """``report(phase, done, total)``: logs each phase as it starts and passes
+    every step on to the caller's ``progress`` callable, if any."""
+
+    def report(phase: str, done: int, total: int) -> None:
+        if done == 0:
+            log.info("uniform: %s (%d step%s)", phase, total, "" if total == 1 else "s")
+        if progress is not None:
+            progress(phase, done, total)
+
+    return report
 
 
 def _reference(polygon: Polygon, n: int, start):
@@ -105,6 +125,7 @@ def optimize_mesh(
     *,
     objective: str = "balanced",
     start: Mesh | None = None,
+    progress=None,
     **options,
 ) -> Mesh:
     """The most uniform mesh with exactly ``n`` Steiner points (see :mod:`uniform2d.optimize`).
@@ -115,6 +136,11 @@ def optimize_mesh(
     :class:`~uniform2d.errors.InsufficientPointsError`), there is nothing to
     compare with: the optimised mesh is returned with ``info["start"]`` None, and
     d_n for its certificates comes from :func:`uniform2d.insert`.
+
+    ``progress``, if given, is called as ``progress(phase, done, total)`` when each
+    phase of :data:`PHASES` starts (``done`` 0) and as it advances (``done`` up to
+    ``total``); it must not raise, except to stop the run (e.g. a
+    ``KeyboardInterrupt``).  The phases are logged at INFO level either way.
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
@@ -123,16 +149,25 @@ def optimize_mesh(
     objective_code(objective)
     n = int(n)
     nV = len(polygon.vertices)
+    report = _reporter(progress)
+    report("T+", 0, 1)
     tp, q_tp, d_n = _reference(polygon, n, start)
+    report("T+", 1, 1)
 
     h = target_size(polygon, n)
-    sites, edges, frozen, k, (spacing, edge, layered) = _best_start(polygon, n, h, objective, options)
+    sites, edges, frozen, k, (spacing, edge, layered) = _best_start(
+        polygon, n, h, objective, options, report
+    )
+    report("relaxation", 0, 1)
     pts, tri, run = improve(
         polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **options
     )
+    report("relaxation", 1, 1)
     moved = 0
     if n + nV <= S.RELOCATE_MAX:
+        report("relocation", 0, 1)
         pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options, run["edges"])
+        report("relocation", 1, 1)
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf

@@ -11,8 +11,8 @@ import numpy as np
 from .._jsonable import jsonable
 from ..errors import InvalidArgumentError
 from .cases import load_inputs, plan
-from .render import groups, mesh_figure, render_html, render_markdown
-from .runners import run_cases
+from .render import mesh_figure, render_html, render_markdown
+from .runners import iter_cases
 
 log = logging.getLogger(__name__)
 
@@ -60,6 +60,16 @@ def write_obj(path, vertices, faces) -> None:
     lines += [f"v {x!r} {y!r} {z!r}" for x, y, z in np.asarray(vertices, dtype=np.float64).tolist()]
     lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in np.asarray(faces, dtype=np.int64).tolist()]
     Path(path).write_text("\n".join(lines) + "\n")
+
+
+def _draw(group, pngs: dict) -> None:
+    """The figure of one input at one n: ``group`` is its [(case, points, triangles)]."""
+    first = group[0][0]
+    items = [(c["method"], pts, tri) for c, pts, tri in group if pts is not None]
+    if items:
+        pngs[(first["input"], first["n"])] = mesh_figure(
+            first["kind"], items, title=f"{first['input']}, n = {first['n']}"
+        )
 
 
 def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, scheduler=None,
@@ -121,18 +131,26 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
             log.warning("peer %s is not installed (needs %s)", p["name"], ", ".join(p["requires"]))
     inputs = load_inputs(paths)
     cases = plan(inputs, ns, names, availability={p["name"]: p["available"] for p in info})
-    results_list = run_cases(cases, jobs=jobs, scheduler=scheduler, progress=progress)
-
     out_dir = Path(out_dir)
     (out_dir / "meshes").mkdir(parents=True, exist_ok=True)
-    meshes = {}
-    for r in results_list:
+    # Each result is written, and each figure drawn, as soon as its cases are in:
+    # with workers, this process draws while they mesh.
+    results_list, pngs = [], {}
+    group: list = []
+    for r in iter_cases(cases, jobs=jobs, scheduler=scheduler, progress=progress):
         if r["status"] == "ok":
             pts, tri = r.pop("points"), r.pop("triangles")
             r["mesh"] = _write_mesh(out_dir, r, pts, tri)
-            meshes[r["id"]] = (pts, tri)
         else:
-            r["mesh"] = None
+            pts = tri = r["mesh"] = None
+        results_list.append(r)
+        if figures:
+            if group and (group[0][0]["input"], group[0][0]["n"]) != (r["input"], r["n"]):
+                _draw(group, pngs)
+                group = []
+            group.append((r, pts, tri))
+    if group:
+        _draw(group, pngs)
     results = jsonable({
         "format": RESULTS_FORMAT,
         "uniform2d_version": __version__,
@@ -142,12 +160,6 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         "cases": results_list,
     })
     (out_dir / "results.json").write_text(json.dumps(results, indent=1, allow_nan=False) + "\n")
-    pngs = {}
-    if figures:
-        for inp, n, cs in groups(results):
-            items = [(c["method"], *meshes[c["id"]]) for c in cs if c["id"] in meshes]
-            if items:
-                pngs[(inp["name"], n)] = mesh_figure(inp["kind"], items, title=f"{inp['name']}, n = {n}")
     (out_dir / "index.html").write_text(render_html(results, pngs), encoding="utf-8")
     (out_dir / "report.md").write_text(render_markdown(results), encoding="utf-8")
     log.info("report written to %s (%d cases)", out_dir, len(results_list))
