@@ -55,20 +55,27 @@ def insert_point(m, x, y, t0, hs):
     rewritten triangles, whose slots are ``cav[:k]``; on failure a negative status
     and the triangulation is unchanged.
 
-    First the Bowyer-Watson cavity (module docstring).  If a rounded point makes
-    it not star-shaped (an edge of its boundary not strictly visible from the
-    point), the point is inserted into t0 alone instead -- with the neighbour
+    First the Bowyer-Watson cavity (module docstring).  Its seed t0 joins the
+    cavity even when a point rounded across hs is just outside t0's circle; then
+    Lawson flips from the fan make the result Delaunay (:func:`_flip_fan`).  If a
+    rounded point makes the cavity not star-shaped (an edge of its boundary not
+    strictly visible from the point), the point is inserted into t0 alone instead -- with the neighbour
     across an edge of t0 the point lies on -- and Lawson flips restore the
     Delaunay property (:func:`_split_and_flip`).  That only needs the point
     strictly inside t0's fan, which holds for any point in t0 or on hs away from
     t0's corners, wherever rounding has put it.
     """
+    xy, tv = m.xy, m.tv
+    a, b, c = tv[3 * t0], tv[3 * t0 + 1], tv[3 * t0 + 2]
+    seeded = incircle(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], x, y) > 0.0
     tag = new_tag(m)
     ncav = _grow_cavity(m, x, y, t0, hs, tag)
     nb = _cavity_boundary(m, x, y, ncav, hs, tag)
     if nb < 0:
         return _split_and_flip(m, x, y, t0, hs)
     _write_fan(m, x, y, ncav, nb, tag)
+    if not seeded:  # t0 joined the cavity without p in its circle: flips mend that
+        return _flip_fan(m, nb)
     return nb
 
 
@@ -207,16 +214,25 @@ def _split_and_flip(m, x, y, t0, hs):
     if nb < 0:
         return ERR_ORIENT
     _write_fan(m, x, y, ncav, nb, tag)
-    # Lawson flips from the fan's outer edges; every rewritten slot joins cav
+    return _flip_fan(m, nb)
+
+
+@njit(cache=True)
+def _flip_fan(m, nb):
+    """Lawson flips from every edge of the fan ``cav[:nb]``, spokes included (with
+    the point not in its first triangle's circle, a spoke need not be Delaunay);
+    every rewritten slot joins ``cav``.  Returns their count."""
+    tw = m.tw
     tag = new_tag(m)
-    todo = np.empty(2 * nb + 16, np.int32)
+    todo = np.empty(3 * nb + 16, np.int32)
     sp = 0
     for k in range(nb):
         s = m.cav[k]
         m.tmark[s] = tag
-        if tw[3 * s] >= 0:
-            todo[sp] = 3 * s
-            sp += 1
+        for i in range(3):
+            if tw[3 * s + i] >= 0:
+                todo[sp] = 3 * s + i
+                sp += 1
     return _lawson(m, todo, np.int64(sp), tag, nb)
 
 

@@ -611,7 +611,9 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
         out_xy[j, 1] = y
         out_w[j] = w * size_at(m, x, y)  # the distance (w is distance / size)
         out_b[j] = hsplit >= 0
-        k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
+        k = ERR_PRECISION
+        if _between(m, hsplit, x, y):
+            k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
             k, x, y = _insert_nearby(m, x, y, t0, hsplit)
             if k < 0:
@@ -623,13 +625,30 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
 
 
 @njit(cache=True)
+def _between(m, h, x, y):
+    """Whether (x, y) projects strictly inside boundary subsegment h (exact; True
+    for h = -1).  A point rounded past an end of its subsegment would fold the
+    boundary chain back on itself: valid triangles, but not a mesh of P."""
+    if h < 0:
+        return True
+    xy = m.xy
+    u = m.tv[h]
+    v = m.tv[nxt(h)]
+    return (
+        dot2d(x, y, xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1]) > 0.0
+        and dot2d(x, y, xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1]) > 0.0
+    )
+
+
+@njit(cache=True)
 def _insert_nearby(m, x, y, t0, hs):
     """Insert at one of the 8 points the caller's coordinates hold next to (x, y).
 
     Only far from the origin, where those coordinates are coarse, can the
     rounded point miss the region in which its insertion is valid (a subsegment a
     few units in the last place long, next to a corner); a neighbouring
-    representable point, tried in a fixed order, may be inside it.  Returns
+    representable point, tried in a fixed order, may be inside it (and, for a
+    boundary point, strictly between its subsegment's ends).  Returns
     (status, x, y) as :func:`.cavity.insert_point`."""
     s = m.gs
     cx = m.gc[0]
@@ -644,6 +663,8 @@ def _insert_nearby(m, x, y, t0, hs):
             Yn = np.nextafter(Y, dy * np.inf) if dy != 0 else Y
             xn = (Xn - cx) / s
             yn = (Yn - cy) / s
+            if not _between(m, hs, xn, yn):
+                continue
             k = insert_point(m, xn, yn, np.int64(t0), np.int64(hs))
             if k >= 0:
                 return k, xn, yn
