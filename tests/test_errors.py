@@ -56,6 +56,7 @@ def _write_mesh(tmp_path):
     (lambda tmp: uniform2d.quality(np.zeros((3, 3)), [(0, 1, 2)]), "expected a \\(N, 2\\) array"),
     (lambda tmp: uniform2d.quality([(0, 0), (1, 0), (0, 1)], [(0, 1, 5)]), "refers to a point outside"),
     (lambda tmp: uniform2d.uniform_mesh(SQUARE, 10, objective="nicest"), "objective must be one of"),
+    (lambda tmp: uniform2d.insert(SQUARE, 3, size=-1.0), "size must be a positive number"),
 ])
 def test_bad_arguments_raise_invalid_argument_error(tmp_path, call, match):
     import uniform2d.plot  # noqa: F401
@@ -70,6 +71,8 @@ def test_a_wrong_type_is_both_a_type_error_and_a_uniform2d_error(tmp_path):
     with pytest.raises(errors.ArgumentTypeError, match="expects a uniform2d.Polygon") as info:
         uniform2d.write_polygon(tmp_path / "p.json", [(0, 0), (1, 0), (0, 1)])
     assert isinstance(info.value, TypeError) and isinstance(info.value, Uniform2dError)
+    with pytest.raises(errors.ArgumentTypeError, match="size must be a SizeField or a number"):
+        uniform2d.insert(SQUARE, 3, size="big")
 
 
 @pytest.mark.skipif(not all(importlib.util.find_spec(m) for m in ("igl", "trimesh")),

@@ -24,7 +24,7 @@ from ._kernel import cavity, cdt, polytri
 from ._kernel.distance import to_segments
 from ._kernel.outcomes import failed_site
 from ._kernel.validity import mesh_problem
-from .errors import InternalError, InvalidSitesError
+from .errors import ArgumentTypeError, InternalError, InvalidArgumentError, InvalidSitesError
 from .polygon import Polygon
 from .sizefield import SizeField
 
@@ -171,10 +171,10 @@ def _size_grid(size, centre, scale):
     """The size field in the kernel's coordinates, or None for a constant one."""
     if size is None or isinstance(size, numbers.Real):
         if size is not None and not (np.isfinite(size) and size > 0):
-            raise ValueError(f"size must be a positive number or a SizeField, got {size!r}")
+            raise InvalidArgumentError(f"size must be a positive number or a SizeField, got {size!r}")
         return None
     if not isinstance(size, SizeField):
-        raise TypeError(f"size must be a SizeField or a number, got {type(size).__name__}")
+        raise ArgumentTypeError(f"size must be a SizeField or a number, got {type(size).__name__}")
     if np.all(size.values == size.values.flat[0]):
         return None
     return ((size.x - centre[0]) / scale, (size.y - centre[1]) / scale, size.values / scale)
