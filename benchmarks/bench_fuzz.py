@@ -29,7 +29,9 @@ Each call ends as one of
     crash    any other exception (including InternalError: a mesh the library's
              own final check stopped);
     wrong    a mesh returned that fails the checks;
-    hang     no answer within --limit seconds (the worker is killed).
+    hang     no answer within --limit seconds (the worker is killed); each
+             worker compiles the kernels before its first domain, so the
+             clock measures meshing only.
 
 The counts are printed, and for every crash, wrong and hang a JSON reproducer in
 the format of the shared reproducers file ({"name", "call", "n", "seen", "outer",
@@ -99,11 +101,24 @@ def run_case(case_seed):
     return out
 
 
+def _warm_up():
+    """Compile every kernel the three calls use, so that --limit times meshing only
+    (a cold numba cache takes minutes on a loaded machine, not a hang)."""
+    import uniform2d
+
+    square = uniform2d.Polygon([(0, 0), (1, 0), (1, 1), (0, 1)], [[(0.4, 0.4), (0.6, 0.4), (0.5, 0.6)]])
+    uniform2d.insert(square, 40)
+    uniform2d.tplus(square, 60)
+    uniform2d.uniform_mesh(square, 60)
+
+
 def _worker(conn):
     import logging
 
     # coarse grids make quality() warn about area; the checks here decide
     logging.getLogger("uniform2d").setLevel(logging.ERROR)
+    _warm_up()
+    conn.send("ready")
     while True:
         case = conn.recv()
         if case is None:
@@ -118,6 +133,11 @@ class _Slot:
         self.proc.start()
         self.case = None
         self.t0 = 0.0
+
+    def wait_ready(self):
+        """Block until the worker has compiled the kernels (see :func:`_warm_up`)."""
+        assert self.conn.recv() == "ready"
+        return self
 
     def give(self, case):
         self.case, self.t0 = case, time.monotonic()
@@ -149,7 +169,7 @@ def main(argv=None):
     counts = {s: 0 for s in ("ok", "refused", "crash", "wrong", "hang")}
     per_call = {}
     failures = []
-    slots = [_Slot() for _ in range(max(1, args.jobs))]
+    slots = [s.wait_ready() for s in [_Slot() for _ in range(max(1, args.jobs))]]
     t_start = time.monotonic()
     done = 0
 
@@ -186,7 +206,7 @@ def main(argv=None):
                 done += 1
                 s.proc.kill()
                 s.proc.join()
-                slots[slots.index(s)] = s = _Slot()
+                slots[slots.index(s)] = s = _Slot().wait_ready()
             if s.case is None and todo:
                 s.give(todo.pop())
         if done and done % 500 == 0:
