@@ -23,7 +23,7 @@ from .cdt import legalize_stack, nxt, prv
 from .heap import grown
 from .objective import combine
 from .predicates import orient2d
-from .insert import size_at
+from .rank import size_at
 
 FIXED, FREE, SLIDE = 0, 1, 2
 #: Halvings of the step a line search tries before the vertex gives up.
