@@ -9,26 +9,9 @@ from numba import njit
 
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
-from .star import (
-    FIXED,
-    TRIES,
-    accept,
-    edge,
-    gather,
-    initial_steps,
-    keep_state,
-    legalize_moved,
-    measure,
-    objective_of,
-    outgoing,
-    place_at,
-    refresh_sizes,
-    refuse,
-    ring_neighbours,
-    search,
-    star_buffers,
-    star_ok,
-)
+from .star import FIXED, TRIES, accept, edge, gather, initial_steps, keep_state, legalize_moved
+from .star import measure, objective_of, outgoing, place_at, refresh_sizes, refuse
+from .star import ring_neighbours, search, star_buffers, star_ok
 
 __all__ = ["descend"]
 

@@ -8,18 +8,8 @@ A plain floating-point value decides when it clears :data:`DOTERRBOUNDA`
 import numpy as np
 from numba import njit
 
-from .expansion import (
-    EPSILON,
-    FILTER_FLOOR,
-    TARGET_DEG2,
-    leading,
-    scaled3,
-    sum_of_products,
-    two_product,
-    two_sum,
-    two_two_sum,
-    unscale,
-)
+from .expansion import EPSILON, FILTER_FLOOR, TARGET_DEG2, differences3, leading_of_products
+from .expansion import leading_of_sum, scaled3, unscale
 
 __all__ = ["dot2d", "DOTERRBOUNDA"]
 
@@ -53,40 +43,13 @@ def dot2d_exact(ax, ay, bx, by, cx, cy):
     ok, k, ax, ay, bx, by, cx, cy = scaled3(ax, ay, bx, by, cx, cy, TARGET_DEG2)
     if ok <= 0:
         return np.nan if ok < 0 else 0.0
-    acx, t0 = two_sum(ax, -cx)
-    bcx, t1 = two_sum(bx, -cx)
-    acy, t2 = two_sum(ay, -cy)
-    bcy, t3 = two_sum(by, -cy)
-    if t0 == 0.0 and t1 == 0.0 and t2 == 0.0 and t3 == 0.0:  # exact differences
-        l1, l0 = two_product(acx, bcx)
-        r1, r0 = two_product(acy, bcy)
-        x3, x2, x1, x0 = two_two_sum(l1, l0, r1, r0)
-        return unscale(leading(x3, x2, x1, x0), 2 * k)
-    w = np.empty(50)
-    xs = w[0:8]
-    ys = w[8:16]
-    out = w[16:32]
-    tmp = w[32:48]
-    term = w[48:50]
+    exact, acx, acy, bcx, bcy = differences3(ax, ay, bx, by, cx, cy)
+    if exact:
+        return unscale(leading_of_products(acx, bcx, acy, bcy, False), 2 * k)
     # (ax - cx)(bx - cx) + (ay - cy)(by - cy), expanded into 8 monomials
-    xs[0] = ax
-    ys[0] = bx
-    xs[1] = -ax
-    ys[1] = cx
-    xs[2] = -cx
-    ys[2] = bx
-    xs[3] = cx
-    ys[3] = cx
-    xs[4] = ay
-    ys[4] = by
-    xs[5] = -ay
-    ys[5] = cy
-    xs[6] = -cy
-    ys[6] = by
-    xs[7] = cy
-    ys[7] = cy
-    n = sum_of_products(8, xs, ys, out, tmp, term)
-    return unscale(out[n - 1], 2 * k)
+    xs = np.array([ax, -ax, -cx, cx, ay, -ay, -cy, cy])
+    ys = np.array([bx, cx, bx, cx, by, cy, by, cy])
+    return unscale(leading_of_sum(8, xs, ys), 2 * k)
 
 
 @njit(cache=True)

@@ -20,6 +20,7 @@ rely on IEEE round-to-nearest-even without reassociation or FMA contraction.
 
 import math
 
+import numpy as np
 from numba import njit
 
 #: Half an ulp of 1.0: the relative rounding error bound of one operation.
@@ -103,22 +104,22 @@ def leading(x3, x2, x1, x0):
     return x0
 
 
+@njit(cache=True, inline="always")
+def _keep(h, n, x):
+    """Append x to h[:n] unless it is zero (zero elimination); returns the new length."""
+    if x != 0.0:
+        h[n] = x
+        n += 1
+    return n
+
+
 @njit(cache=True)
 def store4(x3, x2, x1, x0, out):
     """Write x0..x3 to out as a zero-eliminated expansion; returns its length."""
-    n = 0
-    if x0 != 0.0:
-        out[n] = x0
-        n += 1
-    if x1 != 0.0:
-        out[n] = x1
-        n += 1
-    if x2 != 0.0:
-        out[n] = x2
-        n += 1
-    if x3 != 0.0:
-        out[n] = x3
-        n += 1
+    n = _keep(out, 0, x0)
+    n = _keep(out, n, x1)
+    n = _keep(out, n, x2)
+    n = _keep(out, n, x3)
     if n == 0:
         out[0] = 0.0
         n = 1
@@ -128,6 +129,26 @@ def store4(x3, x2, x1, x0, out):
 # ----------------------------------------------------------------------------
 # expansion arithmetic
 # ----------------------------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def _close(h, hindex, q):
+    """Append the last component q (even a zero, if h is empty); returns len(h)."""
+    if q != 0.0 or hindex == 0:
+        h[hindex] = q
+        hindex += 1
+    return hindex
+
+
+@njit(cache=True, inline="always")
+def _drain(q, e, i, n, h, hindex):
+    """q plus the rest e[i:n] of an expansion, the nonzero roundoff appended to
+    h[hindex:]; returns (q, hindex)."""
+    while i < n:
+        q, hh = two_sum(q, e[i])
+        i += 1
+        hindex = _keep(h, hindex, hh)
+    return q, hindex
 
 
 @njit(cache=True)
@@ -164,29 +185,10 @@ def expansion_sum(elen, e, flen, f, h):
             findex += 1
             if findex < flen:
                 fnow = f[findex]
-        if hh != 0.0:
-            h[hindex] = hh
-            hindex += 1
-    while eindex < elen:
-        q, hh = two_sum(q, enow)
-        eindex += 1
-        if eindex < elen:
-            enow = e[eindex]
-        if hh != 0.0:
-            h[hindex] = hh
-            hindex += 1
-    while findex < flen:
-        q, hh = two_sum(q, fnow)
-        findex += 1
-        if findex < flen:
-            fnow = f[findex]
-        if hh != 0.0:
-            h[hindex] = hh
-            hindex += 1
-    if q != 0.0 or hindex == 0:
-        h[hindex] = q
-        hindex += 1
-    return hindex
+        hindex = _keep(h, hindex, hh)
+    q, hindex = _drain(q, e, eindex, elen, h, hindex)
+    q, hindex = _drain(q, f, findex, flen, h, hindex)
+    return _close(h, hindex, q)
 
 
 @njit(cache=True)
@@ -196,24 +198,14 @@ def scale_expansion(elen, e, b, h):
     Shewchuk's scale_expansion_zeroelim, two_sum in place of fast_two_sum.
     """
     q, hh = two_product(e[0], b)
-    hindex = 0
-    if hh != 0.0:
-        h[hindex] = hh
-        hindex += 1
+    hindex = _keep(h, 0, hh)
     for i in range(1, elen):
         p1, p0 = two_product(e[i], b)
         s, hh = two_sum(q, p0)
-        if hh != 0.0:
-            h[hindex] = hh
-            hindex += 1
+        hindex = _keep(h, hindex, hh)
         q, hh = two_sum(p1, s)
-        if hh != 0.0:
-            h[hindex] = hh
-            hindex += 1
-    if q != 0.0 or hindex == 0:
-        h[hindex] = q
-        hindex += 1
-    return hindex
+        hindex = _keep(h, hindex, hh)
+    return _close(h, hindex, q)
 
 
 @njit(cache=True)
@@ -249,6 +241,38 @@ def sum_of_products(n, xs, ys, out, tmp, term):
         for k in range(length):
             out[k] = tmp[k]
     return length
+
+
+@njit(cache=True)
+def differences3(ax, ay, bx, by, cx, cy):
+    """(exact, ax - cx, ay - cy, bx - cx, by - cy): the rounded differences, and
+    whether every one is exact (its two_sum tail vanishes)."""
+    acx, t0 = two_sum(ax, -cx)
+    acy, t1 = two_sum(ay, -cy)
+    bcx, t2 = two_sum(bx, -cx)
+    bcy, t3 = two_sum(by, -cy)
+    return t0 == 0.0 and t1 == 0.0 and t2 == 0.0 and t3 == 0.0, acx, acy, bcx, bcy
+
+
+@njit(cache=True)
+def leading_of_products(a, b, c, d, subtract):
+    """Leading component (so the sign) of the exact a b + c d, or a b - c d if
+    ``subtract``."""
+    l1, l0 = two_product(a, b)
+    r1, r0 = two_product(c, d)
+    if subtract:
+        r1, r0 = -r1, -r0
+    x3, x2, x1, x0 = two_two_sum(l1, l0, r1, r0)
+    return leading(x3, x2, x1, x0)
+
+
+@njit(cache=True)
+def leading_of_sum(n, xs, ys):
+    """Leading component (so the sign) of the exact sum(xs[i] * ys[i], i < n)."""
+    w = np.empty(4 * n + 2)
+    out = w[0 : 2 * n]
+    length = sum_of_products(n, xs, ys, out, w[2 * n : 4 * n], w[4 * n :])
+    return out[length - 1]
 
 
 # ----------------------------------------------------------------------------

@@ -8,18 +8,8 @@ A plain floating-point determinant decides when it clears Shewchuk's
 import numpy as np
 from numba import njit
 
-from .expansion import (
-    EPSILON,
-    FILTER_FLOOR,
-    TARGET_DEG2,
-    leading,
-    scaled3,
-    sum_of_products,
-    two_product,
-    two_sum,
-    two_two_sum,
-    unscale,
-)
+from .expansion import EPSILON, FILTER_FLOOR, TARGET_DEG2, differences3, leading_of_products
+from .expansion import leading_of_sum, scaled3, sum_of_products, unscale
 
 __all__ = ["orient2d", "CCWERRBOUNDA"]
 
@@ -30,6 +20,13 @@ CCWERRBOUNDA = (3.0 + 16.0 * EPSILON) * EPSILON
 @njit(cache=True)
 def orient_expansion(ax, ay, bx, by, cx, cy, xs, ys, out, tmp, term):
     """out <- exact [abc] = ax(by - cy) + bx(cy - ay) + cx(ay - by); length."""
+    _monomials(ax, ay, bx, by, cx, cy, xs, ys)
+    return sum_of_products(6, xs, ys, out, tmp, term)
+
+
+@njit(cache=True)
+def _monomials(ax, ay, bx, by, cx, cy, xs, ys):
+    """[abc] as sum(xs[i] * ys[i], i < 6)."""
     xs[0] = ax
     ys[0] = by
     xs[1] = -ax
@@ -42,7 +39,6 @@ def orient_expansion(ax, ay, bx, by, cx, cy, xs, ys, out, tmp, term):
     ys[4] = ay
     xs[5] = -cx
     ys[5] = by
-    return sum_of_products(6, xs, ys, out, tmp, term)
 
 
 @njit(cache=True)
@@ -53,24 +49,14 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
         return np.nan if ok < 0 else 0.0
     # Common case (nearby points, Sterbenz): the differences are exact, and
     # the determinant is a two-term sum of two_products.  No allocation.
-    acx, t0 = two_sum(ax, -cx)
-    bcy, t1 = two_sum(by, -cy)
-    acy, t2 = two_sum(ay, -cy)
-    bcx, t3 = two_sum(bx, -cx)
-    if t0 == 0.0 and t1 == 0.0 and t2 == 0.0 and t3 == 0.0:
-        l1, l0 = two_product(acx, bcy)
-        r1, r0 = two_product(acy, bcx)
-        x3, x2, x1, x0 = two_two_sum(l1, l0, -r1, -r0)
-        return unscale(leading(x3, x2, x1, x0), 2 * k)
+    exact, acx, acy, bcx, bcy = differences3(ax, ay, bx, by, cx, cy)
+    if exact:
+        return unscale(leading_of_products(acx, bcy, acy, bcx, True), 2 * k)
     # General case: the 6 coordinate monomials ax by - ax cy + ...
-    w = np.empty(38)
-    xs = w[0:6]
-    ys = w[6:12]
-    out = w[12:24]
-    tmp = w[24:36]
-    term = w[36:38]
-    n = orient_expansion(ax, ay, bx, by, cx, cy, xs, ys, out, tmp, term)
-    return unscale(out[n - 1], 2 * k)
+    xs = np.empty(6)
+    ys = np.empty(6)
+    _monomials(ax, ay, bx, by, cx, cy, xs, ys)
+    return unscale(leading_of_sum(6, xs, ys), 2 * k)
 
 
 @njit(cache=True)

@@ -9,26 +9,9 @@ import numpy as np
 from numba import njit
 
 from .cdt import snap
-from .star import (
-    FIXED,
-    TRIES,
-    accept,
-    edge,
-    gather,
-    initial_steps,
-    keep_state,
-    legalize_moved,
-    measure,
-    objective_of,
-    outgoing,
-    place_at,
-    refresh_sizes,
-    refuse,
-    ring_neighbours,
-    search,
-    star_buffers,
-    star_ok,
-)
+from .star import FIXED, TRIES, accept, edge, edge_halves, gather, initial_steps, keep_state
+from .star import legalize_moved, measure, objective_of, outgoing, place_at, refresh_sizes
+from .star import refuse, ring_neighbours, search, star_buffers, star_ok
 
 __all__ = ["spread"]
 
@@ -36,13 +19,10 @@ __all__ = ["spread"]
 @njit(cache=True)
 def _mean_length(m, hv, href):
     """Mean normalised length over the edges."""
-    tv, tw, xy = m.tv, m.tw, m.xy
+    tv, xy = m.tv, m.xy
     s = 0.0
     k = 0
-    for h in range(3 * m.nt):
-        g = tw[h]
-        if g >= 0 and g < h:
-            continue
+    for h in edge_halves(m):
         L, tgt = edge(xy, tv, hv, href, h)
         s += L / tgt
         k += 1

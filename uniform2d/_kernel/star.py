@@ -233,6 +233,19 @@ def place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, s):
 
 
 @njit(cache=True)
+def edge_halves(m):
+    """One half-edge of every edge, in increasing order (of two twins, the smaller)."""
+    out = np.empty(3 * m.nt, np.int64)
+    k = 0
+    for h in range(3 * m.nt):
+        g = m.tw[h]
+        if g < 0 or g > h:
+            out[k] = h
+            k += 1
+    return out[:k]
+
+
+@njit(cache=True)
 def legalize_moved(m, moved, todo):
     """Make every edge around the moved vertices locally Delaunay again
     (:func:`suspects`, then Lawson flips); returns the stack, grown if needed."""
