@@ -26,6 +26,10 @@ import pytest
 from hypothesis import assume, HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from uniform2d._kernel import dot as kdot
+from uniform2d._kernel import expansion as xp
+from uniform2d._kernel import incircle as kinc
+from uniform2d._kernel import orient as korient
 from uniform2d._kernel import predicates as pred
 from uniform2d._kernel.predicates import dot2d, incircle, orient2d
 
@@ -100,13 +104,13 @@ def filter_decides_orient(ax, ay, bx, by, cx, cy) -> bool:
     left = (ax - cx) * (by - cy)
     right = (ay - cy) * (bx - cx)
     s = abs(left) + abs(right)
-    return s >= pred._FILTER_FLOOR and abs(left - right) > pred.CCWERRBOUNDA * s
+    return s >= pred.FILTER_FLOOR and abs(left - right) > pred.CCWERRBOUNDA * s
 
 
 PREDICATES = {
-    "orient2d": (orient2d, pred._orient2d_exact, exact_orient, naive_orient),
-    "incircle": (incircle, pred._incircle_exact, exact_incircle, naive_incircle),
-    "dot2d": (dot2d, pred._dot2d_exact, exact_dot, naive_dot),
+    "orient2d": (orient2d, korient.orient2d_exact, exact_orient, naive_orient),
+    "incircle": (incircle, kinc.incircle_exact, exact_incircle, naive_incircle),
+    "dot2d": (dot2d, kdot.dot2d_exact, exact_dot, naive_dot),
 }
 
 
@@ -621,10 +625,10 @@ def test_random_near_cocircular(args):
 @HYP
 @given(st.floats(-1e150, 1e150, allow_nan=False), st.floats(-1e150, 1e150, allow_nan=False))
 def test_two_sum_two_product_error_free(a, b):
-    x, y = pred._two_sum(a, b)
+    x, y = xp.two_sum(a, b)
     assert x == a + b and Fraction(x) + Fraction(y) == Fraction(a) + Fraction(b)
     if a == 0.0 or b == 0.0 or abs(a * b) > 1e-200:  # Dekker needs no underflow
-        x, y = pred._two_product(a, b)
+        x, y = xp.two_product(a, b)
         assert x == a * b and Fraction(x) + Fraction(y) == Fraction(a) * Fraction(b)
 
 
@@ -635,13 +639,13 @@ def test_expansion_arithmetic_exact():
         xs = rng.normal(size=n) * 10.0 ** rng.integers(-20, 20, n)
         ys = rng.normal(size=n) * 10.0 ** rng.integers(-20, 20, n)
         out, tmp, term = np.empty(2 * n), np.empty(2 * n), np.empty(2)
-        m = pred._sum_of_products(n, xs, ys, out, tmp, term)
+        m = xp.sum_of_products(n, xs, ys, out, tmp, term)
         e = out[:m]
         assert sum(map(Fraction, e)) == sum(Fraction(x) * Fraction(y) for x, y in zip(xs, ys))
         assert all(abs(e[i]) < abs(e[i + 1]) for i in range(m - 1))  # increasing
         b = float(rng.normal() * 1e5)
         h = np.empty(2 * m)
-        k = pred._scale_expansion(m, e, b, h)
+        k = xp.scale_expansion(m, e, b, h)
         assert sum(map(Fraction, h[:k])) == sum(map(Fraction, e)) * Fraction(b)
 
 
@@ -678,10 +682,11 @@ def test_callable_from_njit_and_python():
 
 
 def test_compiled_with_cache_and_without_fastmath():
-    for name in ("orient2d", "incircle", "dot2d", "_orient2d_exact", "_incircle_exact",
-                 "_dot2d_exact", "_two_sum", "_two_product", "_split", "_expansion_sum",
-                 "_scale_expansion"):
-        disp = getattr(pred, name)
+    for mod, name in ((pred, "orient2d"), (pred, "incircle"), (pred, "dot2d"),
+                      (korient, "orient2d_exact"), (kinc, "incircle_exact"),
+                      (kdot, "dot2d_exact"), (xp, "two_sum"), (xp, "two_product"),
+                      (xp, "split"), (xp, "expansion_sum"), (xp, "scale_expansion")):
+        disp = getattr(mod, name)
         assert not disp.targetoptions.get("fastmath"), name
         assert type(disp._cache).__name__ == "FunctionCache", name
 

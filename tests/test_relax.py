@@ -12,7 +12,7 @@ import shapely
 
 import uniform2d
 from uniform2d import Polygon, SizeField
-from uniform2d._kernel import cdt, relax
+from uniform2d._kernel import cdt, descent, relax
 from uniform2d._kernel import objective as kobj
 from uniform2d.optimize import improve, lattice_seed, target_size
 from uniform2d.optimize.moves import _load, _unload
@@ -115,7 +115,7 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
         kobj.MAX_PERIMETER: (0.0, 0.0, 1.0),
     }
     for obj, want in expect.items():
-        got = relax._weights(st.m, st.hv, st.href, k, obj)
+        got = descent._weights(st.m, st.hv, st.href, k, obj)
         np.testing.assert_allclose(got, want, rtol=1e-9, atol=0)
 
 

@@ -83,7 +83,7 @@ class SizeField:
 def _bilinear(gx, gy, v, px, py):
     """Bilinear interpolation of the grid (gx, gy, v) at the points (px, py), clamped.
 
-    The kernel's ``uniform2d._kernel.insert.size_at`` is the same formula for
+    The kernel's ``uniform2d._kernel.rank.size_at`` is the same formula for
     one point inside compiled loops (where this vectorised numpy version cannot
     run); the two must stay the same formula, so that the sizes the kernel works
     with are the field's values.

@@ -50,69 +50,21 @@ depend on the polygon's position.
 """
 
 import numpy as np
-from numba import njit, types
-from numba.experimental import structref
+from numba import njit
 
 from . import heap
 from .cavity import insert_point
-from .cdt import circumcircle, locate, locate_scan, new_tag, nxt, prv, reserve, snap
-from .predicates import dot2d, orient2d
+from .cdt import circumcircle, locate, locate_scan, nxt, prv, snap
+from .predicates import dot2d
+from .pool import dump_window, new_pool, pool_add, pool_kill, to_window
+from .rank import REL_TIE, size_at, tied_above
+from .segment import eval_segment, seg_dist2
 
-REL_TIE = 1e-9
-DISK_SLACK = 1e-12  # inclusive slack when collecting sites near a subsegment (harmless)
+__all__ = ["REL_TIE", "ERR_EMPTY", "ERR_LOCATE", "ERR_PRECISION", "new_pool", "push_initial", "run"]
 
 ERR_EMPTY = -10  # no candidate left (cannot happen for a valid polygon)
 ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
 ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inserted
-
-
-@njit(cache=True, inline="always")
-def tied_above(W, wg):
-    """Weights above this tie with W: within REL_TIE of it, or within ``wg`` (the
-    rounding of points to the caller's coordinates far from the origin, which
-    can move a weight that much)."""
-    return W * (1.0 - REL_TIE) - wg
-
-
-@njit(cache=True, inline="always")
-def better(w1, x1, y1, w2, x2, y2, xtol, wg):
-    """The tie rule for two candidates: does 1 come before 2?"""
-    hi = tied_above(max(w1, w2), wg)
-    if w1 < hi or w2 < hi:
-        return w1 > w2
-    if x1 < x2 - xtol:
-        return True
-    if x2 < x1 - xtol:
-        return False
-    if y1 < y2 - xtol:
-        return True
-    if y2 < y1 - xtol:
-        return False
-    return x1 < x2
-
-
-@njit(cache=True)
-def size_at(m, x, y):
-    """The size field h at (x, y): bilinear on its grid, clamped; 1 without a field.
-
-    Candidates are ranked by value = distance / h, so a field makes points denser
-    where h is small; without one every value is the plain distance.
-    """
-    if not m.sized:
-        return 1.0
-    gx, gy, gv = m.sgx, m.sgy, m.sgv
-    x = min(max(x, gx[0]), gx[-1])
-    y = min(max(y, gy[0]), gy[-1])
-    i = min(max(np.searchsorted(gx, x, side="right") - 1, 0), gx.shape[0] - 2)
-    j = min(max(np.searchsorted(gy, y, side="right") - 1, 0), gy.shape[0] - 2)
-    tx = (x - gx[i]) / (gx[i + 1] - gx[i])
-    ty = (y - gy[j]) / (gy[j + 1] - gy[j])
-    return (
-        gv[j, i] * (1 - tx) * (1 - ty)
-        + gv[j, i + 1] * tx * (1 - ty)
-        + gv[j + 1, i] * (1 - tx) * ty
-        + gv[j + 1, i + 1] * tx * ty
-    )
 
 
 @njit(cache=True)
@@ -131,141 +83,6 @@ def triangle_key(m, t):
             return -1.0
     cx, cy, r = circumcircle(xy, m.tv[3 * t], m.tv[3 * t + 1], m.tv[3 * t + 2])
     return r / size_at(m, cx, cy)
-
-
-@njit(cache=True)
-def _seg_dist2(ux, uy, vx, vy, px, py):
-    dx, dy = vx - ux, vy - uy
-    L2 = dx * dx + dy * dy
-    s = ((px - ux) * dx + (py - uy) * dy) / L2
-    s = min(1.0, max(0.0, s))
-    qx, qy = ux + s * dx - px, uy + s * dy - py
-    return qx * qx + qy * qy
-
-
-@njit(cache=True)
-def _visible(m, ne, x, y, q):
-    """True if no collected constrained edge properly crosses segment (x, y) -> q."""
-    xy = m.xy
-    qx, qy = xy[q, 0], xy[q, 1]
-    for k in range(ne):
-        h = m.ebuf[k]
-        e0 = m.tv[h]
-        e1 = m.tv[nxt(h)]
-        if e0 == q or e1 == q:
-            continue
-        s1 = orient2d(xy[e0, 0], xy[e0, 1], xy[e1, 0], xy[e1, 1], x, y)
-        s2 = orient2d(xy[e0, 0], xy[e0, 1], xy[e1, 0], xy[e1, 1], qx, qy)
-        if not ((s1 > 0.0 and s2 < 0.0) or (s1 < 0.0 and s2 > 0.0)):
-            continue
-        s3 = orient2d(x, y, qx, qy, xy[e0, 0], xy[e0, 1])
-        s4 = orient2d(x, y, qx, qy, xy[e1, 0], xy[e1, 1])
-        if (s3 > 0.0 and s4 < 0.0) or (s3 < 0.0 and s4 > 0.0):
-            return False
-    return True
-
-
-@njit(cache=True)
-def eval_segment(m, h, xtol):
-    """Largest visible distance on boundary subsegment h and where: (value, x, y),
-    value = distance / size field (the distance itself without a field).
-
-    If the apex of the triangle on h is outside the open diametral disk of h, no
-    visible site is inside that disk and the midpoint wins with |h|/2.
-    Otherwise gather, by a search across unconstrained edges that meet the disk,
-    the sites in it on the inner side of h and the constrained edges around them;
-    the maximum of the visible lower envelope is at a point of h equidistant from
-    two of them.  Visibility from x on h to such a site q is decided against the
-    gathered constrained edges only, which is enough: x -> q enters P through the
-    triangle on h and lies in the disk, so every triangle it crosses before its
-    first constrained edge is reached by the search, and so is that edge.
-    """
-    xy = m.xy
-    a = m.tv[h]
-    b = m.tv[nxt(h)]
-    c = m.tv[prv(h)]
-    ax, ay, bx, by = xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1]
-    dx, dy = bx - ax, by - ay
-    half = 0.5 * np.sqrt(dx * dx + dy * dy)
-    if dot2d(ax, ay, bx, by, xy[c, 0], xy[c, 1]) >= 0.0:
-        mx, my = ax + 0.5 * dx, ay + 0.5 * dy
-        return half / size_at(m, mx, my), mx, my
-    # -- slow path: the subsegment is encroached
-    mx, my = ax + 0.5 * dx, ay + 0.5 * dy
-    r2 = half * half * (1.0 + DISK_SLACK)
-    tag = new_tag(m)
-    t0 = h // 3
-    m.tmark[t0] = tag
-    m.stack[0] = t0
-    sp = 1
-    nv = 0
-    ne = 0
-    m.vmark[a] = tag
-    m.vmark[b] = tag
-    while sp > 0:
-        reserve(m, max(sp, nv, ne) + 4)
-        sp -= 1
-        t = m.stack[sp]
-        for i in range(3):
-            e = 3 * t + i
-            w = m.tv[e]
-            if m.vmark[w] != tag:
-                m.vmark[w] = tag
-                ddx, ddy = xy[w, 0] - mx, xy[w, 1] - my
-                # a site not strictly on the inner side of h's line is never seen
-                # from inside h (the segment would leave P at once), nor nearer
-                # than a or b if it lies on that line
-                if ddx * ddx + ddy * ddy < r2 and orient2d(ax, ay, bx, by, xy[w, 0], xy[w, 1]) > 0.0:
-                    m.vbuf[nv] = w
-                    nv += 1
-            g = m.tw[e]
-            if g < 0:
-                if e != h:
-                    m.ebuf[ne] = e
-                    ne += 1
-                continue
-            n = g // 3
-            if m.tmark[n] == tag:
-                continue
-            u = m.tv[e]
-            v = m.tv[nxt(e)]
-            if _seg_dist2(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], mx, my) < r2:
-                m.tmark[n] = tag
-                m.stack[sp] = n
-                sp += 1
-    # sites: a, b and the collected ones
-    ns = nv + 2
-    sites = np.empty(ns, np.int32)
-    sites[0] = a
-    sites[1] = b
-    sites[2:] = m.vbuf[:nv]
-    bv, bx_, by_ = -1.0, mx, my
-    for i in range(ns):
-        p = sites[i]
-        pa2 = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
-        for j in range(i + 1, ns):
-            q = sites[j]
-            qa2 = (xy[q, 0] - ax) ** 2 + (xy[q, 1] - ay) ** 2
-            den = 2.0 * (dx * (xy[q, 0] - xy[p, 0]) + dy * (xy[q, 1] - xy[p, 1]))
-            if den == 0.0:
-                continue
-            s = (qa2 - pa2) / den
-            if not (0.0 < s < 1.0):
-                continue
-            x = ax + s * dx
-            y = ay + s * dy
-            wmin = np.inf
-            for k in range(ns):
-                z = sites[k]
-                d2 = (xy[z, 0] - x) ** 2 + (xy[z, 1] - y) ** 2
-                if d2 < wmin and (k < 2 or _visible(m, np.int64(ne), x, y, z)):
-                    wmin = d2
-            val = np.sqrt(wmin) / size_at(m, x, y)
-            if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol, m.wg):
-                bv, bx_, by_ = val, x, y
-    if bv < 0.0:
-        return half / size_at(m, mx, my), mx, my
-    return bv, bx_, by_
 
 
 @njit(cache=True)
@@ -323,125 +140,6 @@ def _current(m, a, b, xtol):
     return True, w, x, y
 
 
-# -- the pool of tied candidates -------------------------------------------------------------
-# Slot s holds payload (pa, pb), weight pw, point (px, py); pgen[s] bumps when s is
-# freed, so a heap entry (s, gen) is current while pgen[s] == gen; ploc[s] is 1 in
-# the x-window, 0 outside; free slots are stacked in pfree[:nfree].  ``bound`` is the
-# window bound B = x_min + xtol (-inf: no window).  Heaps: pv (value, all members),
-# lo ((x, y), members outside the window), wx ((x, y)) and wy ((y, x)) of the window;
-# sel is scratch for the y-window.
-
-
-@structref.register
-class PoolType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(typ)) for name, typ in fields)
-
-
-class Pool(structref.StructRefProxy):
-    """The tied group (see above)."""
-
-
-structref.define_proxy(
-    Pool,
-    PoolType,
-    ["pa", "pb", "pw", "px", "py", "pgen", "ploc", "pfree", "nslots", "nfree", "bound",
-     "pv", "lo", "wx", "wy", "sel"],
-)  # fmt: skip
-
-
-@njit(cache=True)
-def new_pool(capacity):
-    c = max(capacity, 16)
-    return Pool(
-        np.empty(c, np.int32),
-        np.empty(c, np.int32),
-        np.empty(c, np.float64),
-        np.empty(c, np.float64),
-        np.empty(c, np.float64),
-        np.zeros(c, np.int32),
-        np.zeros(c, np.int8),
-        np.empty(c, np.int32),
-        0,
-        0,
-        -np.inf,
-        heap.new_heap(c),
-        heap.new_lheap(c),
-        heap.new_lheap(c),
-        heap.new_lheap(c),
-        np.empty(16, np.int32),
-    )
-
-
-@njit(cache=True)
-def _to_window(P, s):
-    P.ploc[s] = 1
-    heap.lpush(P.wx, P.px[s], P.py[s], np.int64(s), P.pgen[s])
-    heap.lpush(P.wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
-
-
-@njit(cache=True)
-def _to_outside(P, s):
-    P.ploc[s] = 0
-    heap.lpush(P.lo, P.px[s], P.py[s], np.int64(s), P.pgen[s])
-
-
-@njit(cache=True)
-def _dump_window(P):
-    """Move every window member back outside; the window is rebuilt next time."""
-    while P.wx.size > 0:
-        x, y, s, g = heap.lpop(P.wx)
-        if P.pgen[s] == g and P.ploc[s] == 1:
-            _to_outside(P, np.int64(s))
-    P.wy.size = 0
-    P.bound = -np.inf
-
-
-@njit(cache=True)
-def _grow_pool(P):
-    c = 2 * P.nslots
-    P.pa = heap.grown(P.pa, c)
-    P.pb = heap.grown(P.pb, c)
-    P.pw = heap.grown(P.pw, c)
-    P.px = heap.grown(P.px, c)
-    P.py = heap.grown(P.py, c)
-    P.pgen = heap.grown(P.pgen, c)  # a new slot's generation may start anywhere
-    P.ploc = heap.grown(P.ploc, c)  # set when the slot is filed
-    P.pfree = heap.grown(P.pfree, c)
-
-
-@njit(cache=True)
-def _pool_add(P, a, b, w, x, y, xtol):
-    if P.nfree > 0:
-        P.nfree -= 1
-        s = P.pfree[P.nfree]
-    else:
-        s = P.nslots
-        if s == P.pa.shape[0]:
-            _grow_pool(P)
-        P.nslots = s + 1
-    P.pa[s] = a
-    P.pb[s] = b
-    P.pw[s] = w
-    P.px[s] = x
-    P.py[s] = y
-    heap.push(P.pv, w, s, P.pgen[s])
-    if x < P.bound - xtol:  # a new smallest x: the window must be rebuilt around it
-        _dump_window(P)
-        _to_outside(P, np.int64(s))
-    elif x <= P.bound:
-        _to_window(P, np.int64(s))
-    else:
-        _to_outside(P, np.int64(s))
-
-
-@njit(cache=True)
-def _pool_kill(P, s):
-    P.pgen[s] += 1
-    P.pfree[P.nfree] = s
-    P.nfree += 1
-
-
 @njit(cache=True)
 def _revalidate(m, M, P, s, thr, xtol):
     """Is member s current and unchanged?  If dead it is dropped; if changed it is
@@ -450,10 +148,10 @@ def _revalidate(m, M, P, s, thr, xtol):
     alive, w, x, y = _current(m, a, b, xtol)
     if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
         return True
-    _pool_kill(P, np.int64(s))
+    pool_kill(P, np.int64(s))
     if alive:
         if w >= thr:
-            _pool_add(P, a, b, w, x, y, xtol)
+            pool_add(P, a, b, w, x, y, xtol)
         else:
             heap.push(M, w, a, b)
     return False
@@ -485,7 +183,7 @@ def _gather(m, M, P, xtol):
             continue
         if W < 0.0 and P.nslots == P.nfree and heap.top_key(M) < tied_above(w, m.wg):
             return w, a, b, x, y  # alone in its tied group
-        _pool_add(P, a, b, w, x, y, xtol)
+        pool_add(P, a, b, w, x, y, xtol)
         if w > W:
             W = w
     return W, -1, -1, 0.0, 0.0
@@ -515,7 +213,7 @@ def _choose(m, M, P, W, xtol):
         if xw == np.inf and xo == np.inf:
             return -1
         if xo < xw and xw != np.inf:  # a smaller x outside: rebuild the window
-            _dump_window(P)
+            dump_window(P)
             continue
         P.bound = min(xw, xo) + xtol
         restart = False
@@ -530,7 +228,7 @@ def _choose(m, M, P, W, xtol):
             if not _revalidate(m, M, P, s, thr, xtol):
                 restart = True  # a re-filed member may have moved the anchor
                 break
-            _to_window(P, np.int64(s))
+            to_window(P, np.int64(s))
         if restart:
             continue
         ymin = np.inf
@@ -563,7 +261,7 @@ def _choose(m, M, P, W, xtol):
         if best >= 0:
             return best
         if not restart:
-            _dump_window(P)
+            dump_window(P)
 
 
 @njit(cache=True)
@@ -586,7 +284,7 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
             if s < 0:
                 return ERR_EMPTY - 100 * j
             a, w, x, y = P.pa[s], P.pw[s], P.px[s], P.py[s]
-            _pool_kill(P, np.int64(s))
+            pool_kill(P, np.int64(s))
         if a >= 0:
             x, y = snap(m, x, y)
             loc = locate(m, np.int64(a), x, y, np.int64(64))
@@ -681,7 +379,7 @@ def _near_boundary(m, t, x, y, snap):
             continue
         u = m.tv[h]
         v = m.tv[nxt(h)]
-        if _seg_dist2(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y) <= snap * snap:
+        if seg_dist2(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y) <= snap * snap:
             return h
     return -1
 

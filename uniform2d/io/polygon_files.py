@@ -616,12 +616,12 @@ def write_poly(path, polygon: Polygon) -> None:
 _GEOMETRY_ENTITIES = {"LINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE", "INSERT", "HATCH"}
 
 
-def read_dxf(path) -> Polygon:
-    """Read closed polylines from a DXF modelspace: the largest is outer, the rest holes."""
+def _open_dxf(path):
+    """The ezdxf document of the file; a file ezdxf cannot read is an InvalidPolygonError."""
     import ezdxf
 
     try:
-        doc = ezdxf.readfile(path)
+        return ezdxf.readfile(path)
     except ezdxf.DXFError as exc:
         _fail(path, f"not a readable DXF file ({exc})")
     except (FileNotFoundError, PermissionError, IsADirectoryError):
@@ -631,44 +631,52 @@ def read_dxf(path) -> Polygon:
     except (StopIteration, EOFError, IndexError, ValueError) as exc:  # truncated files
         _fail(path, f"not a readable DXF file (truncated or malformed: {type(exc).__name__})")
 
-    rings, labels, ignored = [], [], Counter()
-    number = 0
-    for e in doc.modelspace():
-        kind = e.dxftype()
-        if kind == "LWPOLYLINE":
-            number += 1
-            pts = [tuple(v) for v in e.vertices_in_wcs()]
-            closed = bool(e.closed)
-            bulged = any(b != 0 for (b,) in e.get_points("b"))
-        elif kind == "POLYLINE" and (e.is_2d_polyline or e.is_3d_polyline):
-            number += 1
-            pts = [tuple(v) for v in e.points_in_wcs()]
-            closed = bool(e.is_closed)
-            bulged = any(v.dxf.get("bulge", 0) != 0 for v in e.vertices)
-        else:
-            ignored[kind] += 1
-            continue
-        name = f"polyline #{number} (handle {e.dxf.handle}, layer {e.dxf.get('layer', '0')})"
-        xy = np.asarray(pts, dtype=np.float64).reshape(-1, 3)[:, :2]
-        if not closed:
-            if len(xy) >= 4 and np.array_equal(xy[0], xy[-1]):
-                logger.info("%s: %s ends where it starts; read as closed", path, name)
-            else:
-                _fail(
-                    path,
-                    f"{name} is open; close it (set its 'closed' flag in CAD) or delete it: "
-                    "every polyline must be the outline or a hole",
-                )
-        if bulged:
-            logger.warning(
-                "%s: %s has arc segments (bulges); they are read as straight chords. "
-                "Approximate arcs by short segments in CAD if the curvature matters",
-                path,
-                name,
-            )
-        rings.append(xy)
-        labels.append(name)
 
+def _dxf_polyline(e):
+    """(points, closed, has bulges) of a 2-D/3-D polyline entity, None for any other."""
+    kind = e.dxftype()
+    if kind == "LWPOLYLINE":
+        pts = [tuple(v) for v in e.vertices_in_wcs()]
+        return pts, bool(e.closed), any(b != 0 for (b,) in e.get_points("b"))
+    if kind == "POLYLINE" and (e.is_2d_polyline or e.is_3d_polyline):
+        pts = [tuple(v) for v in e.points_in_wcs()]
+        return pts, bool(e.is_closed), any(v.dxf.get("bulge", 0) != 0 for v in e.vertices)
+    return None
+
+
+def _dxf_ring(path, name: str, pts, closed: bool, bulged: bool) -> np.ndarray:
+    """One polyline's ring (x, y); an open one is an error unless it ends where it starts."""
+    xy = np.asarray(pts, dtype=np.float64).reshape(-1, 3)[:, :2]
+    if not closed:
+        if len(xy) >= 4 and np.array_equal(xy[0], xy[-1]):
+            logger.info("%s: %s ends where it starts; read as closed", path, name)
+        else:
+            _fail(
+                path,
+                f"{name} is open; close it (set its 'closed' flag in CAD) or delete it: "
+                "every polyline must be the outline or a hole",
+            )
+    if bulged:
+        logger.warning(
+            "%s: %s has arc segments (bulges); they are read as straight chords. "
+            "Approximate arcs by short segments in CAD if the curvature matters",
+            path,
+            name,
+        )
+    return xy
+
+
+def _dxf_rings(path, doc):
+    """The rings of the modelspace's polylines and their labels, in file order."""
+    rings, labels, ignored = [], [], Counter()
+    for e in doc.modelspace():
+        poly = _dxf_polyline(e)
+        if poly is None:
+            ignored[e.dxftype()] += 1
+            continue
+        name = f"polyline #{len(rings) + 1} (handle {e.dxf.handle}, layer {e.dxf.get('layer', '0')})"
+        rings.append(_dxf_ring(path, name, *poly))
+        labels.append(name)
     geometric = {k: n for k, n in ignored.items() if k in _GEOMETRY_ENTITIES}
     if geometric:
         logger.warning(
@@ -684,6 +692,12 @@ def read_dxf(path) -> Polygon:
             f"no closed polylines in modelspace (found {found}); draw the outline and the "
             "holes as closed LWPOLYLINE or POLYLINE entities",
         )
+    return rings, labels
+
+
+def read_dxf(path) -> Polygon:
+    """Read closed polylines from a DXF modelspace: the largest is outer, the rest holes."""
+    rings, labels = _dxf_rings(path, _open_dxf(path))
     outer_i = int(np.argmax([abs(signed_area(r)) for r in rings]))
     order = [outer_i] + [i for i in range(len(rings)) if i != outer_i]
     outer_shape = shapely.Polygon(rings[outer_i]) if len(rings[outer_i]) >= 3 else None

@@ -1,0 +1,261 @@
+"""Descent: Gauss-Seidel line-search sweeps on a p-norm energy of the objective.
+
+See :mod:`.relax` for the vertex roles, the targets, the energy and how every
+move keeps the mesh a valid constrained Delaunay triangulation.
+"""
+
+import numpy as np
+from numba import njit
+
+from .cdt import nxt, prv, snap
+from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
+from .star import FIXED, TRIES, accept, edge, gather, initial_steps, keep_state, legalize_moved
+from .star import measure, objective_of, outgoing, place_at, refresh_sizes, refuse
+from .star import ring_neighbours, search, star_buffers, star_ok
+
+__all__ = ["descend"]
+
+#: A vertex whose energy share is below this fraction of the largest share rests.
+RELEVANT = 1e-2
+#: A descent stage ends after PATIENCE sweeps in a row none of which lowered the
+#: objective by the fraction GAIN below the last value that did (slow creep is
+#: not worth the sweeps).
+PATIENCE = 6
+GAIN = 1e-4
+
+
+@njit(cache=True, inline="always")
+def _pw(x, k):
+    """x ** (2 ** k), by k squarings (the exponents are powers of two: fast, exact enough)."""
+    for _ in range(k):
+        x = x * x
+    return x
+
+
+@njit(cache=True, inline="always")
+def _edge_energy(ell, s, k, p, w_len, w_short, want):
+    """(energy, d energy / d length if ``want``) of an edge of normalised length
+    ell, target s."""
+    q = _pw(ell, k)
+    E = 0.0
+    d = 0.0
+    if w_len > 0.0:
+        E += w_len * q
+        if want:
+            d += w_len * p * q / (ell * s)
+    if w_short > 0.0:
+        if q == 0.0:  # ell**p underflowed (an edge some 6 % of its target at p = 256)
+            return np.inf, 0.0
+        E += w_short / q
+        if want:
+            d -= w_short * p / (q * ell * s)
+    return E, d
+
+
+@njit(cache=True)
+def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
+    """The cached star's share of the energy with v at (x, y) (see :func:`gather`);
+    its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths."""
+    p = 2.0**k
+    E = 0.0
+    gx = 0.0
+    gy = 0.0
+    for i in range(ns):
+        dx = x - SP[i, 0]
+        dy = y - SP[i, 1]
+        Li = np.sqrt(dx * dx + dy * dy)
+        L[i] = Li
+        e, d = _edge_energy(Li / SP[i, 2], SP[i, 2], k, p, w_len, w_short, want)
+        E += e
+        if want:
+            gx += d * dx / Li
+            gy += d * dy / Li
+    if w_per > 0.0:
+        for j in range(nt):
+            i = j + 1 if j + 1 < ns else 0
+            tgt = TR[j, 1]
+            pi = (L[j] + L[i] + TR[j, 0]) / tgt
+            q = _pw(pi, k)
+            E += w_per * q
+            if want:
+                d = w_per * p * q / (pi * tgt)
+                gx += d * ((x - SP[j, 0]) / L[j] + (x - SP[i, 0]) / L[i])
+                gy += d * ((y - SP[j, 1]) / L[j] + (y - SP[i, 1]) / L[i])
+    grad[0] = gx
+    grad[1] = gy
+    return E
+
+
+@njit(cache=True)
+def _wake(m, h0, active):
+    """Mark the vertex of outgoing half-edge h0 and all its neighbours active."""
+    tv, tw = m.tv, m.tw
+    active[tv[h0]] = True
+    h = h0
+    while True:
+        active[tv[nxt(h)]] = True
+        active[tv[prv(h)]] = True
+        h = tw[prv(h)]
+        if h < 0 or h == h0:
+            return
+
+
+@njit(cache=True)
+def _weights(m, hv, href, k, objective):
+    """Weights (w_len, w_short, w_per) of the three energy terms for ``objective``.
+
+    The terms ``S_len = sum l**p``, ``S_short = sum l**-p`` and ``S_per = sum
+    pi**p`` are smooth stand-ins for ``lmax**p``, ``lmin**-p`` and ``pmax**p``, so
+    ``log`` of an objective that is a product of powers of the extremes is, up to
+    the factor 1/p, a weighted sum of their logs: for ``"balanced"``,
+    ``(lmax**2 / lmin * pmax)**(1/3)``, it is ``2 log S_len + log S_short + log
+    S_per``.  Linearised at the present mesh (log is concave, so a decrease of the
+    linearisation is a decrease of the sum) each term is weighted by its exponent
+    over its present value.  Equal weights would let the term with the largest
+    sum drown the others (at large p the longest edge's term outweighs the
+    largest perimeter's by far).  An edge so short that ``l**p`` underflows makes
+    ``S_short`` infinite and its weight 0 for that sweep (typically a polygon
+    edge far below the target size, which fixes the shortest edge anyway).
+    """
+    if objective == MAX_EDGE:
+        return 1.0, 0.0, 0.0
+    if objective == MAX_PERIMETER:
+        return 0.0, 0.0, 1.0
+    tv, tw, xy = m.tv, m.tw, m.xy
+    s_len = 0.0
+    s_short = 0.0
+    s_per = 0.0
+    for t in range(m.nt):
+        per = 0.0
+        tgt = 0.0
+        for i in range(3):
+            h = 3 * t + i
+            L, s = edge(xy, tv, hv, href, h)
+            per += L
+            tgt += s
+            g = tw[h]
+            if g < 0 or g > h:  # each edge once
+                q = _pw(L / s, k)
+                s_len += q
+                # an underflowed q (a polygon edge far shorter than the target,
+                # such as a tiny hole's) leaves no room for the short-edge term
+                s_short += 1.0 / q if q > 0.0 else np.inf
+        s_per += _pw(per / tgt, k)
+    if objective == RATIO:
+        return 1.0 / s_len, 1.0 / s_short, 0.0
+    return 2.0 / s_len, 1.0 / s_short, 1.0 / s_per
+
+
+@njit(cache=True)
+def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
+                 w_len, w_short, w_per, g2, E0, floor):  # fmt: skip
+    """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
+    (x0, y0) along (ux, uy) whose place keeps the star valid (``star_ok`` with
+    ``floor``) and lowers v's energy share below E0."""
+    for _k in range(TRIES):
+        x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
+        x, y = snap(m, x, y)
+        if star_ok(x, y, x0, y0, ns, nt, SP, floor):
+            E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, False)
+            if E1 < E0:
+                return True, x, y, tt, st
+        st *= 0.5
+    return False, x0, y0, t[v], st
+
+
+@njit(cache=True)
+def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved, k,
+           w_len, w_short, w_per, floor, flat):  # fmt: skip
+    """One sweep of :func:`descend` over the active vertices, in order; returns
+    (moves made, the largest energy share met).  A vertex whose share is below
+    ``floor`` rests; so does one whose line search fails, until a neighbour moves."""
+    xy = m.xy
+    vh = outgoing(m)
+    SP, TR, L = star_buffers(m)
+    grad = np.zeros(2)
+    g2 = np.zeros(2)
+    emax = 0.0
+    moves = 0
+    for v in range(m.nv):
+        if role[v] == FIXED or vh[v] < 0 or not active[v]:
+            continue
+        h0 = vh[v]
+        x0 = xy[v, 0]
+        y0 = xy[v, 1]
+        ns, nt = gather(m, v, h0, hv, href, SP, TR)
+        E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, True)
+        emax = max(emax, E0)
+        if E0 < floor:
+            active[v] = False
+            continue
+        ux, uy, st = search(role, eid, t, ed, prevb, nextb, v, grad, step[v])
+        if st == 0.0:
+            continue
+        ok, x, y, tt, st = _line_search(
+            m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
+            w_len, w_short, w_per, g2, E0, flat * (href * hv[v]) ** 2,
+        )  # fmt: skip
+        if ok:
+            accept(xy, t, step, moved, v, x, y, tt, st, href, hv[v])
+            moves += 1
+            _wake(m, h0, active)
+        else:
+            refuse(step, v, href, hv[v])
+            active[v] = False
+    return moves, emax
+
+
+@njit(cache=True)
+def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best_xy, best_t,
+            best_tv, flat):  # fmt: skip
+    """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``, p = 2**k.
+
+    After each sweep the mesh is legalised and measured; the best state by the
+    true objective is written to ``best_*`` (which must hold the starting state)
+    and its value returned with the number of sweeps made.  Each vertex keeps its
+    own step, starting at ``step0 * href * hv[v]``: grown 1.5x after an accepted
+    move, halved after a refused one.  A vertex whose line search fails rests
+    until a neighbour moves (an active set: converged regions cost nothing).  A
+    move may not flatten a triangle around the vertex whose doubled area is below
+    ``flat * (href * hv[v])**2`` any further.  The run ends early when the
+    objective stops improving (:data:`PATIENCE`, :data:`GAIN`) or nothing moves.
+    A vertex's star is read once per visit (:func:`gather`); the trials of its
+    line search only recompute the distances to the moved vertex.
+    """
+    prevb, nextb = ring_neighbours(m, role)
+    lmax, lmin, pmax = measure(m, hv, href)
+    best = objective_of(objective, lmax, lmin, pmax)
+    step = initial_steps(m, hv, href, step0)
+    active = np.ones(m.nv, np.bool_)
+    moved = np.ones(m.nv, np.bool_)  # moved in the last sweep (all, before the first)
+    todo = np.empty(64, np.int32)
+    done = 0
+    stale = 0
+    mark = best  # the value PATIENCE sweeps must beat by GAIN
+    emax = 0.0
+    for sweep in range(sweeps):
+        if m.sized:
+            refresh_sizes(m, hv, moved)
+        moved[:] = False
+        w_len, w_short, w_per = _weights(m, hv, href, k, objective)
+        # a vertex whose share is below RELEVANT times the largest share of the
+        # previous sweep cannot change the objective's extremes: skip it
+        moves, emax = _sweep(
+            m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved, k,
+            w_len, w_short, w_per, RELEVANT * emax, flat,
+        )  # fmt: skip
+        todo = legalize_moved(m, moved, todo)
+        done = sweep + 1
+        lmax, lmin, pmax = measure(m, hv, href)
+        val = objective_of(objective, lmax, lmin, pmax)
+        if val < best:
+            best = val
+            keep_state(m, t, best_xy, best_t, best_tv)
+        if val < mark * (1.0 - GAIN):
+            mark = val
+            stale = 0
+        else:
+            stale += 1
+        if moves == 0 or stale >= PATIENCE:
+            break
+    return done, best

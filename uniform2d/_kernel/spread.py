@@ -1,0 +1,156 @@
+"""Spread: Gauss-Seidel sweeps on the spread of the normalised edge lengths that
+cannot make the objective worse.
+
+See :mod:`.relax` for the vertex roles, the targets and how every move keeps
+the mesh a valid constrained Delaunay triangulation.
+"""
+
+import numpy as np
+from numba import njit
+
+from .cdt import snap
+from .star import FIXED, TRIES, accept, edge, edge_halves, gather, initial_steps, keep_state
+from .star import legalize_moved, measure, objective_of, outgoing, place_at, refresh_sizes
+from .star import refuse, ring_neighbours, search, star_buffers, star_ok
+
+__all__ = ["spread"]
+
+
+@njit(cache=True)
+def _mean_length(m, hv, href):
+    """Mean normalised length over the edges."""
+    tv, xy = m.tv, m.xy
+    s = 0.0
+    k = 0
+    for h in edge_halves(m):
+        L, tgt = edge(xy, tv, hv, href, h)
+        s += L / tgt
+        k += 1
+    return s / k
+
+
+@njit(cache=True)
+def _star_spread(x, y, ns, nt, SP, TR, L, cbar, grad, ext, want):
+    """Sum (l - cbar)^2 over the cached star's spokes with v at (x, y), its
+    gradient into ``grad`` if ``want``, and the star's longest and shortest
+    normalised edge and largest normalised perimeter into ``ext``."""
+    E = 0.0
+    gx = 0.0
+    gy = 0.0
+    lmax = 0.0
+    lmin = np.inf
+    for i in range(ns):
+        dx = x - SP[i, 0]
+        dy = y - SP[i, 1]
+        Li = np.sqrt(dx * dx + dy * dy)
+        L[i] = Li
+        ell = Li / SP[i, 2]
+        E += (ell - cbar) ** 2
+        lmax = max(lmax, ell)
+        lmin = min(lmin, ell)
+        if want:
+            d = 2.0 * (ell - cbar) / (SP[i, 2] * Li)
+            gx += d * dx
+            gy += d * dy
+    pmax = 0.0
+    for j in range(nt):
+        i = j + 1 if j + 1 < ns else 0
+        pmax = max(pmax, (L[j] + L[i] + TR[j, 0]) / TR[j, 1])
+    grad[0] = gx
+    grad[1] = gy
+    ext[0] = lmax
+    ext[1] = lmin
+    ext[2] = pmax
+    return E
+
+
+@njit(cache=True)
+def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
+                 g2, ext, E0, lmax, lmin, pmax, floor):  # fmt: skip
+    """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
+    (x0, y0) along (ux, uy) whose place keeps the star valid (``star_ok`` with
+    ``floor``), lowers v's share of the spread below E0 and keeps the star's
+    extremes within (lmax, lmin, pmax)."""
+    for _k in range(TRIES):
+        x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
+        x, y = snap(m, x, y)
+        if star_ok(x, y, x0, y0, ns, nt, SP, floor):
+            E1 = _star_spread(x, y, ns, nt, SP, TR, L, cbar, g2, ext, False)
+            if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:
+                return True, x, y, tt, st
+        st *= 0.5
+    return False, x0, y0, t[v], st
+
+
+@njit(cache=True)
+def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, lmin, pmax,
+           flat):  # fmt: skip
+    """One sweep of :func:`spread` over the movable vertices, in order, each move
+    keeping its star within the extremes (lmax, lmin, pmax); returns the moves made."""
+    xy = m.xy
+    vh = outgoing(m)
+    SP, TR, L = star_buffers(m)
+    cbar = _mean_length(m, hv, href)
+    grad = np.zeros(2)
+    g2 = np.zeros(2)
+    ext = np.zeros(3)
+    moves = 0
+    for v in range(m.nv):
+        if role[v] == FIXED or vh[v] < 0:
+            continue
+        h0 = vh[v]
+        x0 = xy[v, 0]
+        y0 = xy[v, 1]
+        ns, nt = gather(m, v, h0, hv, href, SP, TR)
+        E0 = _star_spread(x0, y0, ns, nt, SP, TR, L, cbar, grad, ext, True)
+        ux, uy, st = search(role, eid, t, ed, prevb, nextb, v, grad, step[v])
+        if st == 0.0:
+            continue
+        ok, x, y, tt, st = _line_search(
+            m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
+            g2, ext, E0, lmax, lmin, pmax, flat * (href * hv[v]) ** 2,
+        )  # fmt: skip
+        if ok:
+            accept(xy, t, step, moved, v, x, y, tt, st, href, hv[v])
+            moves += 1
+        else:
+            refuse(step, v, href, hv[v])
+    return moves
+
+
+@njit(cache=True)
+def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy, best_t,
+           best_tv, flat):  # fmt: skip
+    """Gauss-Seidel sweeps on the spread ``sum (l - mean l)**2`` that cannot make
+    ``objective`` worse.
+
+    A move must lower the vertex's share of the spread and keep its star's
+    longest and shortest edge and largest perimeter within the mesh's present
+    extremes, so the objective can only change through the flips of the
+    legalisation; a sweep after which it is worse than at the start ends the
+    run, and ``best_*`` (which must hold the starting state) keep the last state
+    that was not.  Returns the number of sweeps kept.
+    """
+    prevb, nextb = ring_neighbours(m, role)
+    lmax, lmin, pmax = measure(m, hv, href)
+    start = objective_of(objective, lmax, lmin, pmax)
+    step = initial_steps(m, hv, href, step0)
+    moved = np.ones(m.nv, np.bool_)  # moved in the last sweep (all, before the first)
+    todo = np.empty(64, np.int32)
+    kept = 0
+    for sweep in range(sweeps):
+        if m.sized:
+            refresh_sizes(m, hv, moved)
+        moved[:] = False
+        moves = _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved,
+                       lmax, lmin, pmax, flat)  # fmt: skip
+        todo = legalize_moved(m, moved, todo)
+        a, b, c = measure(m, hv, href)
+        if objective_of(objective, a, b, c) > start:
+            break  # a flip made it worse: keep the state before this sweep
+        lmax, lmin, pmax = a, b, c
+        kept = sweep + 1
+        keep_state(m, t, best_xy, best_t, best_tv)
+        if moves == 0:
+            break
+    return kept

@@ -1,0 +1,151 @@
+"""Spring rounds: Jacobi moves of all vertices at once along linear springs.
+
+See :mod:`.relax` for the vertex roles, the targets and how every move keeps
+the mesh a valid constrained Delaunay triangulation.
+"""
+
+import numpy as np
+from numba import njit
+
+from .cdt import nxt, snap
+from .predicates import orient2d
+from .star import FIXED, FREE, SLIDE, edge_halves, legalize_moved, refresh_sizes
+from .star import ring_neighbours, t_of
+
+__all__ = ["spring"]
+
+
+@njit(cache=True)
+def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, flat):
+    """Jacobi spring rounds (see the module docstring); returns the rounds made.
+
+    A vertex moves by ``dt`` times its spring force, at most ``cap * href * hv[v]``;
+    a SLIDE vertex by the tangential part, at most a quarter of its gap to either
+    ring neighbour.  Moves that would invert a triangle, or flatten one whose
+    doubled area is below ``flat * (href * mean hv)**2`` further, are undone (its
+    three vertices stay), then the mesh is legalised.  Stops when the largest
+    move is below ``tol * href``.
+    """
+    n = m.nv
+    xy, tv = m.xy, m.tv
+    prevb, nextb = ring_neighbours(m, role)
+    F = np.zeros((n, 2))
+    new = np.empty((n, 2))
+    newt = t.copy()
+    moved = np.ones(n, np.bool_)  # moved in the last round (all, before the first)
+    todo = np.empty(64, np.int32)
+    it = 0
+    for it in range(1, iters + 1):
+        if m.sized:
+            refresh_sizes(m, hv, moved)
+        # rest-length scale c: sum (c * target)^2 = pressure^2 * sum L^2
+        sL = 0.0
+        sT = 0.0
+        halves = edge_halves(m)
+        for h in halves:
+            a = tv[h]
+            b = tv[nxt(h)]
+            L2 = (xy[b, 0] - xy[a, 0]) ** 2 + (xy[b, 1] - xy[a, 1]) ** 2
+            s = 0.5 * (hv[a] + hv[b])
+            sL += L2
+            sT += s * s
+        c = pressure * np.sqrt(sL / sT)
+        F[:, :] = 0.0
+        for h in halves:
+            a = tv[h]
+            b = tv[nxt(h)]
+            dx = xy[b, 0] - xy[a, 0]
+            dy = xy[b, 1] - xy[a, 1]
+            L = np.sqrt(dx * dx + dy * dy)
+            f = (c * 0.5 * (hv[a] + hv[b]) - L) / L
+            F[b, 0] += f * dx
+            F[b, 1] += f * dy
+            F[a, 0] -= f * dx
+            F[a, 1] -= f * dy
+        biggest = _trial(
+            m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved
+        )
+        _commit(m, role, t, new, newt, moved, hv, flat * href * href)
+        todo = legalize_moved(m, moved, todo)
+        if biggest < tol * href:
+            break
+    return it
+
+
+@njit(cache=True)
+def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved):
+    """Trial places ``new``/``newt`` of all movable vertices; returns the largest move."""
+    xy = m.xy
+    biggest = 0.0
+    for v in range(m.nv):
+        moved[v] = False
+        if role[v] == FIXED:
+            continue
+        dx = dt * F[v, 0]
+        dy = dt * F[v, 1]
+        lim = cap * href * hv[v]
+        if role[v] == FREE:
+            step = np.hypot(dx, dy)
+            if step > lim:
+                dx *= lim / step
+                dy *= lim / step
+                step = lim
+            if step == 0.0:
+                continue
+            new[v, 0], new[v, 1] = snap(m, xy[v, 0] + dx, xy[v, 1] + dy)
+            moved[v] = True
+            biggest = max(biggest, step)
+        else:
+            e = eid[v]
+            ex, ey = ed[e, 0], ed[e, 1]
+            L2 = ex * ex + ey * ey
+            dtv = (dx * ex + dy * ey) / L2
+            tp = t_of(role, t, prevb[v], True)
+            tn = t_of(role, t, nextb[v], False)
+            gap = 0.25 * min(t[v] - tp, tn - t[v])
+            gap = min(gap, lim / np.sqrt(L2))
+            dtv = min(max(dtv, -gap), gap)
+            if dtv == 0.0:
+                continue
+            newt[v] = t[v] + dtv
+            new[v, 0], new[v, 1] = snap(m, ea[e, 0] + newt[v] * ex, ea[e, 1] + newt[v] * ey)
+            moved[v] = True
+            biggest = max(biggest, abs(dtv) * np.sqrt(L2))
+    return biggest
+
+
+@njit(cache=True)
+def _commit(m, role, t, new, newt, moved, hv, flat2):
+    """Apply the trial places, undoing those that would invert a triangle (exact)
+    or flatten one below ``flat2 * mean(hv)**2`` (see :func:`spring`)."""
+    xy, tv = m.xy, m.tv
+    changed = True
+    while changed:
+        changed = False
+        for tt in range(m.nt):
+            a = tv[3 * tt]
+            b = tv[3 * tt + 1]
+            c = tv[3 * tt + 2]
+            if not (moved[a] or moved[b] or moved[c]):
+                continue
+            ax, ay = (new[a, 0], new[a, 1]) if moved[a] else (xy[a, 0], xy[a, 1])
+            bx, by = (new[b, 0], new[b, 1]) if moved[b] else (xy[b, 0], xy[b, 1])
+            cx, cy = (new[c, 0], new[c, 1]) if moved[c] else (xy[c, 0], xy[c, 1])
+            det = orient2d(ax, ay, bx, by, cx, cy)
+            bad = det <= 0.0
+            if not bad:
+                hm = (hv[a] + hv[b] + hv[c]) / 3.0
+                if det < flat2 * hm * hm:
+                    old = orient2d(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1])
+                    bad = det < old
+            if bad:
+                moved[a] = False
+                moved[b] = False
+                moved[c] = False
+                changed = True
+    for v in range(m.nv):
+        if moved[v]:
+            xy[v, 0] = new[v, 0]
+            xy[v, 1] = new[v, 1]
+            if role[v] == SLIDE:
+                t[v] = newt[v]

@@ -1,0 +1,288 @@
+"""The star of a vertex and the mesh-wide measures shared by the ways to move points.
+
+Used by :mod:`.spring`, :mod:`.descent` and :mod:`.spread` (overview:
+:mod:`.relax`): vertex roles, the size targets, the normalised extremes and the
+objective, the cached star of a vertex (:func:`gather`) and its validity test
+(:func:`star_ok`), a vertex's line-search direction and places, and the
+legalisation after a round of moves.
+
+Around a vertex v the kernel turns counter-clockwise with ``h -> tw[prv(h)]``
+starting from an outgoing half-edge (``vseg[v]`` on the boundary, where the turn
+ends at -1)::
+
+            c
+           / \\         h = v->b, prv(h) = c->v, tw[prv(h)] = v->c: the next
+          /   \\        outgoing half-edge, counter-clockwise around v
+         v --h-> b
+"""
+
+import numpy as np
+from numba import njit
+
+from .cdt import legalize_stack, nxt, prv
+from .heap import grown
+from .objective import combine
+from .predicates import orient2d
+from .rank import size_at
+
+FIXED, FREE, SLIDE = 0, 1, 2
+#: Halvings of the step a line search tries before the vertex gives up.
+TRIES = 8
+
+
+@njit(cache=True)
+def refresh_sizes(m, hv, which):
+    """hv[v] = the size field at vertex v (1 without a field), for each v with
+    ``which[v]`` (the vertices moved since the last refresh)."""
+    for v in range(m.nv):
+        if which[v]:
+            hv[v] = size_at(m, m.xy[v, 0], m.xy[v, 1])
+
+
+@njit(cache=True, inline="always")
+def edge(xy, tv, hv, href, h):
+    """(length, target) of the edge of half-edge h."""
+    a = tv[h]
+    b = tv[nxt(h)]
+    dx = xy[b, 0] - xy[a, 0]
+    dy = xy[b, 1] - xy[a, 1]
+    return np.sqrt(dx * dx + dy * dy), 0.5 * (hv[a] + hv[b]) * href
+
+
+@njit(cache=True)
+def measure(m, hv, href):
+    """(longest, shortest, largest perimeter), all normalised by their targets."""
+    xy, tv = m.xy, m.tv
+    lmax = 0.0
+    lmin = np.inf
+    pmax = 0.0
+    for t in range(m.nt):
+        per = 0.0
+        tgt = 0.0
+        for i in range(3):
+            L, s = edge(xy, tv, hv, href, 3 * t + i)
+            per += L
+            tgt += s
+            ell = L / s
+            lmax = max(lmax, ell)
+            lmin = min(lmin, ell)
+        pmax = max(pmax, per / tgt)
+    return lmax, lmin, pmax
+
+
+_combine = njit(cache=True)(combine)
+
+
+@njit(cache=True)
+def objective_of(objective, lmax, lmin, pmax):
+    """The scalar minimised, from the normalised extremes (see :mod:`.objective`)."""
+    return _combine(objective, lmax / lmin, lmax, pmax)
+
+
+@njit(cache=True)
+def ring_neighbours(m, role):
+    """Previous and next vertex along the boundary ring of every SLIDE vertex."""
+    n = m.nv
+    prevb = np.full(n, -1, np.int64)
+    nextb = np.full(n, -1, np.int64)
+    for v in range(n):
+        h = m.vseg[v]
+        if h >= 0:
+            w = m.tv[nxt(h)]
+            nextb[v] = w
+            prevb[w] = v
+    return prevb, nextb
+
+
+@njit(cache=True)
+def t_of(role, t, u, at_start):
+    """Parameter of ring neighbour u on the edge of a SLIDE vertex (0/1 at its ends)."""
+    if role[u] == SLIDE:
+        return t[u]
+    return 0.0 if at_start else 1.0
+
+
+@njit(cache=True)
+def outgoing(m):
+    """One outgoing half-edge per vertex: the boundary one for boundary vertices."""
+    vh = np.full(m.nv, -1, np.int64)
+    for h in range(3 * m.nt):
+        v = m.tv[h]
+        if vh[v] < 0:
+            vh[v] = h
+    for v in range(m.nv):
+        if m.vseg[v] >= 0:
+            vh[v] = m.vseg[v]
+    return vh
+
+
+@njit(cache=True)
+def star_buffers(m):
+    """Buffers for the largest star: spokes (S, 3), triangles (S, 2), lengths (S,)."""
+    deg = np.zeros(m.nv, np.int64)
+    for h in range(3 * m.nt):
+        deg[m.tv[h]] += 1
+    s = deg.max() + 2
+    return np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
+
+
+@njit(cache=True)
+def gather(m, v, h0, hv, href, SP, TR):
+    """Cache the star of v (outgoing half-edge h0) for its line search.
+
+    Spoke i: ``SP[i] = (x, y, target)`` of the i-th neighbour counter-clockwise;
+    triangle j has spokes j and j + 1 (mod the spoke count) and
+    ``TR[j] = (length of its edge opposite v, its perimeter target)``.  Returns
+    (spokes, triangles): equal for an interior vertex, spokes = triangles + 1 on
+    the boundary (an open fan).  Nothing of the star but v moves during the
+    search, so lengths opposite v are computed once here.
+    """
+    xy, tv, tw = m.xy, m.tv, m.tw
+    h = h0
+    j = 0
+    while True:
+        b = tv[nxt(h)]
+        c = tv[prv(h)]
+        SP[j, 0] = xy[b, 0]
+        SP[j, 1] = xy[b, 1]
+        SP[j, 2] = 0.5 * (hv[v] + hv[b]) * href
+        ex = xy[c, 0] - xy[b, 0]
+        ey = xy[c, 1] - xy[b, 1]
+        TR[j, 0] = np.sqrt(ex * ex + ey * ey)
+        TR[j, 1] = (hv[v] + hv[b] + hv[c]) * href
+        j += 1
+        g = tw[prv(h)]
+        if g < 0:  # boundary: the last spoke is v-c
+            SP[j, 0] = xy[c, 0]
+            SP[j, 1] = xy[c, 1]
+            SP[j, 2] = 0.5 * (hv[v] + hv[c]) * href
+            return j + 1, j
+        h = g
+        if h == h0:
+            return j, j
+
+
+@njit(cache=True)
+def star_ok(x, y, x0, y0, ns, nt, SP, floor):
+    """Whether every triangle of the cached star stays strictly CCW with v moved
+    from (x0, y0) to (x, y) (exact), and none whose doubled area is below
+    ``floor`` gets flatter (a quality guard, not a predicate: slivers may not
+    form, but may heal)."""
+    for j in range(nt):
+        i = j + 1 if j + 1 < ns else 0
+        det = orient2d(x, y, SP[j, 0], SP[j, 1], SP[i, 0], SP[i, 1])
+        if det <= 0.0:
+            return False
+        if det < floor:
+            old = orient2d(x0, y0, SP[j, 0], SP[j, 1], SP[i, 0], SP[i, 1])
+            if det < old:
+                return False
+    return True
+
+
+@njit(cache=True)
+def suspects(m, moved, todo):
+    """The unconstrained edges with a moved vertex in either triangle (each once),
+    for the legalisation after a sweep.  Returns (todo, count)."""
+    tv, tw = m.tv, m.tw
+    sp = 0
+    for h in range(3 * m.nt):
+        g = tw[h]
+        if g < h:  # boundary (-1), or the twin's turn
+            continue
+        if moved[tv[h]] or moved[tv[nxt(h)]] or moved[tv[prv(h)]] or moved[tv[prv(g)]]:
+            todo = grown(todo, sp + 1)
+            todo[sp] = h
+            sp += 1
+    return todo, sp
+
+
+@njit(cache=True)
+def search(role, eid, t, ed, prevb, nextb, v, grad, step_v):
+    """Direction (ux, uy) against the gradient and the first trial step for v: in
+    the plane for a FREE vertex; along its edge for a SLIDE one, at most 0.45 of
+    the room to the ring neighbour on that side.  A step of 0 means no move."""
+    if role[v] == SLIDE:
+        e = eid[v]
+        ex, ey = ed[e, 0], ed[e, 1]
+        L = np.hypot(ex, ey)
+        gt = -(grad[0] * ex + grad[1] * ey) / L
+        if gt == 0.0:
+            return 0.0, 0.0, 0.0
+        sgn = 1.0 if gt > 0 else -1.0
+        if sgn > 0:
+            room = t_of(role, t, nextb[v], False) - t[v]
+        else:
+            room = t[v] - t_of(role, t, prevb[v], True)
+        return sgn * ex / L, sgn * ey / L, min(step_v, 0.45 * room * L)
+    gn = np.hypot(grad[0], grad[1])
+    if gn == 0.0:
+        return 0.0, 0.0, 0.0
+    return -grad[0] / gn, -grad[1] / gn, step_v
+
+
+@njit(cache=True)
+def place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, s):
+    """(x, y, t) of v moved by s along (ux, uy); a SLIDE vertex stays on its edge."""
+    if role[v] == SLIDE:
+        e = eid[v]
+        ex, ey = ed[e, 0], ed[e, 1]
+        tt = t[v] + s * (ux * ex + uy * ey) / (ex * ex + ey * ey)
+        return ea[e, 0] + tt * ex, ea[e, 1] + tt * ey, tt
+    return x0 + s * ux, y0 + s * uy, t[v]
+
+
+@njit(cache=True)
+def edge_halves(m):
+    """One half-edge of every edge, in increasing order (of two twins, the smaller)."""
+    out = np.empty(3 * m.nt, np.int64)
+    k = 0
+    for h in range(3 * m.nt):
+        g = m.tw[h]
+        if g < 0 or g > h:
+            out[k] = h
+            k += 1
+    return out[:k]
+
+
+@njit(cache=True)
+def legalize_moved(m, moved, todo):
+    """Make every edge around the moved vertices locally Delaunay again
+    (:func:`suspects`, then Lawson flips); returns the stack, grown if needed."""
+    todo, sp = suspects(m, moved, todo)
+    legalize_stack(m, todo, sp)
+    return todo
+
+
+@njit(cache=True)
+def initial_steps(m, hv, href, step0):
+    """Every vertex's first trial step of the line searches: ``step0 * href * hv[v]``."""
+    step = np.empty(m.nv)
+    for v in range(m.nv):
+        step[v] = step0 * href * hv[v]
+    return step
+
+
+@njit(cache=True)
+def accept(xy, t, step, moved, v, x, y, tt, st, href, hvv):
+    """Move v to (x, y) (edge parameter tt) found with trial step st; its next
+    first step is 1.5 st, at most 0.3 of its target size ``href * hvv``."""
+    xy[v, 0] = x
+    xy[v, 1] = y
+    t[v] = tt
+    step[v] = min(1.5 * st, 0.3 * href * hvv)
+    moved[v] = True
+
+
+@njit(cache=True)
+def refuse(step, v, href, hvv):
+    """A failed line search halves v's first step (not below 1e-9 of its target)."""
+    step[v] = max(0.5 * step[v], 1e-9 * href * hvv)
+
+
+@njit(cache=True)
+def keep_state(m, t, best_xy, best_t, best_tv):
+    """Copy the present points, edge parameters and triangles into ``best_*``."""
+    best_xy[:, :] = m.xy[: best_xy.shape[0]]
+    best_t[:] = t
+    best_tv[:] = m.tv[: best_tv.shape[0]]
