@@ -4,7 +4,6 @@ documentation states the tolerance the kernel uses."""
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 import uniform2d

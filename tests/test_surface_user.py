@@ -4,7 +4,6 @@ output left to the application, the --stats text, the --plot figure."""
 from __future__ import annotations
 
 import dataclasses
-import io
 import subprocess
 import sys
 from pathlib import Path
