@@ -60,6 +60,7 @@ def test_too_many_points_is_a_memory_error_and_a_uniform2d_error(monkeypatch):
 
 
 # -- first run -----------------------------------------------------------------------
+@pytest.mark.compile_cache
 def test_an_empty_numba_cache_is_cold_and_a_used_one_is_not(tmp_path):
     from uniform2d.compile_cache import cold_kernels, kernels_cold
 
@@ -87,6 +88,7 @@ def test_the_notice_is_printed_once_only_when_compiling(capsys, tmp_path, monkey
     assert code == 0 and err == ""
 
 
+@pytest.mark.compile_cache
 def test_a_cache_numba_cannot_read_says_nothing(monkeypatch):
     import uniform2d.compile_cache as C
 
@@ -139,6 +141,21 @@ def test_ctrl_c_while_meshing_stops_with_one_line_and_no_file(capsys, tmp_path, 
                          "--plot", f"{tmp_path}/figs/")
     assert code == 130 and err == "uniform2d: interrupted\n" and out == ""
     assert [p for p in files(tmp_path) if Path(p).suffix] == []
+
+
+def test_an_internal_error_is_one_line_exit_1_and_no_file(capsys, tmp_path, monkeypatch):
+    import uniform2d.uniform
+    from uniform2d.errors import InternalError
+
+    def invalid(*args, **kwargs):
+        raise InternalError("uniform_mesh made an invalid mesh (test); please report it")
+
+    monkeypatch.setattr(uniform2d.uniform, "uniform_mesh", invalid)
+    code, out, err = run(capsys, "mesh", SQUARE, "-n", 20, "-o", tmp_path / "sq.vtu",
+                         "--plot", tmp_path / "sq.png")
+    assert code == 1 and out == ""
+    assert err == "uniform2d: internal error: uniform_mesh made an invalid mesh (test); please report it\n"
+    assert files(tmp_path) == []
 
 
 def test_ctrl_c_while_writing_leaves_no_partial_file(capsys, tmp_path, monkeypatch):

@@ -153,10 +153,12 @@ def main(argv=None) -> int:
     """Run the command line with ``argv`` (default ``sys.argv[1:]``); return the exit code.
 
     Exit codes: 0 success, 2 bad input or usage, or too little memory for the
-    request (one line on stderr, no traceback, no output file), 130 interrupted,
-    141 stdout closed early (a pipe).
+    request (one line on stderr, no traceback, no output file), 1 a mesh that
+    failed uniform2d's own final check (a bug to report: one line, the
+    traceback with -vvv, no output file), 130 interrupted, 141 stdout closed
+    early (a pipe).
     """
-    from ..errors import Uniform2dError
+    from ..errors import InternalError, Uniform2dError
 
     parser, modules = build_parser()
     try:
@@ -179,6 +181,10 @@ def main(argv=None) -> int:
         logging.getLogger(__name__).debug("error details", exc_info=True)
         print(f"{PROG}: error: {error_message(exc)}", file=sys.stderr)
         return 2
+    except InternalError as exc:
+        logging.getLogger(__name__).debug("internal error details", exc_info=True)
+        print(f"{PROG}: internal error: {exc}", file=sys.stderr)
+        return 1
     finally:
         undo_logging()
 
