@@ -201,7 +201,7 @@ def _split_and_flip(m, x, y, t0, hs):
     tag = new_tag(m)
     m.cav[0] = t0
     m.tmark[t0] = tag
-    ncav = 1
+    ncav = np.int64(1)
     for i in range(3):
         h = 3 * t0 + i
         g = tw[h]

@@ -317,7 +317,7 @@ def legalize_all(m):
 def legalize_stack(m, todo, sp):
     """Lawson flips starting from the half-edges ``todo[:sp]`` (each edge that
     becomes suspect is pushed); returns the flip count.  ``todo`` grows as needed."""
-    return _lawson(m, todo, sp, np.int32(-1), 0)
+    return _lawson(m, todo, sp, np.int32(-1), np.int64(0))
 
 
 @njit(cache=True)

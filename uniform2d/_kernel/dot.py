@@ -49,7 +49,7 @@ def dot2d_exact(ax, ay, bx, by, cx, cy):
     # (ax - cx)(bx - cx) + (ay - cy)(by - cy), expanded into 8 monomials
     xs = np.array([ax, -ax, -cx, cx, ay, -ay, -cy, cy])
     ys = np.array([bx, cx, bx, cx, by, cy, by, cy])
-    return unscale(leading_of_sum(8, xs, ys), 2 * k)
+    return unscale(leading_of_sum(np.int64(8), xs, ys), 2 * k)
 
 
 @njit(cache=True)

@@ -232,12 +232,12 @@ def sum_of_products(n, xs, ys, out, tmp, term):
     hi, lo = two_product(xs[0], ys[0])
     out[0] = lo
     out[1] = hi
-    length = 2
+    length = np.int64(2)
     for i in range(1, n):
         hi, lo = two_product(xs[i], ys[i])
         term[0] = lo
         term[1] = hi
-        length = expansion_sum(length, out, 2, term, tmp)
+        length = expansion_sum(length, out, np.int64(2), term, tmp)
         for k in range(length):
             out[k] = tmp[k]
     return length

@@ -98,7 +98,7 @@ def _push_segment(m, M, h):
     v = m.tv[nxt(h)]
     ddx = m.xy[v, 0] - m.xy[u, 0]
     ddy = m.xy[v, 1] - m.xy[u, 1]
-    heap.push(M, 0.5 * np.sqrt(ddx * ddx + ddy * ddy) / m.hmin, -(u + 1), v)
+    heap.push(M, 0.5 * np.sqrt(ddx * ddx + ddy * ddy) / m.hmin, np.int32(-(u + 1)), v)
 
 
 @njit(cache=True)

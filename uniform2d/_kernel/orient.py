@@ -21,7 +21,7 @@ CCWERRBOUNDA = (3.0 + 16.0 * EPSILON) * EPSILON
 def orient_expansion(ax, ay, bx, by, cx, cy, xs, ys, out, tmp, term):
     """out <- exact [abc] = ax(by - cy) + bx(cy - ay) + cx(ay - by); length."""
     _monomials(ax, ay, bx, by, cx, cy, xs, ys)
-    return sum_of_products(6, xs, ys, out, tmp, term)
+    return sum_of_products(np.int64(6), xs, ys, out, tmp, term)
 
 
 @njit(cache=True)
@@ -56,7 +56,7 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
     xs = np.empty(6)
     ys = np.empty(6)
     _monomials(ax, ay, bx, by, cx, cy, xs, ys)
-    return unscale(leading_of_sum(6, xs, ys), 2 * k)
+    return unscale(leading_of_sum(np.int64(6), xs, ys), 2 * k)
 
 
 @njit(cache=True)

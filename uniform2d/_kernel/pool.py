@@ -110,7 +110,7 @@ def pool_add(P, a, b, w, x, y, xtol):
     P.pw[s] = w
     P.px[s] = x
     P.py[s] = y
-    heap.push(P.pv, w, s, P.pgen[s])
+    heap.push(P.pv, w, np.int32(s), P.pgen[s])
     if x < P.bound - xtol:  # a new smallest x: the window must be rebuilt around it
         dump_window(P)
         to_outside(P, np.int64(s))
