@@ -14,6 +14,7 @@ uniform2d.errors.InvalidArgumentError: give exactly one of n (number of Steiner 
 __all__ = [
     "Uniform2dError",
     "InvalidPolygonError",
+    "InvalidConstraintError",
     "InsufficientPointsError",
     "InvalidSitesError",
     "UnsupportedFormatError",
@@ -32,6 +33,12 @@ class Uniform2dError(ValueError):
 
 class InvalidPolygonError(Uniform2dError):
     """The polygon is not a valid simple polygon with holes (the message says where)."""
+
+
+class InvalidConstraintError(InvalidPolygonError):
+    """A segment or fixed point of a polygon is unusable: it crosses a ring, a hole
+    or another segment, overlaps one, lies outside the polygon, or repeats (the
+    message names the pieces and the place)."""
 
 
 class CoordinatePrecisionError(InvalidPolygonError):

@@ -1,9 +1,10 @@
-"""The polygon model: one outer ring and zero or more holes, validated.
+"""The polygon model: one outer ring, zero or more holes, and interior constraints.
 
 A :class:`Polygon` is immutable.  Its rings are normalised on construction: the
 outer ring counter-clockwise, holes clockwise, so the interior of the polygon is
 always on the left of every ring edge.  Consecutive collinear vertices are legal:
-they are sites of the construction like any other vertex.
+they are sites of the construction like any other vertex.  Interior segments and
+fixed points (:mod:`uniform2d.constraints`) add vertices after the rings' ones.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from .errors import InvalidPolygonError
+from . import constraints as _constraints
+from .errors import InvalidConstraintError, InvalidPolygonError
 from .geometry import signed_area
 
 __all__ = ["Polygon"]
@@ -109,7 +111,7 @@ def _as_ring(coords, name: str) -> np.ndarray:
 
 
 class Polygon:
-    """A validated polygon with holes.
+    """A validated polygon with holes, interior segments and fixed points.
 
     Parameters
     ----------
@@ -118,6 +120,14 @@ class Polygon:
         to the first one is dropped.
     holes : sequence of array_like, each shape (k_i, 2)
         Vertices of each hole ring, in either orientation.
+    segments : sequence of array_like, each shape (k_i, 2), keyword-only
+        Interior polylines that the mesh must contain as chains of edges (members,
+        stiffeners, ridges, joints, region borders).  Open or closed (last vertex
+        equal to the first).  One may end on a ring (that point becomes a vertex
+        of the ring), inside P, or on another segment (which is split there).
+    points : array_like, shape (K, 2), keyword-only
+        Fixed points that must be mesh vertices (supports, load points).  One on
+        a segment splits it; one on a ring becomes a vertex of the ring.
 
     Raises
     ------
@@ -125,6 +135,17 @@ class Polygon:
         If a ring has fewer than 3 distinct vertices, a non-finite coordinate, a
         repeated consecutive vertex, zero area or a self-intersection; if a hole is
         not strictly inside the outer ring; or if two holes overlap or touch.
+    InvalidConstraintError
+        If a segment or point is malformed, outside P or in a hole, or if a
+        segment crosses or overlaps a ring or another segment (an
+        :class:`InvalidPolygonError`).
+
+    Notes
+    -----
+    :attr:`vertices` are the ring vertices (``ring_offsets`` delimits the rings)
+    followed by the constraint vertices not on a ring; :attr:`edges` are the ring
+    edges only and :attr:`segment_edges` the segments' pieces, split at every
+    vertex on them.  Junctions are decided exactly on the coordinates as given.
 
     Examples
     --------
@@ -134,11 +155,18 @@ class Polygon:
     (1.0, 4.0, 0)
     >>> sq.outer[:2].tolist()                                 # stored counter-clockwise
     [[0.0, 0.0], [1.0, 0.0]]
+    >>> slab = Polygon([(0, 0), (4, 0), (4, 3), (0, 3)], segments=[[(2, 0), (2, 2)]],
+    ...                points=[(1, 1), (3, 1)])
+    >>> slab.outer.tolist()                                  # the T-junction joins the ring
+    [[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]]
+    >>> slab.segment_edges.tolist(), slab.fixed.tolist()
+    ([[1, 5]], [6, 7])
     """
 
-    __slots__ = ("_rings", "_vertices", "_offsets", "_area", "_perimeter")
+    __slots__ = ("_rings", "_vertices", "_offsets", "_area", "_perimeter", "_segments",
+                 "_points", "_segment_edges", "_segment_ids", "_fixed")  # fmt: skip
 
-    def __init__(self, outer, holes=()):
+    def __init__(self, outer, holes=(), *, segments=(), points=()):
         outer_ring = _as_ring(outer, "outer ring")
         if isinstance(holes, np.ndarray) and holes.ndim == 2:
             raise InvalidPolygonError(
@@ -173,17 +201,48 @@ class Polygon:
                     )
 
         rings = [outer_ring, *hole_rings]
-        for r in rings:
-            r.setflags(write=False)
-        self._rings = tuple(rings)
-        self._vertices = np.concatenate(rings, axis=0)
-        self._vertices.setflags(write=False)
-        self._offsets = np.cumsum([0] + [len(r) for r in rings])
-        self._offsets.setflags(write=False)
         self._area = signed_area(outer_ring) + sum(signed_area(h) for h in hole_rings)
         self._perimeter = float(
             sum(np.linalg.norm(np.roll(r, -1, axis=0) - r, axis=1).sum() for r in rings)
         )
+        extra = self._set_constraints(rings, segments, points)
+        for r in rings:
+            r.setflags(write=False)
+        self._rings = tuple(rings)
+        self._vertices = np.concatenate([*rings, extra], axis=0)
+        self._vertices.setflags(write=False)
+        self._offsets = np.cumsum([0] + [len(r) for r in rings])
+        self._offsets.setflags(write=False)
+
+    def _set_constraints(self, rings: list, segments, points) -> np.ndarray:
+        """Check and store the segments and points; splice T-junctions into
+        ``rings`` (in place); return the constraint vertices not on a ring."""
+        if isinstance(segments, np.ndarray) and segments.ndim == 2:
+            raise InvalidConstraintError(
+                "segments must be a sequence of polylines; wrap a single one as [segment]"
+            )
+        lines = [_constraints.polyline(c, f"segment {i}") for i, c in enumerate(segments)]
+        pts = _constraints.fixed_points(points if points is not None else ())
+        self._segments = tuple(lines)
+        self._points = pts
+        extra = np.empty((0, 2), np.float64)
+        edges, ids, fixed = (np.empty((0, 2), np.int64), np.empty(0, np.int64),
+                             np.empty(0, np.int64))  # fmt: skip
+        if lines or len(pts):
+            for v in [*lines, pts]:
+                big = float(np.abs(v).max()) if v.size else 0.0
+                if big > COORD_MAX:
+                    raise InvalidConstraintError(
+                        f"a segment or point coordinate is {big:.3g}, beyond {COORD_MAX:g}; "
+                        "rescale the polygon (other units)"
+                    )
+            c = _constraints.build(rings, lines, pts)
+            rings[:] = c.rings
+            extra, edges, ids, fixed = c.extra, c.segment_edges, c.segment_ids, c.fixed
+        for a in (pts, extra, edges, ids, fixed, *lines):
+            a.setflags(write=False)
+        self._segment_edges, self._segment_ids, self._fixed = edges, ids, fixed
+        return extra
 
     # -- basic views -------------------------------------------------------------
     @property
@@ -212,6 +271,49 @@ class Polygon:
     def ring_offsets(self) -> np.ndarray:
         """Ring ``r`` is ``vertices[ring_offsets[r]:ring_offsets[r + 1]]``."""
         return self._offsets
+
+    @property
+    def n_ring_vertices(self) -> int:
+        """How many of :attr:`vertices` are ring vertices (they come first)."""
+        return int(self._offsets[-1])
+
+    @property
+    def segments(self) -> tuple[np.ndarray, ...]:
+        """The interior segments as given, each (k_i, 2) float64 (a closed one ends
+        where it starts)."""
+        return self._segments
+
+    @property
+    def points(self) -> np.ndarray:
+        """The fixed points as given, (K, 2) float64."""
+        return self._points
+
+    @property
+    def segment_edges(self) -> np.ndarray:
+        """The segments' pieces as (S, 2) int64 indices into :attr:`vertices`,
+        in the direction given; no vertex lies inside a piece."""
+        return self._segment_edges
+
+    @property
+    def segment_ids(self) -> np.ndarray:
+        """(S,) int64: the segment (index into :attr:`segments`) of each piece."""
+        return self._segment_ids
+
+    @property
+    def fixed(self) -> np.ndarray:
+        """(K,) int64: the index into :attr:`vertices` of each fixed point."""
+        return self._fixed
+
+    @property
+    def constraint_edges(self) -> np.ndarray:
+        """Ring edges then segment pieces, (E + S, 2) int64: every edge the mesh
+        must contain."""
+        return np.concatenate([self.edges, self._segment_edges], axis=0)
+
+    @property
+    def has_constraints(self) -> bool:
+        """Whether there are interior segments or fixed points."""
+        return bool(len(self._segments) or len(self._points))
 
     @property
     def n_holes(self) -> int:
@@ -245,7 +347,8 @@ class Polygon:
         return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 
     def interior_angles(self) -> np.ndarray:
-        """Interior angle at every vertex, (N,) radians in (0, 2*pi), ordered like V."""
+        """Interior angle at every ring vertex, (:attr:`n_ring_vertices`,) radians in
+        (0, 2*pi), ordered like :attr:`vertices`."""
         out = []
         for r in self._rings:
             prev = np.roll(r, 1, axis=0) - r
@@ -278,20 +381,48 @@ class Polygon:
             np.asarray(geom.exterior.coords), [np.asarray(h.coords) for h in geom.interiors]
         )
 
+    def split_segments(self) -> list[np.ndarray]:
+        """The segments as polylines through every vertex on them (junctions
+        included), one per input segment, each (k_i, 2) float64."""
+        out = []
+        for s in range(len(self._segments)):
+            e = self._segment_edges[self._segment_ids == s]
+            out.append(self._vertices[np.append(e[:, 0], e[-1, 1])])
+        return out
+
     def transformed(self, scale: float = 1.0, offset=(0.0, 0.0)) -> "Polygon":
-        """A copy with every vertex mapped to ``scale * v + offset``."""
+        """A copy with every vertex mapped to ``scale * v + offset``.
+
+        Segments are mapped through their junction vertices, so a junction stays
+        one even where rounding would move a mapped point off a mapped line.
+        """
         off = np.asarray(offset, dtype=np.float64)
-        return Polygon(self._rings[0] * scale + off, [h * scale + off for h in self._rings[1:]])
+        return Polygon(
+            self._rings[0] * scale + off,
+            [h * scale + off for h in self._rings[1:]],
+            segments=[s * scale + off for s in self.split_segments()],
+            points=self._points * scale + off,
+        )
 
     def __eq__(self, other) -> bool:
-        if not isinstance(other, Polygon) or len(self._rings) != len(other._rings):
-            return NotImplemented if not isinstance(other, Polygon) else False
-        return all(np.array_equal(a, b) for a, b in zip(self._rings, other._rings))
+        if not isinstance(other, Polygon):
+            return NotImplemented
+        if len(self._rings) != len(other._rings) or self._vertices.shape != other._vertices.shape:
+            return False
+        return (
+            all(np.array_equal(a, b) for a, b in zip(self._rings, other._rings))
+            and np.array_equal(self._vertices, other._vertices)
+            and np.array_equal(self._segment_edges, other._segment_edges)
+            and np.array_equal(self._fixed, other._fixed)
+        )
 
     __hash__ = None
 
     def __repr__(self) -> str:
+        more = ""
+        if self.has_constraints:
+            more = f", {len(self._segments)} segments, {len(self._points)} points"
         return (
-            f"Polygon({len(self._vertices)} vertices, {self.n_holes} holes, "
+            f"Polygon({len(self._vertices)} vertices, {self.n_holes} holes{more}, "
             f"area={self._area:.6g})"
         )

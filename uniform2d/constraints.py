@@ -1,0 +1,347 @@
+"""Interior constraints of a polygon: segments (polylines) and fixed points.
+
+:func:`build` turns the caller's polylines and points into a planar straight-line
+graph on top of the polygon's rings, decided exactly (rational arithmetic on the
+floats as given, so no tolerance judges a junction):
+
+* every vertex that lies on a piece of a segment or a ring edge, other than its
+  ends, splits it there: a segment ending on a ring edge (a T-junction) or a
+  fixed point on it becomes a vertex of that ring, a fixed point or another
+  segment's end on a segment splits that segment;
+* pieces that cross properly, or overlap along a line, are refused with the
+  two pieces and the place named; so is a piece outside P or in a hole.
+
+Nothing is repaired silently: the only change to the input is the splitting
+above, which keeps every given point where it was given.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+import shapely
+
+from .errors import InvalidConstraintError
+
+__all__ = ["Constraints", "build"]
+
+
+@dataclass(frozen=True)
+class Constraints:
+    """The planar straight-line graph of a polygon's rings, segments and points.
+
+    Attributes
+    ----------
+    rings : list of ndarray
+        The rings with the T-junction vertices spliced into their edges.
+    extra : ndarray, shape (K, 2)
+        Constraint vertices not on a ring, each once, in order of appearance
+        (segment vertices first, then fixed points).
+    segment_edges : ndarray, shape (S, 2), int64
+        The segments' pieces as indices into ``rings`` then ``extra`` concatenated;
+        no vertex lies inside a piece.
+    segment_ids : ndarray, shape (S,), int64
+        The input segment each piece belongs to.
+    fixed : ndarray, shape (F,), int64
+        The vertex index of each fixed point.
+    """
+
+    rings: list
+    extra: np.ndarray
+    segment_edges: np.ndarray
+    segment_ids: np.ndarray
+    fixed: np.ndarray
+
+
+def _fmt(p) -> str:
+    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
+
+
+def _q(p) -> tuple[Fraction, Fraction]:
+    return Fraction(float(p[0])), Fraction(float(p[1]))
+
+
+def _orient(a, b, c) -> int:
+    v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    return (v > 0) - (v < 0)
+
+
+def _strictly_inside(p, a, b) -> bool:
+    """Is p on the open segment a-b?  (Exact, rational points.)"""
+    if _orient(a, b, p) != 0 or p == a or p == b:
+        return False
+    return min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
+
+
+def polyline(coords, name: str) -> np.ndarray:
+    """One segment as a float64 (k, 2) array, checked locally (closed if first == last)."""
+    try:
+        line = np.array(coords, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidConstraintError(
+            f"{name}: coordinates must be numbers in a (k, 2) array-like ({exc})"
+        ) from None
+    if line.ndim != 2 or line.shape[1] != 2 or len(line) < 2:
+        hint = "; segments is a list of polylines: wrap a single one as [segment]" if line.ndim == 1 else ""
+        raise InvalidConstraintError(
+            f"{name}: expected a (k, 2) array of at least 2 (x, y) points, got shape "
+            f"{line.shape}{hint}"
+        )
+    bad = ~np.isfinite(line).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InvalidConstraintError(f"{name}: vertex {i} has a non-finite coordinate {_fmt(line[i])}")
+    same = np.all(line[1:] == line[:-1], axis=1)
+    if same.any():
+        i = int(np.flatnonzero(same)[0])
+        raise InvalidConstraintError(
+            f"{name}: vertices {i} and {i + 1} are the same point {_fmt(line[i])}, a zero-length "
+            "piece; remove the repeated vertex"
+        )
+    if np.array_equal(line[0], line[-1]) and len(line) < 4:
+        raise InvalidConstraintError(
+            f"{name}: a closed segment needs at least 3 distinct vertices, got {len(line) - 1}"
+        )
+    return line
+
+
+def fixed_points(coords) -> np.ndarray:
+    """The fixed points as a float64 (K, 2) array, finite and distinct."""
+    try:
+        pts = np.array(coords, dtype=np.float64).reshape(-1, 2)
+    except (TypeError, ValueError) as exc:
+        raise InvalidConstraintError(f"points must be a (K, 2) array of coordinates ({exc})") from None
+    bad = ~np.isfinite(pts).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InvalidConstraintError(f"point {i} has a non-finite coordinate {_fmt(pts[i])}")
+    _, first, inv, counts = np.unique(pts, axis=0, return_index=True, return_inverse=True,
+                                      return_counts=True)  # fmt: skip
+    if (counts > 1).any():
+        k = int(np.flatnonzero(counts > 1)[0])
+        i, j = np.flatnonzero(inv.ravel() == k)[:2]
+        raise InvalidConstraintError(
+            f"points {int(i)} and {int(j)} are the same point {_fmt(pts[i])}; remove the duplicate"
+        )
+    return pts
+
+
+@dataclass
+class _Piece:
+    a: tuple
+    b: tuple
+    what: str  # for messages: "segment 2" or "the outer ring" / "hole 1"
+    ring: int  # ring index, -1 for a segment piece
+    owner: int  # edge index within its ring, or segment index
+    local: int  # piece index within its segment
+    count: int = 0  # pieces in its segment
+    closed: bool = False  # whether its segment is a closed polyline
+
+
+def _pieces(rings, lines) -> list[_Piece]:
+    out = []
+    for r, ring in enumerate(rings):
+        what = "the outer ring" if r == 0 else f"hole {r - 1}"
+        q = [_q(p) for p in ring]
+        for e in range(len(q)):
+            out.append(_Piece(q[e], q[(e + 1) % len(q)], what, r, e, e))
+    for s, line in enumerate(lines):
+        q = [_q(p) for p in line]
+        closed = q[0] == q[-1]
+        for j in range(len(q) - 1):
+            out.append(_Piece(q[j], q[j + 1], f"segment {s}", -1, s, j, len(q) - 1, closed))
+    return out
+
+
+def _boxes(pieces) -> np.ndarray:
+    a = np.array([[float(p.a[0]), float(p.a[1])] for p in pieces])
+    b = np.array([[float(p.b[0]), float(p.b[1])] for p in pieces])
+    return np.hstack([np.minimum(a, b), np.maximum(a, b)])
+
+
+def _candidate_pairs(pieces) -> np.ndarray:
+    """Index pairs (i < j, j a segment piece) whose bounding boxes meet (exact)."""
+    box = _boxes(pieces)
+    tree = shapely.STRtree(shapely.box(*box.T))
+    seg = np.array([i for i, p in enumerate(pieces) if p.ring < 0], dtype=np.int64)
+    if len(seg) == 0:
+        return np.empty((0, 2), np.int64)
+    q, hit = tree.query(shapely.box(*box[seg].T))
+    pairs = np.stack([hit, seg[q]], axis=1)
+    pairs = np.sort(pairs, axis=1)
+    return np.unique(pairs[pairs[:, 0] != pairs[:, 1]], axis=0)
+
+
+def _adjacent(p: _Piece, q: _Piece) -> bool:
+    """Consecutive pieces of one polyline (closed ones wrap around)."""
+    if p.ring >= 0 or q.ring >= 0 or p.owner != q.owner:
+        return False
+    d = abs(p.local - q.local)
+    return d == 1 or (p.closed and d == p.count - 1 and p.count > 2)
+
+
+def _check_fold(p: _Piece, q: _Piece) -> None:
+    """Consecutive pieces may not fold back onto each other."""
+    first, second = (p, q) if p.b == q.a else (q, p)
+    if first.b != second.a or _orient(first.a, first.b, second.b) != 0:
+        return
+    dot = (first.b[0] - first.a[0]) * (second.b[0] - second.a[0]) + (
+        first.b[1] - first.a[1]) * (second.b[1] - second.a[1])
+    if dot < 0:
+        raise InvalidConstraintError(
+            f"{p.what} folds back on itself at {_fmt(first.b)} (pieces {first.local} and "
+            f"{second.local} overlap); remove the doubled-back part"
+        )
+
+
+def _check_pair(p: _Piece, q: _Piece) -> None:
+    o1, o2 = _orient(p.a, p.b, q.a), _orient(p.a, p.b, q.b)
+    o3, o4 = _orient(q.a, q.b, p.a), _orient(q.a, q.b, p.b)
+    if o1 == o2 == 0:
+        ends = {p.a, p.b} & {q.a, q.b}
+        inner = [x for x in (q.a, q.b) if _strictly_inside(x, p.a, p.b)]
+        inner += [x for x in (p.a, p.b) if _strictly_inside(x, q.a, q.b)]
+        if inner or len(ends) == 2:
+            where = _fmt(inner[0] if inner else p.a)
+            raise InvalidConstraintError(
+                f"{q.what} runs along {p.what} (they overlap near {where}); a segment may not "
+                "overlap a ring or another segment: remove the repeated part"
+            )
+        return
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        x = _crossing(p, q)
+        other = "itself" if p.what == q.what else p.what
+        raise InvalidConstraintError(
+            f"{q.what} crosses {other} at {_fmt(x)}; constraints may only meet at their "
+            "vertices: split both there (or move one)"
+        )
+
+
+def _crossing(p: _Piece, q: _Piece):
+    dx1, dy1 = p.b[0] - p.a[0], p.b[1] - p.a[1]
+    dx2, dy2 = q.b[0] - q.a[0], q.b[1] - q.a[1]
+    t = ((q.a[0] - p.a[0]) * dy2 - (q.a[1] - p.a[1]) * dx2) / (dx1 * dy2 - dy1 * dx2)
+    return p.a[0] + t * dx1, p.a[1] + t * dy1
+
+
+class _Rings:
+    """The rings, for exact point location (float prefilter, rational decision)."""
+
+    def __init__(self, rings):
+        self.rings = [np.asarray(r) for r in rings]
+        a = np.concatenate(self.rings)
+        b = np.concatenate([np.roll(r, -1, axis=0) for r in self.rings])
+        self.a, self.b = a, b
+        self.lo, self.hi = np.minimum(a, b), np.maximum(a, b)
+
+    def where(self, point) -> int:
+        """1 inside P, 0 on its boundary, -1 outside or in a hole (exact)."""
+        x, y = point
+        xf, yf = float(x), float(y)
+        # float(x) is within half an ulp of x: widen the filters by one ulp
+        xl, xh = np.nextafter(xf, -np.inf), np.nextafter(xf, np.inf)
+        yl, yh = np.nextafter(yf, -np.inf), np.nextafter(yf, np.inf)
+        box = (self.lo[:, 0] <= xh) & (self.hi[:, 0] >= xl) & (self.lo[:, 1] <= yh) & (self.hi[:, 1] >= yl)
+        for e in np.flatnonzero(box):
+            a, b = _q(self.a[e]), _q(self.b[e])
+            if point == a or _strictly_inside(point, a, b):
+                return 0
+        crossings = 0
+        ray = (self.hi[:, 0] >= xl) & (self.lo[:, 1] <= yh) & (self.hi[:, 1] >= yl)
+        for e in np.flatnonzero(ray):
+            a, b = _q(self.a[e]), _q(self.b[e])
+            if (a[1] > y) != (b[1] > y) and (_orient(a, b, point) > 0) == (b[1] > a[1]):
+                crossings += 1
+        return 1 if crossings % 2 else -1
+
+    def outside_message(self, what: str, point) -> str:
+        xy = (float(point[0]), float(point[1]))
+        for h, hole in enumerate(self.rings[1:]):
+            if shapely.contains_xy(shapely.Polygon(hole), *xy):
+                return f"{what} at {_fmt(xy)} lies inside hole {h}; move it into the polygon's interior"
+        return f"{what} at {_fmt(xy)} lies outside the polygon; move it inside the outer ring"
+
+
+def _check_inside(pieces, inner, points, rings) -> None:
+    """Every segment piece (split at the vertices on it) and point lies in closed P."""
+    loc = _Rings(rings)
+    for p, split in zip(pieces, inner):
+        if p.ring >= 0:
+            continue
+        chain = [p.a, *split, p.b]
+        for u, v in zip(chain[:-1], chain[1:]):
+            mid = ((u[0] + v[0]) / 2, (u[1] + v[1]) / 2)
+            if loc.where(mid) < 0:
+                raise InvalidConstraintError(loc.outside_message(f"{p.what} (piece {p.local})", mid))
+    for i, pt in enumerate(points):
+        if loc.where(_q(pt)) < 0:
+            raise InvalidConstraintError(loc.outside_message(f"point {i}", _q(pt)))
+
+
+def _splits(pieces, verts, n_ring: int) -> list[list]:
+    """For every piece, the vertices strictly inside it, ordered from a to b.
+
+    ``verts[:n_ring]`` are ring vertices: they cannot lie inside a ring edge (the
+    rings are simple), so ring pieces are only matched with the others.
+    """
+    box = _boxes(pieces)
+    vf = np.array([[float(v[0]), float(v[1])] for v in verts]).reshape(-1, 2)
+    out = []
+    for k, p in enumerate(pieces):
+        lo = n_ring if p.ring >= 0 else 0
+        near = lo + np.flatnonzero((vf[lo:, 0] >= box[k, 0]) & (vf[lo:, 0] <= box[k, 2])
+                                   & (vf[lo:, 1] >= box[k, 1]) & (vf[lo:, 1] <= box[k, 3]))  # fmt: skip
+        inner = [verts[i] for i in near if _strictly_inside(verts[i], p.a, p.b)]
+        dx, dy = p.b[0] - p.a[0], p.b[1] - p.a[1]
+        inner.sort(key=lambda v: (v[0] - p.a[0]) * dx + (v[1] - p.a[1]) * dy)
+        out.append(inner)
+    return out
+
+
+def build(rings, lines, points) -> Constraints:
+    """The constraint graph of normalised ``rings`` with ``lines`` (checked by
+    :func:`polyline`) and fixed ``points`` (checked by :func:`fixed_points`)."""
+    pieces = _pieces(rings, lines)
+    for i, j in _candidate_pairs(pieces):
+        if _adjacent(pieces[i], pieces[j]):
+            _check_fold(pieces[i], pieces[j])
+        else:
+            _check_pair(pieces[i], pieces[j])
+    n_ring = sum(len(r) for r in rings)
+    ring_verts = [p.a for p in pieces[:n_ring]]
+    more = [p.a for p in pieces[n_ring:]] + [p.b for p in pieces[n_ring:]] + [_q(x) for x in points]
+    verts = ring_verts + [v for v in dict.fromkeys(more) if v not in set(ring_verts)]
+    inner = _splits(pieces, verts, n_ring)
+    _check_inside(pieces, inner, points, rings)
+    new_rings = []
+    k = 0
+    for ring in rings:
+        pts = []
+        for _ in range(len(ring)):
+            pts.append(pieces[k].a)
+            pts.extend(inner[k])
+            k += 1
+        new_rings.append(pts)
+    index = {}
+    for pts in new_rings:
+        for v in pts:
+            index.setdefault(v, len(index))
+    n_ring = len(index)
+    edges, ids = [], []
+    for p, split in zip(pieces[k:], inner[k:]):
+        chain = [p.a, *split, p.b]
+        for v in chain:
+            index.setdefault(v, len(index))
+        edges.extend((index[u], index[v]) for u, v in zip(chain[:-1], chain[1:]))
+        ids.extend([p.owner] * (len(chain) - 1))
+    fixed = [index.setdefault(_q(x), len(index)) for x in points]
+    extra = sorted(((i, v) for v, i in index.items() if i >= n_ring))
+    return Constraints(
+        rings=[np.array([[float(x), float(y)] for x, y in pts]) for pts in new_rings],
+        extra=np.array([[float(v[0]), float(v[1])] for _, v in extra]).reshape(-1, 2),
+        segment_edges=np.array(edges, dtype=np.int64).reshape(-1, 2),
+        segment_ids=np.array(ids, dtype=np.int64),
+        fixed=np.array(fixed, dtype=np.int64),
+    )
