@@ -225,6 +225,7 @@ def boundary_domain(
     corner_angle: float = CORNER_ANGLE,
     max_refine: int = 4,
     chord_tol: float | str | None = "auto",
+    keep=(),
 ) -> Domain:
     """Resample the UV boundary loops of ``patch`` into a polygon.
 
@@ -250,6 +251,9 @@ def boundary_domain(
         the chord error the interior of the mesh has anyway
         (:func:`surface.chord.interior_chord_error`, computed only if some plain chord exceeds
         1/128).  None: the plain even sampling everywhere.
+    keep : sequence of int
+        Input boundary vertices kept as corners whatever their angle (where a
+        feature line meets the boundary, see :mod:`surface.features`).
 
     Returns
     -------
@@ -265,7 +269,7 @@ def boundary_domain(
     uv = np.asarray(uv, dtype=np.float64)
     X = V if measure == "3d" else uv
     arcs = _loop_arcs(patch, X)
-    runs = _loop_runs(patch, arcs, np.radians(corner_angle))
+    runs = _loop_runs(patch, arcs, np.radians(corner_angle), keep)
     h = float(spacing)
     for attempt in range(max_refine + 1):
         # the plain even sampling of every run, and its chord heights
@@ -317,14 +321,14 @@ def _loop_arcs(patch: Patch, X) -> list:
     return arcs
 
 
-def _loop_runs(patch: Patch, arcs, thr) -> list:
+def _loop_runs(patch: Patch, arcs, thr, keep=()) -> list:
     """Per loop: the start (loop position) and edge count of every run between
     corners (a whole loop if it has none), the loop's arc length run twice round,
     and whether it has corners."""
     turn = np.abs(turning_angles(patch))
     runs = []
     for li, lp in enumerate(patch.boundary_loops):
-        cidx = np.flatnonzero(turn[lp] > thr)  # positions in the loop
+        cidx = np.flatnonzero((turn[lp] > thr) | np.isin(lp, np.asarray(keep, dtype=np.int64)))
         starts = cidx if len(cidx) else np.array([0])
         n = len(lp)
         nvs = (np.roll(starts, -1) - starts) % n if len(starts) > 1 else np.array([n])

@@ -26,6 +26,7 @@ from uniform2d.optimize import improve, lattice_seed
 
 from . import _igl, _meshlab
 from .domain import CORNER_ANGLE, Domain, boundary_domain
+from .features import constrain, find_chains, lift_points
 from .lift import lift
 from .io import as_patch
 from .measure import edge_stats, unique_edges
@@ -150,6 +151,9 @@ def remesh(
     check: bool = True,
     hausdorff: bool = True,
     optimize: bool = True,
+    feature_angle: float | None = None,
+    features=(),
+    fixed=(),
 ) -> RemeshResult:
     """Remesh a disk-like surface patch with near-equal 3-D edges.
 
@@ -190,6 +194,14 @@ def remesh(
         Mesh the domain with a lattice relaxed by :func:`uniform2d.optimize.improve`
         in the compensation metric (default), or, with False, with the paper's
         Algorithm INSERT alone (graded by the same field).
+    feature_angle : float, optional
+        Keep creases: interior edges whose faces' normals differ by more than this
+        (degrees) become feature lines (see :mod:`surface.features`): chains of
+        output edges lying on the input's feature edges.  Default: none.
+    features : sequence of sequences of int
+        More feature lines, as chains of consecutive input vertex indices.
+    fixed : sequence of int
+        Input vertices that must be output vertices (kept exactly where they are).
 
     Returns
     -------
@@ -218,13 +230,21 @@ def remesh(
     N, h = _count_and_size(P, n_vertices, size)
     t = time.perf_counter()
     measure = "3d" if compensate else "uv"
+    chains, fixed = find_chains(P, feature_angle, features, fixed, corner_angle)
+    on_boundary = set(np.concatenate(P.boundary_loops).tolist())
+    keep = sorted({int(v) for c in chains for v in (c[0], c[-1]) if v in on_boundary}
+                  | (set(fixed.tolist()) & on_boundary))  # fmt: skip
 
     def domain_at(hm):
-        return boundary_domain(
-            P, prm.uv, hm, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol
+        d = boundary_domain(
+            P, prm.uv, hm, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol,
+            keep=keep,
         )
+        if not (chains or len(fixed)):
+            return d, None
+        return constrain(P, prm.uv, d, chains, fixed, hm, measure)
 
-    domain = domain_at(h)
+    domain, lines = domain_at(h)
     times["domain"] = time.perf_counter() - t
     K = len(domain.polygon.vertices)
     if N < K:
@@ -241,7 +261,7 @@ def remesh(
     times["mesh_2d"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    xyz, bmask, lifted = _lift(P, prm, domain, pts, tris)
+    xyz, bmask, lifted = _lift(P, prm, domain, pts, tris, lines)
     times["lift"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -298,7 +318,7 @@ def _too_few(P: Patch, N: int, size, K: int, n_corners: int, domain_at):
     A, Bl, chi = P.area, P.boundary_length, P.euler_characteristic
 
     def boundary_count(m):
-        return len(domain_at(target_size(A, Bl, m, chi)).polygon.vertices)
+        return len(domain_at(target_size(A, Bl, m, chi))[0].polygon.vertices)
 
     lo, hi = N, max(2 * N, 16)
     while boundary_count(hi) > hi:
@@ -308,24 +328,33 @@ def _too_few(P: Patch, N: int, size, K: int, n_corners: int, domain_at):
         lo, hi = (lo, mid) if boundary_count(mid) <= mid else (mid, hi)
     what = f"n_vertices={N}" if size is None else f"size={size} (about {N} vertices)"
     return InsufficientPointsError(
-        f"{what} is too small: the boundary alone needs {K} points at that size "
+        f"{what} is too small: the boundary and feature lines alone need {K} points at that size "
         f"({n_corners} corners kept); the smallest vertex count that works "
         f"is {hi}"
     )
 
 
-def _lift(P: Patch, prm, domain, pts, tris):
+def _lift(P: Patch, prm, domain, pts, tris, lines=None):
     """The planar mesh on the patch: (xyz, boundary mask, the interior's lift).
 
     Polygon vertices go where the domain placed them; points the planar mesher
-    put on polygon edges go to the same fraction of the input boundary arc;
-    interior points are lifted through the parameterisation."""
+    put on polygon edges go to the same fraction of the input boundary arc, and
+    points on feature lines to the same fraction of the feature arc
+    (:func:`surface.features.lift_points`); interior points are lifted through
+    the parameterisation."""
     V, F = P.vertices, P.faces
     n, K = len(pts), len(domain.polygon.vertices)
+    nr = domain.polygon.n_ring_vertices
     bmask = np.zeros(n, dtype=bool)
     bmask[boundary_edges(tris, n).ravel()] = True
     xyz = np.zeros((n, 3))
-    xyz[:K] = domain.xyz
+    xyz[:nr] = domain.xyz
+    placed = np.zeros(n, dtype=bool)
+    placed[:K] = True
+    if lines is not None:
+        for k, q in lift_points(lines, domain.polygon, pts, V, np.flatnonzero(~bmask[K:]) + K).items():
+            xyz[k] = q
+            placed[k] = True
     extra = np.flatnonzero(bmask[K:]) + K
     if len(extra):
         ring_next = np.empty(K, dtype=np.int64)
@@ -338,7 +367,7 @@ def _lift(P: Patch, prm, domain, pts, tris):
             e, tt = nearest_segment(pts[k], pv, pv[ring_next])
             xyz[k] = domain.chord_points([e], [ring_next[e]], [tt], V)[0][0]
         log.info("%d points were inserted on the boundary", len(extra))
-    inner = np.flatnonzero(~bmask)
+    inner = np.flatnonzero(~bmask & ~placed)
     lifted = lift(pts[inner], V, F, prm.uv)
     xyz[inner] = lifted.xyz
     return xyz, bmask, lifted
@@ -362,7 +391,7 @@ def _fidelity(P: Patch, xyz, tris, bmask, lifted) -> dict:
     return {
         "surface_distance_max": float(np.sqrt(d2.max())),
         "boundary_distance_max": float(bdist.max()),
-        "uv_outside_max": float(lifted.uv_distance.max()) if (~bmask).any() else 0.0,
+        "uv_outside_max": float(lifted.uv_distance.max()) if lifted.uv_distance.size else 0.0,
     }
 
 

@@ -53,6 +53,10 @@ def add_parser(subparsers):
                    "(default .obj)")
     p.add_argument("--param", choices=PARAMS, default="lscm",
                    help="parameterisation tried first (default lscm)")
+    p.add_argument("--feature-angle", type=_angle, metavar="DEG",
+                   help="keep creases: interior edges whose faces' normals differ by more "
+                   "than DEG degrees become chains of output edges on the input's edges "
+                   "(default: none)")
     p.add_argument("--plot", metavar="PNG", help="also write a figure of the 3-D mesh (with "
                    "several inputs a directory receiving <input stem>.png)")
     add_parallel_options(p, "the inputs")
@@ -60,6 +64,19 @@ def add_parser(subparsers):
     show.add_argument("--stats", action="store_true", help="print the remesh report")
     show.add_argument("--json", action="store_true", help="print the report as JSON")
     return p
+
+
+def _angle(text: str) -> float:
+    """An angle in degrees strictly between 0 and 180 (argparse type)."""
+    import argparse
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an angle in degrees, got '{text}'") from None
+    if not 0.0 < value < 180.0:
+        raise argparse.ArgumentTypeError(f"the angle must be between 0 and 180 degrees, got {text}")
+    return value
 
 
 def _target(text: str | None, several: bool, option: str) -> tuple[Path | None, bool]:
@@ -114,7 +131,8 @@ def _process(args, job) -> dict:
         raise FileNotFoundError(2, "input file not found", str(src))
     patch = layer.read_patch(src)
     log.info("%s: %r", src, patch)
-    result = layer.remesh(patch, n_vertices=args.n, size=args.size, param=args.param)
+    result = layer.remesh(patch, n_vertices=args.n, size=args.size, param=args.param,
+                          feature_angle=args.feature_angle)
     dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
     result.write(dst)
     if fig is not None:
