@@ -75,6 +75,12 @@ class FileFormat:
     point_data : bool
         Mesh formats only: whether per-point data is stored (otherwise it is
         dropped with a logged warning).
+    regions : bool
+        Mesh formats only: whether one region per triangle is stored (otherwise
+        the regions are dropped with a logged warning).
+    members : bool
+        Mesh formats only: whether members (edges) on the polygon's segments
+        are marked (the truss formats).
     """
 
     extension: str
@@ -82,6 +88,8 @@ class FileFormat:
     reader: Callable
     writer: Callable
     point_data: bool = False
+    regions: bool = False
+    members: bool = False
 
 
 def _table(*formats: FileFormat) -> dict[str, FileFormat]:
@@ -117,31 +125,36 @@ POLYGON_FORMATS: dict[str, FileFormat] = _table(
 )
 
 
-def _meshio(ext, description, name, *, pad_z=False, int32=False, point_data=False, **options):
+def _meshio(ext, description, name, *, pad_z=False, int32=False, point_data=False,
+            regions=None, **options):
     return FileFormat(
         ext,
         description + ("; stored as 3-D points with z = 0" if pad_z else ""),
-        meshio_reader(name, ext),
-        meshio_writer(name, pad_z=pad_z, int32=int32, **options),
+        meshio_reader(name, ext, regions),
+        meshio_writer(name, pad_z=pad_z, int32=int32, regions=regions, **options),
         point_data,
+        regions is not None,
     )
 
 
 MESH_FORMATS: dict[str, FileFormat] = _table(
-    _meshio(".vtu", "VTK XML unstructured grid (ParaView)", "vtu", pad_z=True, point_data=True),
-    _meshio(".vtk", "legacy VTK (ParaView, VisIt)", "vtk", pad_z=True, point_data=True),
-    _meshio(".msh", "Gmsh 4.1, ASCII", "gmsh", binary=False),
+    _meshio(".vtu", "VTK XML unstructured grid (ParaView)", "vtu", pad_z=True, point_data=True,
+            regions="region"),
+    _meshio(".vtk", "legacy VTK (ParaView, VisIt)", "vtk", pad_z=True, point_data=True,
+            regions="region"),
+    _meshio(".msh", "Gmsh 4.1, ASCII (2.2 when it carries regions as physical tags)", "gmsh",
+            binary=False, regions="gmsh"),
     _meshio(".obj", "Wavefront OBJ", "obj", pad_z=True),
     _meshio(".ply", "Stanford PLY", "ply", pad_z=True, int32=True, point_data=True),
     _meshio(".off", "Geomview OFF", "off", pad_z=True),
-    _meshio(".inp", "Abaqus input file", "abaqus"),
-    _meshio(".mesh", "Medit / INRIA mesh, ASCII", "medit"),
-    _meshio(".meshb", "Medit / INRIA mesh, binary", "medit"),
+    _meshio(".inp", "Abaqus input file", "abaqus", regions="abaqus"),
+    _meshio(".mesh", "Medit / INRIA mesh, ASCII", "medit", regions="medit"),
+    _meshio(".meshb", "Medit / INRIA mesh, binary", "medit", regions="medit"),
     _meshio(".su2", "SU2 native mesh", "su2"),
-    _meshio(".vol", "Netgen mesh", "netgen"),
-    _meshio(".vol.gz", "Netgen mesh, gzip-compressed", "netgen"),
-    _meshio(".tec", "Tecplot ASCII", "tecplot", point_data=True),
-    _meshio(".avs", "AVS-UCD", "avsucd", pad_z=True),
+    _meshio(".vol", "Netgen mesh", "netgen", regions="netgen"),
+    _meshio(".vol.gz", "Netgen mesh, gzip-compressed", "netgen", regions="netgen"),
+    _meshio(".tec", "Tecplot ASCII", "tecplot", point_data=True, regions="region"),
+    _meshio(".avs", "AVS-UCD", "avsucd", pad_z=True, regions="avsucd"),
     _meshio(".mdpa", "Kratos Multiphysics model part", "mdpa", pad_z=True),
     _meshio(".dato", "PERMAS input", "permas", pad_z=True),
     _meshio(".dato.gz", "PERMAS input, gzip-compressed", "permas", pad_z=True),
@@ -151,6 +164,8 @@ MESH_FORMATS: dict[str, FileFormat] = _table(
         _truss.read_truss_csv,
         _truss.write_truss_csv,
         point_data=True,
+        regions=True,
+        members=True,
     ),
     FileFormat(
         ".truss.json",
@@ -158,6 +173,8 @@ MESH_FORMATS: dict[str, FileFormat] = _table(
         _truss.read_truss_json,
         _truss.write_truss_json,
         point_data=True,
+        regions=True,
+        members=True,
     ),
 )
 
