@@ -44,7 +44,9 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import UnsupportedFormatError
+from . import constrained_files as _cf
 from . import polygon_files as _pf
+from . import pslg_files as _pslg
 from . import truss as _truss
 from .mesh_files import meshio_reader, meshio_writer
 
@@ -99,28 +101,32 @@ def _table(*formats: FileFormat) -> dict[str, FileFormat]:
 POLYGON_FORMATS: dict[str, FileFormat] = _table(
     FileFormat(
         ".json",
-        'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...]} (GeoJSON also accepted)',
-        _pf.read_json,
-        _pf.write_json,
+        'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...], "segments": [...], '
+        '"points": [...], "regions": [[x, y, label], ...]} (GeoJSON also accepted)',
+        _cf.read_json,
+        _cf.write_json,
     ),
     FileFormat(
         ".geojson",
-        "GeoJSON Polygon, Feature, or FeatureCollection with one polygon",
-        _pf.read_geojson,
-        _pf.write_geojson,
+        "GeoJSON Polygon, Feature, or FeatureCollection with one polygon (and LineString "
+        "segments, Point fixed points, labelled Points and zone Polygons)",
+        _cf.read_geojson,
+        _cf.write_geojson,
     ),
-    FileFormat(".wkt", "Well-Known Text POLYGON", _pf.read_wkt, _pf.write_wkt),
+    FileFormat(".wkt", "Well-Known Text POLYGON, or GEOMETRYCOLLECTION with LINESTRING "
+               "segments and POINTs", _cf.read_wkt, _cf.write_wkt),
     FileFormat(
         ".poly",
-        "Triangle .poly: vertices, segments forming rings, hole points",
-        _pf.read_poly,
-        _pf.write_poly,
+        "Triangle .poly: vertices, segments (rings and interior), hole points, regional attributes",
+        _pslg.read_poly,
+        _pslg.write_poly,
     ),
     FileFormat(
         ".dxf",
-        "DXF closed LWPOLYLINE/POLYLINE entities; largest is the outline",
-        _pf.read_dxf,
-        _pf.write_dxf,
+        "DXF closed LWPOLYLINE/POLYLINE entities (largest is the outline), open ones and LINEs "
+        "as segments, POINTs, TEXT labels",
+        _pslg.read_dxf,
+        _pslg.write_dxf,
     ),
 )
 
