@@ -4,7 +4,10 @@
 set of error and number-formatting helpers, and each format is one marked
 section below; splitting them would scatter those helpers.)
 
-These functions do the work behind :func:`uniform2d.io.read_polygon` and
+These read and write the rings; :mod:`uniform2d.io.constrained_files` and
+:mod:`uniform2d.io.pslg_files` extend them with interior segments, fixed points
+and region labels, and are what the registry lists.  The functions here do the
+ring work behind :func:`uniform2d.io.read_polygon` and
 :func:`uniform2d.io.write_polygon`, which pick one of them by the file's
 extension (see :mod:`uniform2d.io.registry`).  Readers take a path to an
 existing file and return a :class:`uniform2d.Polygon`; writers take a path and a
