@@ -46,7 +46,8 @@ from scipy.sparse.csgraph import connected_components
 
 from .errors import InvalidArgumentError, InvalidConstraintError
 
-__all__ = ["Regions", "faces", "region_seeds", "triangle_regions", "segment_chains"]
+__all__ = ["Regions", "faces", "region_seeds", "triangle_regions", "segment_chains",
+           "polygon_vertices_first"]
 
 log = logging.getLogger(__name__)
 
@@ -308,3 +309,32 @@ def triangle_regions(polygon, points, triangles, regions: Regions | None = None)
             f"the mesh's triangles in region {r} cover {sums[r]:.17g}, but the region's area "
             f"is {regions.areas[r]:.17g}; the mesh does not conform to the polygon's segments")
     return out
+
+
+def polygon_vertices_first(polygon, points, triangles) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh renumbered so that ``points[:len(polygon.vertices)]`` is
+    ``polygon.vertices``, as the functions above expect (for meshes from other
+    meshers, which keep the polygon's vertices exactly but number them their way).
+
+    Raises
+    ------
+    InvalidArgumentError
+        If a polygon vertex is not a mesh point.
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    tri = np.asarray(triangles, dtype=np.int64)
+    where = {}
+    for i, p in enumerate(map(tuple, pts.tolist())):
+        where.setdefault(p, i)
+    V = polygon.vertices
+    missing = [k for k, v in enumerate(map(tuple, V.tolist())) if v not in where]
+    if missing:
+        k = missing[0]
+        raise InvalidArgumentError(
+            f"polygon vertex {k} {_fmt(*V[k])} is not a point of the mesh ({len(missing)} missing)")
+    first = np.array([where[tuple(v)] for v in V.tolist()], dtype=np.int64)
+    rest = np.setdiff1d(np.arange(len(pts)), first)
+    order = np.concatenate([first, rest])
+    new = np.empty(len(pts), np.int64)
+    new[order] = np.arange(len(pts))
+    return pts[order], new[tri]
