@@ -467,9 +467,8 @@ def _read_vertices(lines: _PolyLines, count_line=None):
     return xy, base
 
 
-def _walk_rings(path, nv: int, segments, base: int):
-    """Split segments (list of (segment number, a, b), 0-based) into closed rings."""
-    adj = [[] for _ in range(nv)]
+def _check_segments(path, segments, base: int) -> None:
+    """No segment joins a vertex to itself, no two join the same vertices."""
     seen = {}
     for sid, a, b in segments:
         if a == b:
@@ -482,6 +481,13 @@ def _walk_rings(path, nv: int, segments, base: int):
                 f"{key[1] + base}; remove the duplicate",
             )
         seen[key] = sid
+
+
+def _walk_rings(path, nv: int, segments, base: int):
+    """Split segments (list of (segment number, a, b), 0-based) into closed rings."""
+    _check_segments(path, segments, base)
+    adj = [[] for _ in range(nv)]
+    for sid, a, b in segments:
         adj[a].append((b, sid))
         adj[b].append((a, sid))
     for v, nbrs in enumerate(adj):

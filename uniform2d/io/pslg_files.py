@@ -72,18 +72,6 @@ def _rings_only(path, xy, base, segments, holes_xy) -> bool:
     return all(any(s.contains(p) for p in pts) for k, s in enumerate(shapes) if k != outer)
 
 
-def _check_segments(path, segments, base):
-    seen = {}
-    for sid, a, b in segments:
-        if a == b:
-            _fail(path, f"segment {sid} joins vertex {a + base} to itself")
-        key = (min(a, b), max(a, b))
-        if key in seen:
-            _fail(path, f"segments {seen[key]} and {sid} both join vertices {key[0] + base} and "
-                        f"{key[1] + base}; remove the duplicate")
-        seen[key] = sid
-
-
 def _domain(path, xy, edges, holes_xy):
     """The shapely Polygon the segments enclose, less the faces around hole points."""
     faces = list(shapely.polygonize(shapely.linestrings(xy[edges])).geoms)
@@ -143,7 +131,7 @@ def read_poly(path) -> Polygon:
     seeds = _poly_attributes(path, lines)
     if not seeds and _rings_only(path, xy, base, segments, holes_xy):
         return _pf._poly_ring_polygon(path, xy, base, segments, holes_xy)
-    _check_segments(path, segments, base)
+    _pf._check_segments(path, segments, base)
     edges = np.array([(a, b) for _, a, b in segments], dtype=np.int64)
     domain = _domain(path, xy, edges, holes_xy)
     first = {}
