@@ -40,6 +40,12 @@ def test_regions_coloured_and_constraints_thicker(tmp_path, mesh):
     assert len(dots) == 1 and len(dots[0].get_xdata()) == len(mesh.polygon.points)
 
 
+def test_labelled_regions_get_a_legend(mesh):
+    fig = mesh.plot()
+    texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert texts == ["0: west", "2: zone"]
+
+
 def test_plot_without_regions_has_no_fill(mesh):
     fig = plot_mesh(mesh.points, mesh.triangles)
     assert not [c for c in fig.axes[0].collections if isinstance(c, PolyCollection)]

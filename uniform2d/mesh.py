@@ -97,8 +97,9 @@ class Mesh:
         """Plot edges coloured by length and the edge-length histogram; returns the Figure."""
         from .plot import plot_mesh
 
-        if self.polygon.has_constraints:
+        if self.polygon.has_constraints or self.polygon.region_seeds:
             kwargs.setdefault("regions", self.regions)
+            kwargs.setdefault("region_labels", self.region_labels)
         return plot_mesh(self.points, self.triangles, path, polygon=self.polygon, **kwargs)
 
     def __repr__(self) -> str:

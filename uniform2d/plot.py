@@ -70,7 +70,8 @@ def _ratio_ticks(h: float) -> list[float]:
     return sorted({1.0, *up, *(1.0 / u for u in up)})
 
 
-def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions=None) -> Figure:
+def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions=None,
+              region_labels=None) -> Figure:
     """Plot a triangle mesh with each edge coloured by its length, beside a histogram.
 
     The left panel draws every edge coloured by ``length / mean length`` on a
@@ -98,6 +99,9 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
         triangles are filled in a light colour per region.  The polygon's
         segments are drawn thicker than the mesh edges, like its rings, and its
         fixed points as dots.
+    region_labels : sequence, optional
+        The label of each region (None for none): a legend below the mesh names
+        the colours of the labelled ones.
 
     Returns
     -------
@@ -142,7 +146,7 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     fig = Figure(figsize=(12.0, 5.4), layout="constrained")
     ax_mesh, ax_hist = fig.subplots(1, 2, width_ratios=[1.45, 1.0])
     if reg is not None:
-        _region_fill(ax_mesh, pts, tri, reg)
+        _region_fill(ax_mesh, pts, tri, reg, region_labels)
     lc = _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend)
     ratio = _histogram_panel(ax_hist, rel, lengths, mean, lc, norm)
     if title is None:
@@ -173,10 +177,18 @@ def _as_regions(regions, n_tri: int):
 REGION_COLOURS = colormaps["Pastel1"].colors + colormaps["Pastel2"].colors
 
 
-def _region_fill(ax, pts, tri, reg) -> None:
+def _region_fill(ax, pts, tri, reg, labels=None) -> None:
+    from matplotlib.patches import Patch
+
     colours = [REGION_COLOURS[r % len(REGION_COLOURS)] for r in reg.tolist()]
     pc = PolyCollection(pts[tri], facecolors=colours, edgecolors="none", zorder=0)
     ax.add_collection(pc)
+    named = [(r, lab) for r, lab in enumerate(labels or ()) if lab is not None]
+    if named:
+        handles = [Patch(facecolor=REGION_COLOURS[r % len(REGION_COLOURS)], edgecolor="0.3",
+                         label=f"{r}: {lab}") for r, lab in named]
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.06),
+                  ncol=min(4, len(handles)), fontsize=8, frameon=False)
 
 
 def _colour_scale(rel, mean):
