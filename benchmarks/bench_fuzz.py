@@ -4,11 +4,15 @@ Usage::
 
     python benchmarks/bench_fuzz.py [--domains 10000] [--seed 0] [--jobs 2]
                                     [--limit 120] [--out failures.json]
+                                    [--constrained 0.3]
 
 Domain i is ``tests/fuzzgen.domain(seed * 10**9 + i)``: star-shaped rings with
 short edges, exactly and nearly collinear vertices, sharp spikes, rotated
 rectilinear outlines, 1-4 holes, 1:100 slivers, at scales 1e-6..1e6 and half of
-them offset by up to 1e7.  Each domain gets three calls, n drawn log-uniformly:
+them offset by up to 1e7.  A fraction ``--constrained`` of them (drawn from the
+seed) is instead ``tests/fuzzgen.constrained(seed * 10**9 + i)``: outlines with
+fixed points, free, T-junction and closed segments, near-degenerate ones included.
+Each domain gets three calls, n drawn log-uniformly:
 
     insert(P, n)        n in [1, 1000]
     tplus(P, n)         n in [1, 1000]
@@ -17,7 +21,10 @@ them offset by up to 1e7.  Each domain gets three calls, n drawn log-uniformly:
 Every returned mesh is checked by ``tests/invariants.check_mesh`` (exactly
 |V| + n points, strictly counter-clockwise triangles, edges glued in opposite
 directions, boundary = polygon edges split at points on them, constrained
-Delaunay, area).  The area tolerance is 1e-9 relative, or what rounding the
+Delaunay, area); a constrained domain's mesh must also have every fixed point
+as a vertex of a triangle and tile the regions, every segment a chain of its
+edges (``uniform2d.regions.triangle_regions``, areas per region to 1e-9 of the
+polygon's).  The area tolerance is 1e-9 relative, or what rounding the
 boundary points onto rotated edges allows where the coordinates are coarse for
 the polygon's size (4 units in the last place times the perimeter).
 
@@ -33,9 +40,10 @@ Each call ends as one of
              worker compiles the kernels before its first domain, so the
              clock measures meshing only.
 
-The counts are printed, and for every crash, wrong and hang a JSON reproducer in
+The counts are printed, the refusals broken down by error type, and for every crash, wrong and hang a JSON reproducer in
 the format of the shared reproducers file ({"name", "call", "n", "seen", "outer",
-"holes"}), also written to --out.  Runs are deterministic for a given --seed.
+"holes"}, with "segments" and "points" for a constrained domain), also written
+to --out.  Runs are deterministic for a given --seed.
 """
 
 from __future__ import annotations
@@ -66,18 +74,43 @@ def _area_rtol(polygon):
     return max(1e-9, grain * polygon.perimeter / polygon.area)
 
 
-def run_case(case_seed):
-    """[(call, n, status, seen, outer, holes)] for one domain."""
+def draw(case):
+    """(kind, outer, holes, segments, points) of ``case`` = (seed, constrained)."""
+    from fuzzgen import constrained, rings
+
+    seed, with_constraints = case
+    if with_constraints:
+        return constrained(seed)
+    kind, outer, holes = rings(seed)
+    return kind, outer, holes, [], np.empty((0, 2))
+
+
+def _check_constraints(poly, pts, tri):
+    from uniform2d.errors import InvalidArgumentError
+    from uniform2d.regions import triangle_regions
+
+    if not poly.has_constraints:
+        return
+    assert np.isin(poly.fixed, tri).all(), "a fixed point is not a vertex of a triangle"
+    try:
+        triangle_regions(poly, pts, tri)
+    except InvalidArgumentError as exc:
+        raise AssertionError(f"regions: {exc}") from None
+
+
+def run_case(case):
+    """[(call, n, status, seen, domain)] for one domain, ``domain`` as :func:`draw` gives it."""
     import uniform2d
-    from fuzzgen import rings
     from invariants import check_mesh
 
-    kind, outer, holes = rings(case_seed)
+    dom = draw(case)
+    kind, outer, holes, segs, points = dom
+    case_seed = case[0]
     out = []
     try:
-        poly = uniform2d.Polygon(outer, holes)
+        poly = uniform2d.Polygon(outer, holes, segments=segs, points=points)
     except uniform2d.Uniform2dError as exc:
-        return [("Polygon", 0, "refused", f"{type(exc).__name__}: {exc}", kind, outer, holes)]
+        return [("Polygon", 0, "refused", f"{type(exc).__name__}: {exc}", dom)]
     for (call, _), n in zip(CALLS, _ns(case_seed)):
         try:
             if call == "insert":
@@ -87,17 +120,18 @@ def run_case(case_seed):
                 mesh = getattr(uniform2d, call)(poly, n)
                 pts, tri = mesh.points, mesh.triangles
         except uniform2d.Uniform2dError as exc:
-            out.append((call, n, "refused", f"{type(exc).__name__}: {exc}", kind, outer, holes))
+            out.append((call, n, "refused", f"{type(exc).__name__}: {exc}", dom))
             continue
         except Exception as exc:  # noqa: BLE001 -- every other exception is a crash
-            out.append((call, n, "crash", f"{type(exc).__name__}: {exc}", kind, outer, holes))
+            out.append((call, n, "crash", f"{type(exc).__name__}: {exc}", dom))
             continue
         try:
             assert len(pts) == len(poly.vertices) + n, f"{len(pts)} points for n = {n}"
             check_mesh(pts, tri, poly, area_rtol=_area_rtol(poly))
-            out.append((call, n, "ok", "", kind, outer, holes))
+            _check_constraints(poly, np.asarray(pts), np.asarray(tri))
+            out.append((call, n, "ok", "", dom))
         except AssertionError as exc:
-            out.append((call, n, "wrong", f"WRONG MESH: {exc}", kind, outer, holes))
+            out.append((call, n, "wrong", f"WRONG MESH: {exc}", dom))
     return out
 
 
@@ -144,15 +178,24 @@ class _Slot:
         self.conn.send(case)
 
 
-def _reproducer(case, call, n, status, seen, kind, outer, holes):
-    return {
-        "name": f"fuzz_{status}_{kind}_{case}",
+def _reproducer(case, call, n, status, seen, dom):
+    kind, outer, holes, segs, points = dom
+    rep = {
+        "name": f"fuzz_{status}_{kind}_{case[0]}",
         "call": call,
         "n": int(n),
         "seen": seen[:500],
         "outer": np.asarray(outer).tolist(),
         "holes": [np.asarray(h).tolist() for h in holes],
     }
+    if len(segs) or len(points):
+        rep["segments"] = [np.asarray(x).tolist() for x in segs]
+        rep["points"] = np.asarray(points).tolist()
+    return rep
+
+
+def _error_type(seen: str) -> str:
+    return seen.split(":", 1)[0]
 
 
 def main(argv=None):
@@ -162,24 +205,32 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2, help="worker processes")
     ap.add_argument("--limit", type=float, default=120.0, help="seconds per domain before a hang")
     ap.add_argument("--out", type=Path, default=None, help="write the reproducers here (JSON)")
+    ap.add_argument("--constrained", type=float, default=0.3,
+                    help="fraction of domains with segments and fixed points (default 0.3)")
     args = ap.parse_args(argv)
 
-    todo = [args.seed * 10**9 + i for i in range(args.domains)]
+    seeds = [args.seed * 10**9 + i for i in range(args.domains)]
+    todo = [(s, bool(np.random.default_rng([s, 3]).uniform() < args.constrained)) for s in seeds]
     todo.reverse()
     counts = {s: 0 for s in ("ok", "refused", "crash", "wrong", "hang")}
     per_call = {}
+    refusals = {}
     failures = []
     slots = [s.wait_ready() for s in [_Slot() for _ in range(max(1, args.jobs))]]
     t_start = time.monotonic()
     done = 0
 
     def record(case, results):
-        for call, n, status, seen, kind, outer, holes in results:
+        family = "constrained" if case[1] else "plain"
+        for call, n, status, seen, dom in results:
             counts[status] += 1
             per_call.setdefault(call, {}).setdefault(status, 0)
             per_call[call][status] += 1
+            if status == "refused":
+                key = (family, call, _error_type(seen))
+                refusals[key] = refusals.get(key, 0) + 1
             if status in ("crash", "wrong", "hang"):
-                rep = _reproducer(case, call, n, status, seen, kind, outer, holes)
+                rep = _reproducer(case, call, n, status, seen, dom)
                 failures.append(rep)
                 print(json.dumps(rep), flush=True)
 
@@ -198,11 +249,9 @@ def main(argv=None):
                 done += 1
                 s.case = None
             elif now - s.t0 > args.limit:
-                from fuzzgen import rings
-
-                kind, outer, holes = rings(s.case)
+                dom = draw(s.case)
                 seen = f"no answer within {args.limit:g} s"
-                record(s.case, [(c, n, "hang", seen, kind, outer, holes) for (c, _), n in zip(CALLS, _ns(s.case))][:1])
+                record(s.case, [(c, n, "hang", seen, dom) for (c, _), n in zip(CALLS, _ns(s.case[0]))][:1])
                 done += 1
                 s.proc.kill()
                 s.proc.join()
@@ -219,6 +268,10 @@ def main(argv=None):
     print("calls: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
     for call, c in per_call.items():
         print(f"  {call:13s} " + ", ".join(f"{k} {v}" for k, v in sorted(c.items())))
+    if refusals:
+        print("refused, by error type:")
+        for (family, call, err), k in sorted(refusals.items()):
+            print(f"  {family:11s} {call:13s} {err:28s} {k}")
     if args.out is not None:
         args.out.write_text(json.dumps(failures, indent=1) + "\n")
     return 0 if not failures else 1

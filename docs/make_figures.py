@@ -18,6 +18,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
 
 import uniform2d as u  # noqa: E402
 from uniform2d.tplus import boundary_points  # noqa: E402
@@ -149,11 +150,38 @@ def fig_truss(out: Path) -> None:
     plt.close(fig)
 
 
+def fig_constrained(out: Path) -> None:
+    """The three constrained examples: regions filled, segments thick, supports dotted."""
+    from uniform2d.plot import REGION_COLOURS
+
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), width_ratios=[9, 10, 8])
+    for ax, (name, n) in zip(axes, (("slab_columns", 300), ("roof_panel", 300),
+                                    ("plate_zones", 400))):
+        poly = u.read_polygon(DATA / "constrained" / f"{name}.json")
+        mesh = u.tplus(poly, n)
+        colours = [REGION_COLOURS[r % len(REGION_COLOURS)] for r in mesh.regions.tolist()]
+        ax.add_collection(PolyCollection(mesh.points[mesh.triangles], facecolors=colours,
+                                         edgecolors="none"))
+        _edges(ax, mesh.points, mesh.triangles, color="0.35")
+        _outline(ax, poly)
+        for seg in poly.segments:
+            ax.plot(seg[:, 0], seg[:, 1], color="k", lw=2.4)
+        if len(poly.points):
+            ax.plot(poly.points[:, 0], poly.points[:, 1], "o", color="k", ms=5)
+        labels = ", ".join(str(lab) for lab in mesh.region_labels if lab is not None)
+        ax.set_title(f"{name}.json, n = {n}\n{labels}", fontsize=10)
+        ax.set_aspect("equal")
+        ax.set_axis_off()
+    fig.tight_layout()
+    fig.savefig(out / "guide_constrained.png", dpi=130)
+    plt.close(fig)
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     out = Path(argv[0]) if argv else ROOT / "docs" / "img"
     out.mkdir(parents=True, exist_ok=True)
-    for f in (fig_bracket, fig_insert, fig_tplus, fig_corner, fig_truss):
+    for f in (fig_bracket, fig_insert, fig_tplus, fig_corner, fig_truss, fig_constrained):
         f(out)
         print(f"{f.__name__}: done")
     return 0

@@ -148,8 +148,7 @@ def test_json_variants(tmp_path):
         {"type": "Feature", "properties": {"name": "t"},
          "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [3, 0], [0, 3], [0, 0]]]}},
         {"type": "FeatureCollection", "features": [
-            {"type": "Feature", "properties": {},
-             "geometry": {"type": "Point", "coordinates": [1, 1]}},
+            {"type": "Feature", "properties": {"note": "no geometry"}, "geometry": None},
             {"type": "Feature", "properties": {},
              "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [3, 0], [0, 3], [0, 0]]]}},
         ]},
@@ -335,14 +334,14 @@ POLY_SQUARE = "4 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n"
     "text, fragment",
     [
         (POLY_SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n", None),  # the valid baseline
-        (POLY_SQUARE + "3 0\n1 1 2\n2 2 3\n3 3 4\n0\n", "a dangling segment"),
-        (POLY_SQUARE + "5 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n0\n", "rings must not branch"),
+        (POLY_SQUARE + "3 0\n1 1 2\n2 2 3\n3 3 4\n0\n", "the segments enclose no area"),
+        (POLY_SQUARE + "6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n6 1 3\n0\n", "remove the duplicate"),
         (POLY_SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 9\n0\n", "refers to vertex 9"),
         (POLY_SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 3\n4 4 1\n0\n", "to itself"),
         (POLY_SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n1\n1 9 9\n", "not inside any hole ring"),
         (POLY_SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n1\n1 2 2\n", "not inside any hole ring"),
-        ("7 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n5 1 1\n6 2 1\n7 1 2\n"
-         "7 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 5\n0\n", "has no hole point"),
+        ("8 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n5 10 10\n6 12 10\n7 10 12\n8 1 1\n"
+         "7 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 5\n0\n", "2 separate areas"),
         (POLY_SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 4\n", "the file ends before segment 4 of 4"),
         ("4 2 0 0\n1 0 0\n2 4 0\n3 4 x\n4 0 4\n", "unreadable y coordinate 'x'"),
         ("4 2 0 0\n1 0 0\n3 4 0\n3 4 4\n4 0 4\n", "numbered consecutively"),
@@ -363,17 +362,16 @@ def test_bad_poly(tmp_path, text, fragment):
     assert str(e.value).startswith(str(path))
 
 
-def test_open_dxf_polyline_is_named(tmp_path):
+def test_open_dxf_polyline_is_a_segment(tmp_path):
     path = tmp_path / "open.dxf"
-    handles = _dxf(
+    _dxf(
         path,
         [([(0, 0), (10, 0), (10, 10), (0, 10)], True, "lw"),
          ([(1, 1), (2, 1), (2, 2)], True, "lw"),
          ([(5, 5), (6, 5), (6, 6)], False, "lw")],
     )
-    with pytest.raises(FileFormatError) as e:
-        read_polygon(path)
-    assert f"polyline #3 (handle {handles[2]}, layer 0) is open; close it" in str(e.value)
+    p = read_polygon(path)
+    assert p.n_holes == 1 and [s.tolist() for s in p.segments] == [[[5, 5], [6, 5], [6, 6]]]
 
 
 def test_dxf_without_polylines(tmp_path):

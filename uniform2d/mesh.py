@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -28,6 +29,14 @@ class Mesh:
         Number of points added to the polygon vertices, N - |V|.
     info : dict
         How the mesh was made (method, d_n, k, the hypotheses of Theorem 2, ...).
+    regions : ndarray, shape (M,), int64
+        The region (:mod:`uniform2d.regions`) of every triangle; all 0 for a
+        polygon without segments.
+    region_labels : tuple
+        The label of each region (``None`` where the polygon gives none).
+    segment_members : tuple of ndarray
+        ``(edges (K, 2) int64, ids (K,) int64)``: the mesh edges on the polygon's
+        segments and the segment of each.
     """
 
     points: np.ndarray
@@ -39,6 +48,27 @@ class Mesh:
     def __post_init__(self):
         for a in (self.points, self.triangles):
             a.setflags(write=False)
+
+    @cached_property
+    def regions(self) -> np.ndarray:
+        from .regions import triangle_regions
+
+        out = triangle_regions(self.polygon, self.points, self.triangles)
+        out.setflags(write=False)
+        return out
+
+    @property
+    def region_labels(self) -> tuple:
+        return self.polygon.regions.labels
+
+    @cached_property
+    def segment_members(self) -> tuple[np.ndarray, np.ndarray]:
+        from .regions import segment_chains
+
+        edges, ids = segment_chains(self.polygon, self.points, self.triangles)
+        edges.setflags(write=False)
+        ids.setflags(write=False)
+        return edges, ids
 
     def quality(self, *, d_n=None):
         """Quality measures and certificates, see :func:`uniform2d.quality`.
@@ -57,12 +87,19 @@ class Mesh:
         """Write the mesh; the format follows the file extension (see ``uniform2d.io``)."""
         from .io import write_mesh
 
+        if self.polygon.has_constraints or self.polygon.region_seeds:
+            kwargs.setdefault("regions", self.regions)
+            kwargs.setdefault("region_labels", self.region_labels)
+            kwargs.setdefault("segment_members", self.segment_members)
         write_mesh(path, self.points, self.triangles, **kwargs)
 
     def plot(self, path=None, **kwargs):
         """Plot edges coloured by length and the edge-length histogram; returns the Figure."""
         from .plot import plot_mesh
 
+        if self.polygon.has_constraints or self.polygon.region_seeds:
+            kwargs.setdefault("regions", self.regions)
+            kwargs.setdefault("region_labels", self.region_labels)
         return plot_mesh(self.points, self.triangles, path, polygon=self.polygon, **kwargs)
 
     def __repr__(self) -> str:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib import colormaps
-from matplotlib.collections import LineCollection
+from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.colors import FuncNorm, ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
@@ -70,7 +70,8 @@ def _ratio_ticks(h: float) -> list[float]:
     return sorted({1.0, *up, *(1.0 / u for u in up)})
 
 
-def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figure:
+def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions=None,
+              region_labels=None) -> Figure:
     """Plot a triangle mesh with each edge coloured by its length, beside a histogram.
 
     The left panel draws every edge coloured by ``length / mean length`` on a
@@ -93,13 +94,23 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
         Polygon or an outer ring).
     title : str, optional
         Figure title; by default the vertex and triangle counts and edge ratio.
+    regions : array_like of int, shape (M,), optional
+        The region of every triangle (:attr:`uniform2d.Mesh.regions`): the
+        triangles are filled in a light colour per region.  The polygon's
+        segments are drawn thicker than the mesh edges, like its rings, and its
+        fixed points as dots.
+    region_labels : sequence, optional
+        The label of each region (None for none): a legend below the mesh names
+        the colours of the labelled ones.
 
     Returns
     -------
     matplotlib.figure.Figure
         The figure: ``fig.axes[0]`` the mesh (its edges are the one
         :class:`~matplotlib.collections.LineCollection` there),
-        ``fig.axes[1]`` the histogram, ``fig.axes[2]`` the colour bar.
+        ``fig.axes[1]`` the histogram, ``fig.axes[2]`` the colour bar; with
+        ``regions``, the fills are a :class:`~matplotlib.collections.PolyCollection`
+        below the edges.
 
     Raises
     ------
@@ -125,6 +136,7 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
     if len(tri) == 0:
         raise InvalidArgumentError("triangles: the mesh has no triangles")
     poly = _as_polygon(polygon) if polygon is not None else None
+    reg = _as_regions(regions, len(tri))
 
     edges, lengths = edge_lengths(pts, tri)
     mean = float(lengths.mean())
@@ -133,6 +145,8 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
 
     fig = Figure(figsize=(12.0, 5.4), layout="constrained")
     ax_mesh, ax_hist = fig.subplots(1, 2, width_ratios=[1.45, 1.0])
+    if reg is not None:
+        _region_fill(ax_mesh, pts, tri, reg, region_labels)
     lc = _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend)
     ratio = _histogram_panel(ax_hist, rel, lengths, mean, lc, norm)
     if title is None:
@@ -146,6 +160,35 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None) -> Figu
         atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
         log.info("wrote %s", path)
     return fig
+
+
+def _as_regions(regions, n_tri: int):
+    if regions is None:
+        return None
+    reg = np.asarray(regions)
+    if reg.shape != (n_tri,) or not np.issubdtype(reg.dtype, np.integer) or (n_tri and reg.min() < 0):
+        raise InvalidArgumentError(
+            f"regions must be one non-negative integer per triangle ({n_tri}), got shape "
+            f"{reg.shape} and dtype {reg.dtype}")
+    return reg
+
+
+#: Light fills, one per region (cycled), pale enough for every edge colour to show.
+REGION_COLOURS = colormaps["Pastel1"].colors + colormaps["Pastel2"].colors
+
+
+def _region_fill(ax, pts, tri, reg, labels=None) -> None:
+    from matplotlib.patches import Patch
+
+    colours = [REGION_COLOURS[r % len(REGION_COLOURS)] for r in reg.tolist()]
+    pc = PolyCollection(pts[tri], facecolors=colours, edgecolors="none", zorder=0)
+    ax.add_collection(pc)
+    named = [(r, lab) for r, lab in enumerate(labels or ()) if lab is not None]
+    if named:
+        handles = [Patch(facecolor=REGION_COLOURS[r % len(REGION_COLOURS)], edgecolor="0.3",
+                         label=f"{r}: {lab}") for r, lab in named]
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.06),
+                  ncol=min(4, len(handles)), fontsize=8, frameon=False)
 
 
 def _colour_scale(rel, mean):
@@ -177,6 +220,12 @@ def _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend):
         for ring in poly.rings:
             closed = np.vstack([ring, ring[:1]])
             ax_mesh.plot(closed[:, 0], closed[:, 1], color="0.1", lw=max(1.6 * lw, 0.9), zorder=3)
+        for seg in poly.segments:
+            ax_mesh.plot(seg[:, 0], seg[:, 1], color="0.1", lw=max(2.4 * lw, 1.4), zorder=3,
+                         solid_capstyle="round")
+        fixed = poly.points
+        if len(fixed):
+            ax_mesh.plot(fixed[:, 0], fixed[:, 1], "o", color="0.1", ms=max(4 * lw, 2.5), zorder=4)
     used = pts[np.unique(tri)]
     lo, hi = used.min(axis=0), used.max(axis=0)
     if poly is not None:

@@ -16,6 +16,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import constraints as _constraints
+from . import regions as _regions
 from .errors import InvalidConstraintError, InvalidPolygonError
 from .geometry import signed_area
 
@@ -128,6 +129,10 @@ class Polygon:
     points : array_like, shape (K, 2), keyword-only
         Fixed points that must be mesh vertices (supports, load points).  One on
         a segment splits it; one on a ring becomes a vertex of the ring.
+    regions : sequence of (x, y, label), keyword-only
+        Region labels (like Triangle's regional attributes): each seed point
+        labels the region (:mod:`uniform2d.regions`) strictly containing it with
+        ``label``, a string or a number.
 
     Raises
     ------
@@ -138,7 +143,8 @@ class Polygon:
     InvalidConstraintError
         If a segment or point is malformed, outside P or in a hole, or if a
         segment crosses or overlaps a ring or another segment (an
-        :class:`InvalidPolygonError`).
+        :class:`InvalidPolygonError`); if a region seed is malformed, not strictly
+        inside a region, or shares its region with another seed.
 
     Notes
     -----
@@ -164,9 +170,9 @@ class Polygon:
     """
 
     __slots__ = ("_rings", "_vertices", "_offsets", "_area", "_perimeter", "_segments",
-                 "_points", "_segment_edges", "_segment_ids", "_fixed")  # fmt: skip
+                 "_points", "_segment_edges", "_segment_ids", "_fixed", "_seeds", "_regions")  # fmt: skip
 
-    def __init__(self, outer, holes=(), *, segments=(), points=()):
+    def __init__(self, outer, holes=(), *, segments=(), points=(), regions=()):
         outer_ring = _as_ring(outer, "outer ring")
         if isinstance(holes, np.ndarray) and holes.ndim == 2:
             raise InvalidPolygonError(
@@ -213,6 +219,8 @@ class Polygon:
         self._vertices.setflags(write=False)
         self._offsets = np.cumsum([0] + [len(r) for r in rings])
         self._offsets.setflags(write=False)
+        self._seeds = _regions.region_seeds(regions)
+        self._regions = _regions.build(self, self._seeds) if self._seeds else None
 
     def _set_constraints(self, rings: list, segments, points) -> np.ndarray:
         """Check and store the segments and points; splice T-junctions into
@@ -311,6 +319,19 @@ class Polygon:
         return np.concatenate([self.edges, self._segment_edges], axis=0)
 
     @property
+    def region_seeds(self) -> tuple:
+        """The region labels as given: a tuple of ``(x, y, label)``."""
+        return self._seeds
+
+    @property
+    def regions(self) -> "_regions.Regions":
+        """The regions the rings and segments split P into, numbered as
+        :mod:`uniform2d.regions` says, with their areas and labels."""
+        if self._regions is None:
+            self._regions = _regions.build(self, self._seeds)
+        return self._regions
+
+    @property
     def has_constraints(self) -> bool:
         """Whether there are interior segments or fixed points."""
         return bool(len(self._segments) or len(self._points))
@@ -402,6 +423,7 @@ class Polygon:
             [h * scale + off for h in self._rings[1:]],
             segments=[s * scale + off for s in self.split_segments()],
             points=self._points * scale + off,
+            regions=[(x * scale + off[0], y * scale + off[1], lab) for x, y, lab in self._seeds],
         )
 
     def __eq__(self, other) -> bool:
@@ -414,6 +436,7 @@ class Polygon:
             and np.array_equal(self._vertices, other._vertices)
             and np.array_equal(self._segment_edges, other._segment_edges)
             and np.array_equal(self._fixed, other._fixed)
+            and self._seeds == other._seeds
         )
 
     __hash__ = None
@@ -422,6 +445,8 @@ class Polygon:
         more = ""
         if self.has_constraints:
             more = f", {len(self._segments)} segments, {len(self._points)} points"
+        if self._seeds:
+            more += f", {len(self._seeds)} region labels"
         return (
             f"Polygon({len(self._vertices)} vertices, {self.n_holes} holes{more}, "
             f"area={self._area:.6g})"

@@ -259,7 +259,22 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
         "info": mesh.info,
         "quality": quality.to_dict() if quality is not None else None,
         "summary": quality.summary() if quality is not None else None,
+        "regions": _regions(mesh) if polygon.has_constraints or polygon.region_seeds else None,
     }
+
+
+def _regions(mesh) -> list[dict]:
+    """Triangles and area of the mesh in each region, with its label."""
+    import numpy as np
+
+    p = mesh.points[mesh.triangles]
+    area = 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                  - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+    labels = mesh.region_labels
+    count = np.bincount(mesh.regions, minlength=len(labels))
+    sums = np.bincount(mesh.regions, weights=area, minlength=len(labels))
+    return [{"triangles": int(c), "area": float(a), "label": lab}
+            for c, a, lab in zip(count, sums, labels)]
 
 
 def _show(args, doc: dict, several: bool) -> None:
@@ -267,6 +282,9 @@ def _show(args, doc: dict, several: bool) -> None:
         if several:
             print(f"== {doc['input']} -> {doc['output']}")
         print(doc["summary"])
+        for k, r in enumerate(doc["regions"] or []):
+            label = "" if r["label"] is None else f" ({r['label']})"
+            print(f"  region {k}{label}: {r['triangles']} triangles, area {r['area']:.6g}")
         if doc["info"].get("method") == "paper" and "d_n" in doc["info"]:
             _print_tplus(doc["info"])
     elif not args.quiet and not args.json:

@@ -3,7 +3,10 @@
 >>> from uniform2d.io import read_polygon, write_mesh, polygon_formats, mesh_formats
 
 Polygon files (:func:`read_polygon`, :func:`write_polygon`): ``.json`` (our own
-format), ``.geojson``, ``.wkt``, Triangle's ``.poly`` and ``.dxf``.  Mesh files
+format), ``.geojson``, ``.wkt``, Triangle's ``.poly`` and ``.dxf``, with interior
+segments, fixed points and region labels (:mod:`uniform2d.io.constrained_files`).
+Meshes carry their regions as cell data where the format has it
+(:mod:`uniform2d.io.cells`).  Mesh files
 (:func:`write_mesh`, :func:`read_mesh`): meshio formats (``.vtu``, ``.msh``,
 ``.obj``, ...) and two truss formats for structural design, ``.csv`` and
 ``.truss.json`` (see :mod:`uniform2d.io.truss`).  The single list of formats is

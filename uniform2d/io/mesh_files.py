@@ -43,6 +43,7 @@ from collections import Counter
 import numpy as np
 
 from ..errors import FileFormatError
+from . import cells as _cells
 
 __all__ = ["meshio_reader", "meshio_writer", "check_planar_mesh"]
 
@@ -127,7 +128,7 @@ def check_planar_mesh(path, points, triangles):
     return np.ascontiguousarray(pts), tri
 
 
-def meshio_reader(file_format: str, extension: str | None = None):
+def meshio_reader(file_format: str, extension: str | None = None, regions: str | None = None):
     """A reader ``path -> (points (N, 2), triangles (M, 3))`` for one meshio format.
 
     `file_format` names both meshio's format and its submodule (``"vtu"`` ->
@@ -137,10 +138,14 @@ def meshio_reader(file_format: str, extension: str | None = None):
     file name (``.meshb`` is binary) and only understand lower case; a file
     named ``MESH.MESHB`` is read through a temporary link named with the
     lower-case `extension`.  ``.gz`` files are decompressed here first (the
-    PERMAS reader reads no gzip; see :func:`_readable_name`).
+    PERMAS reader reads no gzip; see :func:`_readable_name`).  With
+    ``regions=True`` the reader returns ``(points, triangles, regions)``, the
+    regions read as style `regions` of :mod:`uniform2d.io.cells` says (None when
+    the file has none, or the format stores none).
     """
+    style = regions
 
-    def read(path):
+    def read(path, regions=False):
         import meshio
 
         reader = getattr(meshio, file_format).read
@@ -166,7 +171,10 @@ def meshio_reader(file_format: str, extension: str | None = None):
         if not blocks:
             kinds = ", ".join(sorted({c.type for c in mesh.cells})) or "no cells at all"
             raise FileFormatError(f"{path}: contains no triangles ({kinds})")
-        return check_planar_mesh(path, mesh.points, np.concatenate(blocks))
+        pts, tri = check_planar_mesh(path, mesh.points, np.concatenate(blocks))
+        if not regions:
+            return pts, tri
+        return pts, tri, (_cells.from_meshio(path, style, mesh, len(tri)) if style else None)
 
     read.__name__ = f"read_{file_format}"
     read.__doc__ = f"Read a triangle mesh with meshio's {file_format!r} reader."
@@ -187,8 +195,10 @@ def _drop_timestamp(name: str) -> None:
         f.write(_STAMP.sub(rb"\1", head, count=1) + rest)
 
 
-def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False, **options):
-    """A writer ``(path, points, triangles, point_data=None)`` for one meshio format.
+def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False,
+                  regions: str | None = None, **options):
+    """A writer ``(path, points, triangles, point_data=None, *, regions=None,
+    labels=None)`` for one meshio format.
 
     Parameters
     ----------
@@ -198,28 +208,37 @@ def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False,
         Append ``z = 0`` to the points (for formats that store only 3-D points).
     int32 : bool
         Write the triangles as 32-bit integers (for formats without 64-bit ones).
+    regions : str, optional
+        How the format stores one region per triangle (a style of
+        :mod:`uniform2d.io.cells`); None if it cannot.  A Gmsh file with regions
+        is written as Gmsh 2.2.
     **options
         Passed on to meshio's writer (e.g. ``binary=False``).
     """
 
-    def write(path, points, triangles, point_data=None):
+    style = regions
+
+    def write(path, points, triangles, point_data=None, *, regions=None, labels=None):
         import meshio
 
         pts = np.asarray(points, dtype=np.float64)
         if pad_z:
             pts = np.column_stack([pts, np.zeros(len(pts))])
         tri = np.asarray(triangles, dtype=np.int32 if int32 else None)
+        more = _cells.to_meshio(style, regions, labels) if style and regions is not None else {}
         mesh = meshio.Mesh(
             pts,
             [("triangle", tri)],
             point_data={k: np.asarray(v) for k, v in (point_data or {}).items()},
+            **more,
         )
+        fmt = "gmsh22" if file_format == "gmsh" and more else file_format
         name = str(path)
         gz = name.lower().endswith(".gz")
         plain = name[: -len(".gz")] if gz else name
         try:
             with _meshio_messages(path):
-                meshio.write(plain, mesh, file_format=file_format, **options)
+                meshio.write(plain, mesh, file_format=fmt, **options)
             _drop_timestamp(plain)
             if gz:  # compressed here, with no name or time in the header: same bytes each run
                 with open(plain, "rb") as src, open(name, "wb") as raw:

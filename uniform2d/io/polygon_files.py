@@ -4,7 +4,10 @@
 set of error and number-formatting helpers, and each format is one marked
 section below; splitting them would scatter those helpers.)
 
-These functions do the work behind :func:`uniform2d.io.read_polygon` and
+These read and write the rings; :mod:`uniform2d.io.constrained_files` and
+:mod:`uniform2d.io.pslg_files` extend them with interior segments, fixed points
+and region labels, and are what the registry lists.  The functions here do the
+ring work behind :func:`uniform2d.io.read_polygon` and
 :func:`uniform2d.io.write_polygon`, which pick one of them by the file's
 extension (see :mod:`uniform2d.io.registry`).  Readers take a path to an
 existing file and return a :class:`uniform2d.Polygon`; writers take a path and a
@@ -119,10 +122,11 @@ def _read_text(path) -> str:
         _fail(path, f"not a UTF-8 text file ({exc.reason} at byte {exc.start})")
 
 
-def _make_polygon(path, outer, holes, labels=None) -> Polygon:
-    """Build the Polygon, putting the file name (and ring labels) into its errors."""
+def _make_polygon(path, outer, holes, labels=None, **constraints) -> Polygon:
+    """Build the Polygon (with ``constraints``: segments, points, regions), putting
+    the file name (and ring labels) into its errors."""
     try:
-        return Polygon(outer, holes)
+        return Polygon(outer, holes, **constraints)
     except InvalidPolygonError as exc:
         message = str(exc)
         if labels:
@@ -187,6 +191,11 @@ def read_json(path) -> Polygon:
     if isinstance(data, dict) and "type" in data:
         logger.info("%s: has a 'type' member, reading it as GeoJSON", path)
         return _polygon_from_geojson(path, data)
+    return _make_polygon(path, *_json_rings(path, data))
+
+
+def _json_rings(path, data):
+    """(outer, holes) of uniform2d's JSON polygon object."""
     if not isinstance(data, dict):
         _fail(path, f"expected a JSON object {_OUR_JSON}, got a JSON {type(data).__name__}")
     if "outer" not in data:
@@ -211,10 +220,10 @@ def read_json(path) -> Polygon:
             "(a list of [x, y]); wrap it as [[[x, y], ...]]",
         )
     rings = [_json_ring(path, h, f'"holes"[{i}]', geojson=False) for i, h in enumerate(holes)]
-    extra = sorted(set(data) - {"outer", "holes"})
+    extra = sorted(set(data) - {"outer", "holes", "segments", "points", "regions"})
     if extra:
         logger.debug("%s: ignoring keys %s", path, extra)
-    return _make_polygon(path, outer, rings)
+    return outer, rings
 
 
 def _json_ring_text(ring, indent: str, close: bool = False) -> str:
@@ -260,8 +269,12 @@ def _geojson_polygon_coords(path, data):
         items = data.get(member)
         if not isinstance(items, list):
             _fail(path, f'the {kind} has no "{member}" list')
+        for i, item in enumerate(items):
+            if not isinstance(item, dict):
+                what = "Feature" if kind == "FeatureCollection" else "geometry"
+                _fail(path, f'{member}[{i}] is {_short(item)}, not a GeoJSON {what} object')
         if kind == "FeatureCollection":
-            items = [item.get("geometry") if isinstance(item, dict) else None for item in items]
+            items = [item.get("geometry") for item in items]
         geoms = [g for g in items if isinstance(g, dict)]
         polys = [g for g in geoms if g.get("type") in _POLYGONAL]
         others = Counter(str(g.get("type")) for g in geoms if g.get("type") not in _POLYGONAL)
@@ -355,6 +368,8 @@ def read_wkt(path) -> Polygon:
     except shapely.errors.ShapelyError as exc:
         _fail(path, f"not valid WKT ({exc})")
     if geom.geom_type == "MultiPolygon":
+        if geom.is_empty:
+            _fail(path, "contains an empty MULTIPOLYGON; give one POLYGON with its coordinates")
         if len(geom.geoms) != 1:
             _multipolygon_error(path, len(geom.geoms))
         logger.info("%s: reading a one-part MULTIPOLYGON as a POLYGON", path)
@@ -452,9 +467,8 @@ def _read_vertices(lines: _PolyLines, count_line=None):
     return xy, base
 
 
-def _walk_rings(path, nv: int, segments, base: int):
-    """Split segments (list of (segment number, a, b), 0-based) into closed rings."""
-    adj = [[] for _ in range(nv)]
+def _check_segments(path, segments, base: int) -> None:
+    """No segment joins a vertex to itself, no two join the same vertices."""
     seen = {}
     for sid, a, b in segments:
         if a == b:
@@ -467,6 +481,13 @@ def _walk_rings(path, nv: int, segments, base: int):
                 f"{key[1] + base}; remove the duplicate",
             )
         seen[key] = sid
+
+
+def _walk_rings(path, nv: int, segments, base: int):
+    """Split segments (list of (segment number, a, b), 0-based) into closed rings."""
+    _check_segments(path, segments, base)
+    adj = [[] for _ in range(nv)]
+    for sid, a, b in segments:
         adj[a].append((b, sid))
         adj[b].append((a, sid))
     for v, nbrs in enumerate(adj):
@@ -511,6 +532,15 @@ def _walk_rings(path, nv: int, segments, base: int):
 def read_poly(path) -> Polygon:
     """Read a Triangle .poly file whose segments form one outer ring and hole rings."""
     path = Path(path)
+    lines, xy, base, segments, holes_xy = _poly_sections(path)
+    if lines.next("", optional=True)[0] is not None:
+        logger.debug("%s: ignoring the regional attributes section", path)
+    return _poly_ring_polygon(path, xy, base, segments, holes_xy)
+
+
+def _poly_sections(path):
+    """(lines, vertices, base, segments, hole points) of a .poly file, ``lines``
+    left at the regional attributes section."""
     lines = _PolyLines(path, _read_text(path))
     n, tokens = lines.next("the vertex count")
     nv = lines.number(n, tokens, 0, "vertex count", int)
@@ -547,15 +577,20 @@ def read_poly(path) -> Polygon:
     holes_xy = []
     if n is not None:
         nh = lines.number(n, tokens, 0, "hole count", int)
+        if nh < 0:
+            _fail(path, f"line {n}: negative hole count {nh}; give 0 or the number of hole points")
         for k in range(nh):
             n, tokens = lines.next(f"hole point {k + 1} of {nh}")
             hid = lines.number(n, tokens, 0, "hole number", int)
             holes_xy.append(
                 (hid, lines.number(n, tokens, 1, "hole x"), lines.number(n, tokens, 2, "hole y"))
             )
-    if lines.next("", optional=True)[0] is not None:
-        logger.debug("%s: ignoring the regional attributes section", path)
+    return lines, xy, base, segments, holes_xy
 
+
+def _poly_ring_polygon(path, xy, base, segments, holes_xy) -> Polygon:
+    """The polygon of .poly segments that form closed rings only."""
+    nv = len(xy)
     rings = _walk_rings(path, nv, segments, base)
     areas = [abs(shapely.Polygon(xy[r]).area) for r in rings]
     outer_i = int(np.argmax(areas))

@@ -106,19 +106,24 @@ def write_polygon(path, polygon: Polygon) -> None:
     atomic_write(path, lambda tmp: fmt.writer(tmp, polygon), extension=fmt.extension)
 
 
-def read_mesh(path) -> tuple[np.ndarray, np.ndarray]:
+def read_mesh(path, *, regions: bool = False):
     """Read a triangle mesh file.
 
     Parameters
     ----------
     path : str or os.PathLike
         A file with one of the extensions of :func:`mesh_formats`.
+    regions : bool
+        Also return the region of every triangle (see :func:`write_mesh`).
 
     Returns
     -------
     points : ndarray, shape (N, 2), float64
     triangles : ndarray, shape (M, 3), int64
         Only the triangle cells of the file; other cells are skipped.
+    regions : ndarray, shape (M,), int64, or None
+        Only with ``regions=True``: the region of each triangle, None if the
+        file stores none.
 
     Raises
     ------
@@ -131,7 +136,11 @@ def read_mesh(path) -> tuple[np.ndarray, np.ndarray]:
     """
     fmt = find_mesh_format(path, "read")
     p = _existing_file(path, "mesh")
-    return fmt.reader(p)
+    if not regions:
+        return fmt.reader(p)
+    if not fmt.regions:
+        return (*fmt.reader(p), None)
+    return fmt.reader(p, regions=True)
 
 
 def _as_mesh(points, triangles, point_data):
@@ -167,7 +176,35 @@ def _as_mesh(points, triangles, point_data):
     return pts, tri, data
 
 
-def write_mesh(path, points, triangles, *, point_data=None) -> None:
+def _as_regions(regions, labels, members, n_tri: int, n_pts: int):
+    if regions is None:
+        if labels is not None:
+            raise InvalidArgumentError("region_labels given without regions")
+        reg = None
+    else:
+        reg = np.array(regions)
+        if reg.shape != (n_tri,) or not np.issubdtype(reg.dtype, np.integer) or (
+                n_tri and reg.min() < 0):
+            raise InvalidArgumentError(
+                f"regions must be one non-negative integer per triangle ({n_tri}), "
+                f"got shape {reg.shape} and dtype {reg.dtype}")
+        reg = reg.astype(np.int64)
+        if labels is not None and len(labels) <= int(reg.max()):
+            raise InvalidArgumentError(
+                f"region_labels has {len(labels)} entries, but the regions go up to {int(reg.max())}")
+    if members is not None:
+        edges, ids = (np.asarray(a, dtype=np.int64) for a in members)
+        if edges.ndim != 2 or edges.shape[1:] != (2,) or ids.shape != (len(edges),) or (
+                edges.size and (edges.min() < 0 or edges.max() >= n_pts)):
+            raise InvalidArgumentError(
+                "segment_members must be (edges (K, 2) point indices, ids (K,)) "
+                f"got shapes {edges.shape} and {ids.shape}")
+        members = edges, ids
+    return reg, labels, members
+
+
+def write_mesh(path, points, triangles, *, point_data=None, regions=None, region_labels=None,
+               segment_members=None) -> None:
     """Write a triangle mesh, in the format given by the extension.
 
     Parameters
@@ -179,6 +216,17 @@ def write_mesh(path, points, triangles, *, point_data=None) -> None:
     point_data : dict of str to array_like, optional
         Values per point (first axis of length N).  Formats that cannot store
         them drop them with a logged warning.
+    regions : array_like of int, shape (M,), optional
+        The region of every triangle (:attr:`uniform2d.Mesh.regions`), written
+        as cell data where the format has it (see :mod:`uniform2d.io.cells`;
+        formats without drop them with a logged warning).
+    region_labels : sequence, optional
+        The label of each region (None for none): Gmsh physical names, Abaqus
+        element set names, truss files.
+    segment_members : (edges (K, 2), ids (K,)), optional
+        Mesh edges on the polygon's segments and their segment
+        (:attr:`uniform2d.Mesh.segment_members`): the truss formats mark those
+        members with their segment.
 
     Raises
     ------
@@ -193,6 +241,7 @@ def write_mesh(path, points, triangles, *, point_data=None) -> None:
     """
     fmt = find_mesh_format(path, "write")
     pts, tri, data = _as_mesh(points, triangles, point_data)
+    reg, labels, members = _as_regions(regions, region_labels, segment_members, len(tri), len(pts))
     if data and not fmt.point_data:
         logger.warning(
             "%s: the %s format does not store point data; dropping %s",
@@ -201,4 +250,12 @@ def write_mesh(path, points, triangles, *, point_data=None) -> None:
             ", ".join(data),
         )
         data = {}
-    atomic_write(path, lambda tmp: fmt.writer(tmp, pts, tri, data), extension=fmt.extension)
+    if reg is not None and not fmt.regions:
+        logger.warning("%s: the %s format does not store regions; dropping them", path,
+                       fmt.extension)
+        reg = labels = None
+    more = {} if reg is None else {"regions": reg, "labels": labels}
+    if members is not None and fmt.members:
+        more["segment_members"] = members
+    atomic_write(path, lambda tmp: fmt.writer(tmp, pts, tri, data, **more),
+                 extension=fmt.extension)

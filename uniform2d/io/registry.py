@@ -44,7 +44,9 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import UnsupportedFormatError
+from . import constrained_files as _cf
 from . import polygon_files as _pf
+from . import pslg_files as _pslg
 from . import truss as _truss
 from .mesh_files import meshio_reader, meshio_writer
 
@@ -75,6 +77,12 @@ class FileFormat:
     point_data : bool
         Mesh formats only: whether per-point data is stored (otherwise it is
         dropped with a logged warning).
+    regions : bool
+        Mesh formats only: whether one region per triangle is stored (otherwise
+        the regions are dropped with a logged warning).
+    members : bool
+        Mesh formats only: whether members (edges) on the polygon's segments
+        are marked (the truss formats).
     """
 
     extension: str
@@ -82,6 +90,8 @@ class FileFormat:
     reader: Callable
     writer: Callable
     point_data: bool = False
+    regions: bool = False
+    members: bool = False
 
 
 def _table(*formats: FileFormat) -> dict[str, FileFormat]:
@@ -91,57 +101,66 @@ def _table(*formats: FileFormat) -> dict[str, FileFormat]:
 POLYGON_FORMATS: dict[str, FileFormat] = _table(
     FileFormat(
         ".json",
-        'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...]} (GeoJSON also accepted)',
-        _pf.read_json,
-        _pf.write_json,
+        'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...], "segments": [...], '
+        '"points": [...], "regions": [[x, y, label], ...]} (GeoJSON also accepted)',
+        _cf.read_json,
+        _cf.write_json,
     ),
     FileFormat(
         ".geojson",
-        "GeoJSON Polygon, Feature, or FeatureCollection with one polygon",
-        _pf.read_geojson,
-        _pf.write_geojson,
+        "GeoJSON Polygon, Feature, or FeatureCollection with one polygon (and LineString "
+        "segments, Point fixed points, labelled Points and zone Polygons)",
+        _cf.read_geojson,
+        _cf.write_geojson,
     ),
-    FileFormat(".wkt", "Well-Known Text POLYGON", _pf.read_wkt, _pf.write_wkt),
+    FileFormat(".wkt", "Well-Known Text POLYGON, or GEOMETRYCOLLECTION with LINESTRING "
+               "segments and POINTs", _cf.read_wkt, _cf.write_wkt),
     FileFormat(
         ".poly",
-        "Triangle .poly: vertices, segments forming rings, hole points",
-        _pf.read_poly,
-        _pf.write_poly,
+        "Triangle .poly: vertices, segments (rings and interior), hole points, regional attributes",
+        _pslg.read_poly,
+        _pslg.write_poly,
     ),
     FileFormat(
         ".dxf",
-        "DXF closed LWPOLYLINE/POLYLINE entities; largest is the outline",
-        _pf.read_dxf,
-        _pf.write_dxf,
+        "DXF closed LWPOLYLINE/POLYLINE entities (largest is the outline), open ones and LINEs "
+        "as segments, POINTs, TEXT labels",
+        _pslg.read_dxf,
+        _pslg.write_dxf,
     ),
 )
 
 
-def _meshio(ext, description, name, *, pad_z=False, int32=False, point_data=False, **options):
+def _meshio(ext, description, name, *, pad_z=False, int32=False, point_data=False,
+            regions=None, **options):
     return FileFormat(
         ext,
         description + ("; stored as 3-D points with z = 0" if pad_z else ""),
-        meshio_reader(name, ext),
-        meshio_writer(name, pad_z=pad_z, int32=int32, **options),
+        meshio_reader(name, ext, regions),
+        meshio_writer(name, pad_z=pad_z, int32=int32, regions=regions, **options),
         point_data,
+        regions is not None,
     )
 
 
 MESH_FORMATS: dict[str, FileFormat] = _table(
-    _meshio(".vtu", "VTK XML unstructured grid (ParaView)", "vtu", pad_z=True, point_data=True),
-    _meshio(".vtk", "legacy VTK (ParaView, VisIt)", "vtk", pad_z=True, point_data=True),
-    _meshio(".msh", "Gmsh 4.1, ASCII", "gmsh", binary=False),
+    _meshio(".vtu", "VTK XML unstructured grid (ParaView)", "vtu", pad_z=True, point_data=True,
+            regions="region"),
+    _meshio(".vtk", "legacy VTK (ParaView, VisIt)", "vtk", pad_z=True, point_data=True,
+            regions="region"),
+    _meshio(".msh", "Gmsh 4.1, ASCII (2.2 when it carries regions as physical tags)", "gmsh",
+            binary=False, regions="gmsh"),
     _meshio(".obj", "Wavefront OBJ", "obj", pad_z=True),
     _meshio(".ply", "Stanford PLY", "ply", pad_z=True, int32=True, point_data=True),
     _meshio(".off", "Geomview OFF", "off", pad_z=True),
-    _meshio(".inp", "Abaqus input file", "abaqus"),
-    _meshio(".mesh", "Medit / INRIA mesh, ASCII", "medit"),
-    _meshio(".meshb", "Medit / INRIA mesh, binary", "medit"),
+    _meshio(".inp", "Abaqus input file", "abaqus", regions="abaqus"),
+    _meshio(".mesh", "Medit / INRIA mesh, ASCII", "medit", regions="medit"),
+    _meshio(".meshb", "Medit / INRIA mesh, binary", "medit", regions="medit"),
     _meshio(".su2", "SU2 native mesh", "su2"),
-    _meshio(".vol", "Netgen mesh", "netgen"),
-    _meshio(".vol.gz", "Netgen mesh, gzip-compressed", "netgen"),
-    _meshio(".tec", "Tecplot ASCII", "tecplot", point_data=True),
-    _meshio(".avs", "AVS-UCD", "avsucd", pad_z=True),
+    _meshio(".vol", "Netgen mesh", "netgen", regions="netgen"),
+    _meshio(".vol.gz", "Netgen mesh, gzip-compressed", "netgen", regions="netgen"),
+    _meshio(".tec", "Tecplot ASCII", "tecplot", point_data=True, regions="region"),
+    _meshio(".avs", "AVS-UCD", "avsucd", pad_z=True, regions="avsucd"),
     _meshio(".mdpa", "Kratos Multiphysics model part", "mdpa", pad_z=True),
     _meshio(".dato", "PERMAS input", "permas", pad_z=True),
     _meshio(".dato.gz", "PERMAS input, gzip-compressed", "permas", pad_z=True),
@@ -151,6 +170,8 @@ MESH_FORMATS: dict[str, FileFormat] = _table(
         _truss.read_truss_csv,
         _truss.write_truss_csv,
         point_data=True,
+        regions=True,
+        members=True,
     ),
     FileFormat(
         ".truss.json",
@@ -158,6 +179,8 @@ MESH_FORMATS: dict[str, FileFormat] = _table(
         _truss.read_truss_json,
         _truss.write_truss_json,
         point_data=True,
+        regions=True,
+        members=True,
     ),
 )
 

@@ -37,8 +37,13 @@ column       meaning
 ``length``   member length (member rows only)
 ===========  ======================================================================
 
+A mesh of a polygon with segments or regions (:attr:`uniform2d.Mesh.regions`)
+gets three more columns after ``length``: ``segment`` on member rows (the
+number of the polygon segment the member lies on, counted from 0 as in
+``Polygon.segments``; empty for other members), ``region`` and ``label`` on
+triangle rows (the triangle's region, counted from 0, and its label if any).
 Point data (one value per node, e.g. an insertion weight) is appended as extra
-columns after ``length``, named after the data, filled on node rows only.
+columns after those, named after the data, filled on node rows only.
 Reading maps node ids to rows, so ids need not be contiguous, but they must be
 unique; lines starting with ``#`` are skipped.
 
@@ -53,10 +58,15 @@ One JSON object, indices counted from **0** (positions in the ``nodes`` list)::
       "members": [[i, j], ...],
       "lengths": [l, ...],
       "triangles": [[a, b, c], ...],
+      "member_segments": [s, ...],
+      "regions": [r, ...],
+      "region_labels": [label, ...],
       "point_data": {"name": [...], ...}
     }
 
-``point_data`` is present only when some was given.  The compound extension
+``member_segments`` (the segment of each member, -1 for none), ``regions``
+(one per triangle), ``region_labels`` (one per region, null for none) and
+``point_data`` are present only when the mesh has them.  The compound extension
 ``.truss.json`` keeps these files apart from ``.json`` polygon files.
 
 Examples
@@ -100,6 +110,7 @@ from ..errors import FileFormatError, InvalidArgumentError
 __all__ = ["members", "read_truss_csv", "write_truss_csv", "read_truss_json", "write_truss_json"]
 
 CSV_COLUMNS = ("kind", "id", "x", "y", "i", "j", "k", "length")
+REGION_COLUMNS = ("segment", "region", "label")
 JSON_FORMAT_NAME = "uniform2d-truss"
 JSON_VERSION = 1
 
@@ -134,8 +145,21 @@ def members(points, triangles):
     return ij, lengths
 
 
+def member_segments(ij: np.ndarray, members) -> np.ndarray:
+    """The segment of every member of ``ij`` (-1 for none), from ``(edges, ids)``."""
+    out = np.full(len(ij), -1, np.int64)
+    if members is None or not len(members[0]):
+        return out
+    edges = np.sort(np.asarray(members[0], dtype=np.int64), axis=1)
+    n = int(max(ij.max(initial=0), edges.max(initial=0))) + 1
+    pos = np.searchsorted(ij[:, 0] * n + ij[:, 1], edges[:, 0] * n + edges[:, 1])
+    out[pos] = members[1]
+    return out
+
+
 # -- CSV ----------------------------------------------------------------------------
-def write_truss_csv(path, points, triangles, point_data=None) -> None:
+def write_truss_csv(path, points, triangles, point_data=None, *, regions=None, labels=None,
+                    segment_members=None) -> None:
     """Write the one-file CSV truss layout described in the module docstring."""
     point_data = point_data or {}
     for name, values in point_data.items():
@@ -145,7 +169,7 @@ def write_truss_csv(path, points, triangles, point_data=None) -> None:
                 "stores one value per node (shape (N,)): split it into several arrays or "
                 "use .truss.json"
             )
-        if name in CSV_COLUMNS:
+        if name in CSV_COLUMNS + REGION_COLUMNS:
             raise InvalidArgumentError(
                 f"point data name {name!r} clashes with a CSV column; rename it"
             )
@@ -153,16 +177,25 @@ def write_truss_csv(path, points, triangles, point_data=None) -> None:
     names = list(point_data)
     columns = [np.asarray(point_data[n]) for n in names]
     blank = [""] * len(names)
+    tagged = regions is not None or segment_members is not None
+    seg = member_segments(ij, segment_members)
     with open(path, "w", encoding="utf-8", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
-        w.writerow(list(CSV_COLUMNS) + names)
+        w.writerow(list(CSV_COLUMNS) + (list(REGION_COLUMNS) if tagged else []) + names)
+        pad = ["", "", ""] if tagged else []
         for n, (x, y) in enumerate(points):
             extra = [_cell(c[n]) for c in columns]
-            w.writerow(["node", n + 1, _num(x), _num(y), "", "", "", ""] + extra)
+            w.writerow(["node", n + 1, _num(x), _num(y), "", "", "", ""] + pad + extra)
         for m, ((i, j), length) in enumerate(zip(ij, lengths)):
-            w.writerow(["member", m + 1, "", "", i + 1, j + 1, "", _num(length)] + blank)
+            tag = [str(seg[m]) if seg[m] >= 0 else "", "", ""] if tagged else []
+            w.writerow(["member", m + 1, "", "", i + 1, j + 1, "", _num(length)] + tag + blank)
         for t, (a, b, c) in enumerate(triangles):
-            w.writerow(["triangle", t + 1, "", "", a + 1, b + 1, c + 1, ""] + blank)
+            tag = []
+            if tagged:
+                r = int(regions[t]) if regions is not None else None
+                lab = labels[r] if labels is not None and r is not None else None
+                tag = ["", "" if r is None else str(r), "" if lab is None else _cell(lab)]
+            w.writerow(["triangle", t + 1, "", "", a + 1, b + 1, c + 1, ""] + tag + blank)
 
 
 def _cell(v) -> str:
@@ -172,8 +205,10 @@ def _cell(v) -> str:
     return str(v)
 
 
-def read_truss_csv(path):
-    """Read a CSV truss file; returns ``(points (N, 2) float64, triangles (M, 3) int64)``."""
+def read_truss_csv(path, regions=False):
+    """Read a CSV truss file; returns ``(points (N, 2) float64, triangles (M, 3) int64)``,
+    and with ``regions`` the region of each triangle (None if the file has no
+    ``region`` column)."""
     try:
         with open(path, encoding="utf-8-sig", newline="") as f:
             rows = [
@@ -198,6 +233,8 @@ def read_truss_csv(path):
             f"got {','.join(header)[:80]}",
         )
     col = {name: c for c, name in enumerate(CSV_COLUMNS)}
+    if "region" in header:
+        col["region"] = header.index("region")
 
     def field(n, row, name, kind):
         c = col[name]
@@ -216,7 +253,7 @@ def read_truss_csv(path):
         except ValueError:
             _fail(path, f"line {n}: unreadable {name} {text!r}")
 
-    node_ids, xy, tri_rows, member_rows = {}, [], [], []
+    node_ids, xy, tri_rows, member_rows, region_rows = {}, [], [], [], []
     for n, row in rows[1:]:
         kind = row[0].strip().lower()
         if kind == "node":
@@ -231,6 +268,8 @@ def read_truss_csv(path):
             tri_rows.append(
                 (n, field(n, row, "i", int), field(n, row, "j", int), field(n, row, "k", int))
             )
+            if regions and "region" in col:
+                region_rows.append(field(n, row, "region", int))
         else:
             _fail(path, f"line {n}: unknown kind {row[0].strip()!r}; use node, member or triangle")
     if not xy:
@@ -252,7 +291,12 @@ def read_truss_csv(path):
     triangles = np.array(
         [[index(n, a), index(n, b), index(n, c)] for n, a, b, c in tri_rows], dtype=np.int64
     )
-    return np.array(xy, dtype=np.float64), triangles
+    if not regions:
+        return np.array(xy, dtype=np.float64), triangles
+    reg = np.array(region_rows, dtype=np.int64) if "region" in col else None
+    if reg is not None and reg.size and reg.min() < 0:
+        _fail(path, "a triangle has a negative region")
+    return np.array(xy, dtype=np.float64), triangles, reg
 
 
 # -- JSON ---------------------------------------------------------------------------
@@ -260,9 +304,11 @@ def _rows(array, fmt) -> str:
     return ",\n".join("    [" + ", ".join(fmt(v) for v in row) + "]" for row in array)
 
 
-def write_truss_json(path, points, triangles, point_data=None) -> None:
+def write_truss_json(path, points, triangles, point_data=None, *, regions=None, labels=None,
+                     segment_members=None) -> None:
     """Write the ``.truss.json`` layout described in the module docstring."""
     ij, lengths = members(points, triangles)
+    seg = member_segments(ij, segment_members)
     parts = [
         f'  "format": "{JSON_FORMAT_NAME}"',
         f'  "version": {JSON_VERSION}',
@@ -271,6 +317,12 @@ def write_truss_json(path, points, triangles, point_data=None) -> None:
         '  "lengths": [' + ", ".join(_num(v) for v in lengths) + "]",
         '  "triangles": [\n' + _rows(triangles, str) + "\n  ]",
     ]
+    if segment_members is not None:
+        parts.append('  "member_segments": [' + ", ".join(map(str, seg.tolist())) + "]")
+    if regions is not None:
+        parts.append('  "regions": [' + ", ".join(str(int(r)) for r in regions) + "]")
+        if labels is not None:
+            parts.append('  "region_labels": ' + json.dumps(list(labels)))
     if point_data:
         data = {name: np.asarray(v).tolist() for name, v in point_data.items()}
         parts.append('  "point_data": ' + json.dumps(data))
@@ -299,8 +351,9 @@ def _int_table(path, data, key, width, n_nodes):
     return arr.astype(np.int64)
 
 
-def read_truss_json(path):
-    """Read a ``.truss.json`` file; returns ``(points (N, 2) float64, triangles (M, 3) int64)``."""
+def read_truss_json(path, regions=False):
+    """Read a ``.truss.json`` file; returns ``(points (N, 2) float64, triangles (M, 3) int64)``,
+    and with ``regions`` the region of each triangle (None if the file has none)."""
     try:
         with open(path, encoding="utf-8-sig") as f:
             data = json.load(f)
@@ -334,4 +387,12 @@ def read_truss_json(path):
     triangles = _int_table(path, data, "triangles", 3, len(points))
     if "members" in data:
         _int_table(path, data, "members", 2, len(points))
-    return points, triangles
+    if not regions:
+        return points, triangles
+    if "regions" not in data:
+        return points, triangles, None
+    reg = data["regions"]
+    if not (isinstance(reg, list) and len(reg) == len(triangles) and all(
+            isinstance(r, int) and not isinstance(r, bool) and r >= 0 for r in reg)):
+        _fail(path, '"regions" must list one non-negative integer per triangle')
+    return points, triangles, np.array(reg, dtype=np.int64)

@@ -4,7 +4,10 @@ Options: ``Mesh.Algorithm = 6`` (Frontal-Delaunay), ``Mesh.MeshSizeMax = size``,
 ``Mesh.MeshSizeExtendFromBoundary = 0``, ``Mesh.MeshSizeFromPoints = 0`` and
 ``Mesh.MeshSizeFromCurvature = 0``, so the size field is the constant ``size``.
 The size is bisected until the vertex count matches the target
-(:func:`uniform2d.peers.base.tune`).
+(:func:`uniform2d.peers.base.tune`).  A polygon's segments and fixed points are
+embedded in the surface (``gmsh.model.mesh.embed``): every segment piece as a
+line between the vertices it joins, every fixed point on no segment as a point,
+so Gmsh's mesh contains them as uniform2d's does.
 
 Gmsh keeps global state and is not thread-safe: every call holds a module lock
 and runs between its own ``gmsh.initialize`` / ``gmsh.finalize``, with no
@@ -39,6 +42,28 @@ def version() -> str:
     return str(gmsh.__version__)
 
 
+def _build(gmsh, polygon, size: float) -> None:
+    """The polygon as a plane surface, its segments and fixed points embedded."""
+    geo = gmsh.model.geo
+    V = polygon.vertices
+    tag = [geo.addPoint(float(x), float(y), 0.0, size) for x, y in V]
+    loops = []
+    off = polygon.ring_offsets
+    for r in range(len(polygon.rings)):
+        ring = list(range(int(off[r]), int(off[r + 1])))
+        lines = [geo.addLine(tag[a], tag[b]) for a, b in zip(ring, ring[1:] + ring[:1])]
+        loops.append(geo.addCurveLoop(lines))
+    surface = geo.addPlaneSurface(loops)
+    curves = [geo.addLine(tag[a], tag[b]) for a, b in polygon.segment_edges.tolist()]
+    on_curve = set(polygon.segment_edges.ravel().tolist())
+    lone = [tag[i] for i in range(polygon.n_ring_vertices, len(V)) if i not in on_curve]
+    geo.synchronize()
+    if curves:
+        gmsh.model.mesh.embed(1, curves, 2, surface)
+    if lone:
+        gmsh.model.mesh.embed(0, lone, 2, surface)
+
+
 def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
     """Mesh ``polygon`` with Gmsh at the constant target edge length ``size``.
 
@@ -60,14 +85,7 @@ def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
             gmsh.option.setNumber("General.Terminal", 0)
             gmsh.option.setNumber("General.Verbosity", 0)
             gmsh.model.add("uniform2d_peer")
-            geo = gmsh.model.geo
-            loops = []
-            for ring in polygon.rings:
-                pts = [geo.addPoint(float(x), float(y), 0.0, float(size)) for x, y in ring]
-                lines = [geo.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
-                loops.append(geo.addCurveLoop(lines))
-            geo.addPlaneSurface(loops)
-            geo.synchronize()
+            _build(gmsh, polygon, float(size))
             gmsh.option.setNumber("Mesh.Algorithm", 6)
             gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
             gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)

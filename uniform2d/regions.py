@@ -1,0 +1,340 @@
+"""Regions: the faces into which a polygon's rings and segments split its interior.
+
+The ring edges and the segment pieces of a :class:`~uniform2d.Polygon` are
+already noded exactly (they meet only at shared vertices), so the faces are the
+polygons that :func:`shapely.polygonize` closes from them, less those in holes.
+A segment with a free end (a stiffener) bounds no face; a closed segment, or a
+chain of segments from ring to ring, does.
+
+Numbering
+---------
+Regions are numbered in the lexicographic order (x, then y) of their vertex
+lists sorted lexicographically: the region whose smallest vertex is smallest
+comes first, and regions sharing their smallest vertex are told apart by the
+next ones.  The rule depends only on the coordinates, so it is the same for
+the same polygon whichever way its rings and segments were given, and it is
+kept by positive scaling and translation.
+
+Labels
+------
+``Polygon(..., regions=[(x, y, label), ...])`` labels the region strictly
+containing each seed point (Triangle's regional attributes); a region without
+a seed has the label ``None``.
+
+Examples
+--------
+>>> from uniform2d import Polygon
+>>> slab = Polygon([(0, 0), (4, 0), (4, 2), (0, 2)], segments=[[(1, 0), (1, 2)]],
+...                regions=[(3, 1, "concrete")])
+>>> r = slab.regions
+>>> r.areas.tolist(), r.labels
+([2.0, 6.0], (None, 'concrete'))
+>>> r.locate(0.5, 1.0), r.locate(2, 1), r.locate(1, 1)
+(0, 1, -1)
+"""
+
+from __future__ import annotations
+
+import logging
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from .errors import InvalidArgumentError, InvalidConstraintError
+
+__all__ = ["Regions", "faces", "region_seeds", "triangle_regions", "segment_chains",
+           "polygon_vertices_first"]
+
+log = logging.getLogger(__name__)
+
+
+def _fmt(x, y) -> str:
+    return f"({float(x):.17g}, {float(y):.17g})"
+
+
+@dataclass(frozen=True, eq=False)
+class Regions:
+    """The regions of a polygon, in numbering order.
+
+    Attributes
+    ----------
+    faces : tuple of shapely.Polygon
+        Region ``r`` is ``faces[r]`` (holes of a face are holes of P or regions
+        enclosed by it).
+    areas : ndarray, shape (R,), float64
+    labels : tuple
+        The label of each region (``None`` where no seed marks it).
+    """
+
+    faces: tuple
+    areas: np.ndarray
+    labels: tuple
+
+    def __len__(self) -> int:
+        return len(self.faces)
+
+    def locate(self, x, y) -> int:
+        """The region strictly containing (x, y), or -1 (outside P, in a hole, or
+        on a ring or segment)."""
+        pt = shapely.Point(float(x), float(y))
+        for r, f in enumerate(self.faces):
+            if f.contains_properly(pt):
+                return r
+        return -1
+
+
+def _lines(polygon) -> np.ndarray:
+    """Every ring edge and segment piece as a (K, 2, 2) array of end points."""
+    e = polygon.constraint_edges
+    return polygon.vertices[e]
+
+
+def faces(polygon) -> list:
+    """The faces of ``polygon`` (shapely Polygons), numbered as the module says."""
+    if not len(polygon.segment_edges):
+        return [polygon.to_shapely()]
+    found = shapely.polygonize(shapely.linestrings(_lines(polygon))).geoms
+    whole = polygon.to_shapely()
+    shapely.prepare(whole)
+    kept = [f for f in found if whole.contains_properly(f.representative_point())]
+
+    def key(face):
+        pts = [tuple(c) for ring in (face.exterior, *face.interiors) for c in ring.coords[:-1]]
+        return sorted(pts)
+
+    return sorted(kept, key=key)
+
+
+def _check_label(i: int, label):
+    ok = isinstance(label, str) or (
+        isinstance(label, numbers.Real) and not isinstance(label, bool) and np.isfinite(label))
+    if not ok:
+        raise InvalidConstraintError(
+            f"region {i}: the label {label!r} is not a string or a finite number; "
+            "label regions with names or numbers")
+    return label.item() if isinstance(label, np.generic) else label
+
+
+def region_seeds(seeds) -> tuple:
+    """Check ``[(x, y, label), ...]``; return them as a tuple of (float, float, label)."""
+    if seeds is None:
+        return ()
+    if isinstance(seeds, (str, bytes)) or not hasattr(seeds, "__len__"):
+        raise InvalidConstraintError(
+            f"regions must be a sequence of (x, y, label) seeds, got {type(seeds).__name__}")
+    out = []
+    for i, s in enumerate(seeds):
+        if isinstance(s, (str, bytes)) or not hasattr(s, "__len__") or len(s) != 3:
+            raise InvalidConstraintError(
+                f"region {i}: expected a seed (x, y, label), got {s!r}; give the point "
+                "inside the region and its label")
+        try:
+            x, y = float(s[0]), float(s[1])
+        except (TypeError, ValueError):
+            raise InvalidConstraintError(
+                f"region {i}: the seed coordinates {s[0]!r}, {s[1]!r} are not numbers") from None
+        if not (np.isfinite(x) and np.isfinite(y)):
+            raise InvalidConstraintError(f"region {i}: the seed {_fmt(x, y)} is not finite")
+        out.append((x, y, _check_label(i, s[2])))
+    return tuple(out)
+
+
+def build(polygon, seeds) -> Regions:
+    """The :class:`Regions` of ``polygon`` with the labels of ``seeds`` (checked
+    by :func:`region_seeds`)."""
+    fs = faces(polygon)
+    labels = [None] * len(fs)
+    marked = {}
+    for i, (x, y, label) in enumerate(seeds):
+        pt = shapely.Point(x, y)
+        hit = [r for r, f in enumerate(fs) if f.intersects(pt)]
+        inside = [r for r in hit if fs[r].contains_properly(pt)]
+        if not inside:
+            where = "on a ring or segment" if hit else "outside the polygon or in a hole"
+            raise InvalidConstraintError(
+                f"region {i}: the seed {_fmt(x, y)} lies {where}; put it strictly inside "
+                "the region it labels")
+        r = inside[0]
+        if r in marked:
+            j = marked[r]
+            raise InvalidConstraintError(
+                f"regions {j} and {i} both lie in region {r} (seeds {_fmt(*seeds[j][:2])} and "
+                f"{_fmt(x, y)}); give one seed per region, or add the segment that separates them")
+        marked[r] = i
+        labels[r] = label
+    areas = np.array([f.area for f in fs], dtype=np.float64)
+    areas.setflags(write=False)
+    return Regions(tuple(fs), areas, tuple(labels))
+
+
+# -- a mesh's regions ---------------------------------------------------------------
+def _neighbours(triangles: np.ndarray, n_points: int):
+    """CSR (indptr, indices) of the mesh's vertex adjacency."""
+    e = triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    e = np.unique(np.sort(e, axis=1), axis=0)
+    both = np.concatenate([e, e[:, ::-1]])
+    order = np.lexsort((both[:, 1], both[:, 0]))
+    both = both[order]
+    indptr = np.searchsorted(both[:, 0], np.arange(n_points + 1))
+    return indptr, both[:, 1]
+
+
+def _walk(points, indptr, nbrs, a: int, b: int, tol: float) -> list[int]:
+    """The mesh vertices from ``a`` to ``b`` along the straight piece a-b: at each
+    step the neighbour farther along the piece that lies nearest its line.  Mesh
+    vertices placed on a piece are on its line up to the rounding of their
+    coordinates (``tol``); any other neighbour is farther off."""
+    pa, d = points[a], points[b] - points[a]
+    L2 = float(d @ d)
+    chain, cur, t_cur = [a], a, 0.0
+    for _ in range(len(points)):
+        ws = nbrs[indptr[cur]:indptr[cur + 1]]
+        if b in ws:
+            return chain + [b]
+        q = points[ws] - pa
+        t = (q @ d) / L2
+        off = np.abs(d[0] * q[:, 1] - d[1] * q[:, 0]) / np.sqrt(L2)
+        ok = (t > t_cur) & (t < 1.0) & (off <= tol)
+        if not ok.any():
+            break
+        k = int(np.flatnonzero(ok)[np.argmin(off[ok])])
+        cur, t_cur = int(ws[k]), float(t[k])
+        chain.append(cur)
+    raise InvalidArgumentError(
+        f"the mesh does not contain the segment piece from vertex {a} {_fmt(*points[a])} to "
+        f"vertex {b} {_fmt(*points[b])} as a chain of edges; it does not conform to the "
+        "polygon's segments")
+
+
+def _check_mesh_arrays(polygon, points, triangles):
+    pts = np.asarray(points, dtype=np.float64)
+    tri = np.asarray(triangles, dtype=np.int64)
+    if pts.ndim != 2 or pts.shape[1] != 2 or tri.ndim != 2 or tri.shape[1] != 3:
+        raise InvalidArgumentError(
+            f"expected points (N, 2) and triangles (M, 3), got {pts.shape} and {tri.shape}")
+    nv = len(polygon.vertices)
+    if len(pts) < nv or not np.array_equal(pts[:nv], polygon.vertices):
+        raise InvalidArgumentError(
+            "the mesh must start with the polygon's vertices (points[:len(polygon.vertices)] "
+            "== polygon.vertices), as every uniform2d mesh does")
+    if tri.size and (tri.min() < 0 or tri.max() >= len(pts)):
+        raise InvalidArgumentError(f"triangles refer to points outside 0..{len(pts) - 1}")
+    return pts, tri
+
+
+def segment_chains(polygon, points, triangles) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh edges that lie on the polygon's segments.
+
+    Returns
+    -------
+    edges : ndarray, shape (K, 2), int64
+        Mesh vertex pairs, in the direction of their segment, piece after piece.
+    ids : ndarray, shape (K,), int64
+        The segment (index into ``polygon.segments``) of each edge.
+
+    Raises
+    ------
+    InvalidArgumentError
+        If the mesh does not start with ``polygon.vertices`` or does not contain
+        a segment piece as a chain of edges.
+    """
+    pts, tri = _check_mesh_arrays(polygon, points, triangles)
+    if not len(polygon.segment_edges):
+        return np.empty((0, 2), np.int64), np.empty(0, np.int64)
+    indptr, nbrs = _neighbours(tri, len(pts))
+    scale = float(np.abs(pts).max())
+    edges, ids = [], []
+    for (a, b), s in zip(polygon.segment_edges, polygon.segment_ids):
+        L = float(np.hypot(*(pts[b] - pts[a])))
+        chain = _walk(pts, indptr, nbrs, int(a), int(b), 1e-9 * L + 8 * np.spacing(scale))
+        edges.extend(zip(chain[:-1], chain[1:]))
+        ids.extend([int(s)] * (len(chain) - 1))
+    return np.array(edges, np.int64).reshape(-1, 2), np.array(ids, np.int64)
+
+
+def triangle_regions(polygon, points, triangles, regions: Regions | None = None) -> np.ndarray:
+    """The region of every triangle of a conforming mesh of ``polygon``, (M,) int64.
+
+    Triangles are grouped by crossing only edges that lie on no segment; each
+    group is one region, found by its largest triangle's centroid.  The group's
+    area must equal its region's (to rounding), so a mesh that does not conform
+    cannot pass unnoticed.
+
+    Raises
+    ------
+    InvalidArgumentError
+        If the mesh does not start with ``polygon.vertices``, misses a segment,
+        or its triangles do not tile the regions.
+    """
+    pts, tri = _check_mesh_arrays(polygon, points, triangles)
+    if not len(polygon.segment_edges):
+        return np.zeros(len(tri), np.int64)
+    regions = regions if regions is not None else polygon.regions
+    cut, _ = segment_chains(polygon, pts, tri)
+    cut_keys = set(map(tuple, np.sort(cut, axis=1).tolist()))
+    he = tri[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    owner = np.repeat(np.arange(len(tri)), 3)
+    key = np.sort(he, axis=1)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    k, o = key[order], owner[order]
+    same = np.all(k[1:] == k[:-1], axis=1)
+    i = np.flatnonzero(same)
+    keep = np.array([tuple(k[j]) not in cut_keys for j in i], dtype=bool)
+    i = i[keep] if len(i) else i
+    graph = coo_matrix((np.ones(len(i)), (o[i], o[i + 1])), shape=(len(tri), len(tri)))
+    n_comp, comp = connected_components(graph, directed=False)
+    p = pts[tri]
+    area = 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                  - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+    centroid = p.mean(axis=1)
+    out = np.empty(len(tri), np.int64)
+    for c in range(n_comp):
+        members = np.flatnonzero(comp == c)
+        big = members[np.argmax(area[members])]
+        r = regions.locate(*centroid[big])
+        if r < 0:
+            raise InvalidArgumentError(
+                f"triangle {int(big)} of the mesh lies in no region of the polygon; the mesh "
+                "does not tile it")
+        out[members] = r
+    sums = np.bincount(out, weights=area, minlength=len(regions))
+    bad = np.flatnonzero(np.abs(sums - regions.areas) > 1e-9 * polygon.area)
+    if len(bad):
+        r = int(bad[0])
+        raise InvalidArgumentError(
+            f"the mesh's triangles in region {r} cover {sums[r]:.17g}, but the region's area "
+            f"is {regions.areas[r]:.17g}; the mesh does not conform to the polygon's segments")
+    return out
+
+
+def polygon_vertices_first(polygon, points, triangles) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh renumbered so that ``points[:len(polygon.vertices)]`` is
+    ``polygon.vertices``, as the functions above expect (for meshes from other
+    meshers, which keep the polygon's vertices exactly but number them their way).
+
+    Raises
+    ------
+    InvalidArgumentError
+        If a polygon vertex is not a mesh point.
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    tri = np.asarray(triangles, dtype=np.int64)
+    where = {}
+    for i, p in enumerate(map(tuple, pts.tolist())):
+        where.setdefault(p, i)
+    V = polygon.vertices
+    missing = [k for k, v in enumerate(map(tuple, V.tolist())) if v not in where]
+    if missing:
+        k = missing[0]
+        raise InvalidArgumentError(
+            f"polygon vertex {k} {_fmt(*V[k])} is not a point of the mesh ({len(missing)} missing)")
+    first = np.array([where[tuple(v)] for v in V.tolist()], dtype=np.int64)
+    rest = np.setdiff1d(np.arange(len(pts)), first)
+    order = np.concatenate([first, rest])
+    new = np.empty(len(pts), np.int64)
+    new[order] = np.arange(len(pts))
+    return pts[order], new[tri]
