@@ -23,6 +23,7 @@ from .errors import (
     InvalidSitesError,
     TooManyPointsError,
     Uniform2dError,
+    UnsupportedConstraintError,
     UnsupportedFormatError,
 )
 from .insert import InsertResult, insert
@@ -67,5 +68,6 @@ __all__ = [
     "InvalidArgumentError",
     "InternalError",
     "CoordinatePrecisionError",
+    "UnsupportedConstraintError",
     "__version__",
 ]

@@ -13,6 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._kernel import cdt, relax
+from ..errors import refuse_constraints
 from ..geometry import polygon_edges
 from ..polygon import Polygon
 from ..triangulation import load_mesh, triangulate
@@ -95,6 +96,7 @@ def improve(
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
+    refuse_constraints(polygon, "improve")
     obj = objective_code(objective)
     P0, T0 = triangulate(polygon, sites, edges)
     nV = len(polygon.vertices)

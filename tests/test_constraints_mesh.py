@@ -1,0 +1,216 @@
+"""INSERT and T+ on polygons with interior segments and fixed points.
+
+INSERT is checked step by step against the brute-force reference
+(``reference_insert``, which knows segments only as visibility blockers and
+candidate carriers) on a free stiffener, T-junctions, a closed segment, fixed
+points (one on a segment) and a hole; then for the kernel alone: non-increasing
+weights, bit-identical repeated calls, invariance under scaling and
+translation.  Every mesh passes ``invariants.check_mesh`` (segments are chains of
+mesh edges, fixed points are vertices, exactly n Steiner points), and a fuzz
+test draws random constrained domains.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import uniform2d
+from invariants import check_mesh
+from reference_insert import reference_insert
+from uniform2d import Polygon
+from uniform2d._kernel.validity import mesh_problem
+
+SQ = [(0, 0), (4, 0), (4, 3), (0, 3)]
+HOLE = [(2.5, 0.5), (3.5, 0.5), (3.5, 1.2), (2.5, 1.2)]
+CASES = {
+    "free": (dict(outer=SQ, segments=[[(1, 1), (3, 2)]]), 60),
+    "fixed": (dict(outer=SQ, segments=[[(1, 1), (3, 2)]], points=[(0.5, 2.5), (2, 1.5)]), 60),
+    "tjunction": (dict(outer=SQ, segments=[[(2, 0), (2, 1.5), (3, 2.2)]]), 60),
+    "closed": (dict(outer=SQ, segments=[[(1, 1), (3, 1), (3, 2.5), (1, 2.5), (1, 1)]]), 60),
+    "hole": (
+        dict(outer=SQ, holes=[HOLE], segments=[[(0, 1.5), (2.5, 1.2)], [(1, 2.5), (2, 2.5)]],
+             points=[(3, 2.5)]),
+        60,
+    ),  # fmt: skip
+    "crossing-ridge": (
+        dict(outer=[(0, 0), (3, 0), (3, 2), (1.5, 3), (0, 2)],
+             segments=[[(0, 2), (1.5, 1.2), (3, 2)], [(1.5, 0), (1.5, 1.2), (1.5, 3)]]),
+        50,
+    ),  # fmt: skip
+}
+
+
+def _polygon(case, scale=1.0, offset=(0.0, 0.0)):
+    kw = dict(CASES[case][0])
+    f = lambda pts: [(x * scale + offset[0], y * scale + offset[1]) for x, y in pts]  # noqa: E731
+    return Polygon(
+        f(kw["outer"]),
+        [f(h) for h in kw.get("holes", ())],
+        segments=[f(s) for s in kw.get("segments", ())],
+        points=f(kw.get("points", [])),
+    )
+
+
+@functools.lru_cache(maxsize=None)
+def _kernel(case):
+    return uniform2d.insert(_polygon(case), CASES[case][1])
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_insert_matches_reference(case):
+    P, n = _polygon(case), CASES[case][1]
+    res = _kernel(case)
+    ref = reference_insert(P, n)
+    dp = np.abs(res.points - ref.points).max(axis=1)
+    dw = np.abs(res.weights - ref.weights) / ref.weights
+    bad = np.flatnonzero((dp > 4e-9) | (dw > 1e-9) | (res.on_boundary != ref.on_boundary))
+    assert not len(bad), (
+        f"step {bad[0]}: kernel {res.points[bad[0]]} w={res.weights[bad[0]]!r} "
+        f"on={res.on_boundary[bad[0]]}; reference {ref.points[bad[0]]} "
+        f"w={ref.weights[bad[0]]!r} on={ref.on_boundary[bad[0]]}"
+    )
+    assert (np.diff(res.weights) <= 1e-9 * res.weights[1:]).all()
+    check_mesh(res.mesh_points, res.triangles, P, n_steiner=n)
+
+
+def test_points_on_segments_are_split_exactly_once():
+    res = _kernel("closed")
+    P = _polygon("closed")
+    # every point INSERT put on a constraint lies on the ring or the closed segment,
+    # and the segment received some
+    on = res.points[res.on_boundary]
+    ring = Polygon(SQ).to_shapely().boundary
+    import shapely
+
+    line = shapely.LineString(P.segments[0])
+    d_seg = shapely.distance(line, shapely.points(on))
+    d_ring = shapely.distance(ring, shapely.points(on))
+    assert (np.minimum(d_seg, d_ring) < 1e-12).all()
+    assert (d_seg < 1e-12).sum() >= 4
+
+
+def test_deterministic_and_invariant():
+    case = "hole"
+    n = 80
+    base = uniform2d.insert(_polygon(case), n)
+    again = uniform2d.insert(_polygon(case), n)
+    assert base.points.tobytes() == again.points.tobytes()
+    assert base.triangles.tobytes() == again.triangles.tobytes()
+    for scale, off in ((1e-6, (0, 0)), (1e6, (0, 0)), (1.0, (1e6, -3e6)), (1e-3, (250.0, 40.0))):
+        moved = uniform2d.insert(_polygon(case, scale, off), n)
+        back = (moved.points - np.array(off)) / scale
+        assert np.abs(back - base.points).max() <= 1e-9 * 4, (scale, off)
+        assert np.allclose(moved.weights / scale, base.weights, rtol=1e-9, atol=0)
+        assert np.array_equal(moved.on_boundary, base.on_boundary)
+        check_mesh(moved.mesh_points, moved.triangles, moved.polygon, n_steiner=n)
+
+
+@pytest.mark.parametrize(
+    "case, n", [("free", 300), ("fixed", 300), ("tjunction", 300), ("hole", 300), ("crossing-ridge", 1000)]
+)
+def test_tplus_keeps_constraints(case, n):
+    P = _polygon(case)
+    mesh = uniform2d.tplus(P, n)
+    check_mesh(mesh.points, mesh.triangles, P, n_steiner=n)
+    info = mesh.info
+    assert info["k"] > 0 and info["d_n"] > 0
+    # phase 2 put points on every segment piece longer than 3 d_n
+    V = P.vertices
+    E = P.segment_edges
+    L = np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T)
+    assert info["gap_max"] <= 3 * (1 + 1e-9)
+    long_ = L > 3 * info["d_n"] * 1.01
+    assert long_.any()
+
+
+def test_uniform_mesh_refuses_constraints():
+    P = _polygon("free")
+    with pytest.raises(uniform2d.UnsupportedConstraintError, match="tplus"):
+        uniform2d.uniform_mesh(P, 50)
+    from uniform2d.optimize import improve
+
+    with pytest.raises(uniform2d.UnsupportedConstraintError, match="segments"):
+        improve(P, np.array([[2.0, 0.5]]))
+    assert issubclass(uniform2d.UnsupportedConstraintError, uniform2d.Uniform2dError)
+
+
+def test_final_check_sees_a_missing_segment():
+    P = _polygon("free")
+    res = _kernel("free")
+    # the same points triangulated without the segment: the piece is not a chain
+    plain = Polygon(P.outer)
+    from uniform2d.triangulation import triangulate
+
+    pts, tri = triangulate(plain, np.concatenate([P.vertices[4:], res.points]))
+    problem = mesh_problem(pts, tri, P, len(pts) - len(P.vertices), 1e-9)
+    assert problem is not None and "segment piece" in problem
+    with pytest.raises(AssertionError, match="segment piece"):
+        check_mesh(pts, tri, P, delaunay=False)
+    assert mesh_problem(res.mesh_points, res.triangles, P, len(res.points), 1e-9) is None
+
+
+def test_sites_on_a_segment_split_it():
+    P = _polygon("free")
+    sites = [(2.0, 1.5), (1.5, 1.25), (0.5, 0.5)]
+    res = uniform2d.insert(P, 10, sites=sites)
+    check_mesh(res.mesh_points, res.triangles, P, n_steiner=13)
+
+
+# ------------------------------------------------------------------------------------
+# fuzz: random constrained domains
+# ------------------------------------------------------------------------------------
+def _random_domain(seed):
+    """A square with a hole, and random free, T-junction and closed segments,
+    fixed points (some on a segment), some near-degenerate (ends 1e-9 from a ring,
+    nearly collinear pieces); None if the draw is not a valid polygon."""
+    rng = np.random.default_rng(seed)
+    outer = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    holes = [[(0.7, 0.7), (0.7, 0.85), (0.85, 0.85), (0.85, 0.7)]] if rng.random() < 0.4 else []
+    segs, pts = [], []
+    for _ in range(int(rng.integers(1, 4))):
+        kind = rng.integers(0, 4)
+        a = rng.uniform(0.1, 0.6, 2)
+        if kind == 0:  # free stiffener, maybe a polyline
+            segs.append([tuple(a), tuple(a + rng.uniform(-0.3, 0.3, 2))])
+        elif kind == 1:  # T-junction on the left or bottom edge
+            start = (0.0, float(rng.uniform(0.1, 0.9))) if rng.random() < 0.5 else (
+                float(rng.uniform(0.1, 0.9)), 0.0)
+            segs.append([start, tuple(a)])
+        elif kind == 2:  # closed triangle
+            r = rng.uniform(0.05, 0.15)
+            ang = rng.uniform(0, 2 * np.pi) + np.array([0, 2.1, 4.2])
+            tri = [tuple(a + r * np.array([np.cos(t), np.sin(t)])) for t in ang]
+            segs.append(tri + [tri[0]])
+        else:  # near-degenerate: an end 1e-9 from the ring, a nearly straight bend
+            y = float(rng.uniform(0.1, 0.6))
+            segs.append([(1e-9, y), (0.3, y + 1e-10), (0.5, y + 0.2)])
+    for s in segs[:1]:
+        p, q = np.array(s[0]), np.array(s[1])
+        pts.append(tuple(0.5 * (p + q)))  # on the first segment
+    pts += [tuple(rng.uniform(0.05, 0.95, 2)) for _ in range(int(rng.integers(0, 3)))]
+    try:
+        return Polygon(outer, holes, segments=segs, points=pts)
+    except uniform2d.InvalidPolygonError:
+        return None
+
+
+@settings(max_examples=30, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])  # fmt: skip
+@given(seed=st.integers(0, 10**6), n=st.integers(5, 150))
+def test_fuzz_constrained(seed, n):
+    P = _random_domain(seed)
+    if P is None:
+        return
+    res = uniform2d.insert(P, n)
+    check_mesh(res.mesh_points, res.triangles, P, n_steiner=n)
+    assert (np.diff(res.weights) <= 1e-9 * res.weights[1:]).all()
+    try:
+        mesh = uniform2d.tplus(P, 4 * n)
+    except uniform2d.InsufficientPointsError:
+        return
+    check_mesh(mesh.points, mesh.triangles, P, n_steiner=4 * n)
