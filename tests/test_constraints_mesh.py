@@ -214,3 +214,32 @@ def test_fuzz_constrained(seed, n):
     except uniform2d.InsufficientPointsError:
         return
     check_mesh(mesh.points, mesh.triangles, P, n_steiner=4 * n)
+
+
+# ------------------------------------------------------------------------------------
+# certificates: no constrained mesh beats a bound
+# ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("case", ["free", "fixed", "tjunction", "closed", "hole", "crossing-ridge"])
+def test_bounds_not_beaten_by_constrained_meshes(case):
+    from uniform2d.quality import quality
+
+    P = _polygon(case)
+    for n in (0, 7, 40, 150):
+        res = uniform2d.insert(P, n)
+        q = quality(res.mesh_points, res.triangles, P)
+        for name, b in q.bounds.items():
+            assert b.value <= b.achieved, (case, n, name, b)
+        assert "packing" not in dict(q.bounds["longest_edge"].terms)
+
+
+def test_t_max_counts_constraint_vertices_twice():
+    from uniform2d.bounds import lower_bound_terms
+
+    P = _polygon("fixed")
+    c = len(P.vertices) - P.n_ring_vertices
+    area = lower_bound_terms(P, 10, None)["longest_edge"][0]
+    assert area.detail == f"{2 * 10 + len(P.vertices) + c - 2} triangles at most"
+    # a mesh of P with 10 Steiner points inside really has that many triangles
+    res = uniform2d.insert(P, 10)
+    inner = (~res.on_boundary).sum()
+    assert len(res.triangles) == 2 * inner + 2 * c + P.n_ring_vertices + (10 - inner) - 2
