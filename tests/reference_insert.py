@@ -12,7 +12,11 @@ Definitions (paper Sections 2 and 5, design notes Sections 1-2)
 * sites = polygon vertices V, the optional extra ``sites`` and the points inserted
   so far;
 * w(x) = distance from x to the nearest site *visible* from x (segment inside the
-  closed polygon; touching the boundary or passing through a vertex is visible);
+  closed polygon; touching the boundary or passing through a vertex is visible;
+  crossing an interior segment piece at a point inside both is not);
+* on an interior segment piece, each side is a candidate place of its own, valued
+  by the piece's ends and the sites strictly on that side (the limit of w there
+  from that side): that is where w's supremum near the piece is attained;
 * step j inserts p_j = argmax of w over the closed polygon.
 
 Where the maximum can be -- the candidates:
@@ -174,6 +178,18 @@ def circumcircles(a: np.ndarray, b: np.ndarray, c: np.ndarray):
 # --------------------------------------------------------------------------------------
 # polygon geometry: inside test, boundary distance, visibility
 # --------------------------------------------------------------------------------------
+def _intersections(P, d, A, E):
+    """For segments P[i] + t d[i] and edges A[j] + s E[j]: (denominator, t, s) of
+    their lines' intersection, (len(P), len(A)) each (denominator 0: parallel)."""
+    wx = A[None, :, 0] - P[:, None, 0]
+    wy = A[None, :, 1] - P[:, None, 1]
+    denom = d[:, None, 0] * E[None, :, 1] - d[:, None, 1] * E[None, :, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (wx * E[None, :, 1] - wy * E[None, :, 0]) / denom
+        s = (wx * d[:, None, 1] - wy * d[:, None, 0]) / denom
+    return denom, t, s
+
+
 class PolygonGeometry:
     """Closed-polygon predicates with a tolerance relative to the polygon size."""
 
@@ -274,13 +290,7 @@ class PolygonGeometry:
             return out
         P, d, dd, L = P[live], d[live], dd[live], L[live]
         eps = (self.tol / L)[:, None]
-        A, E = self.A, self.E
-        wx = A[None, :, 0] - P[:, None, 0]
-        wy = A[None, :, 1] - P[:, None, 1]
-        denom = d[:, None, 0] * E[None, :, 1] - d[:, None, 1] * E[None, :, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (wx * E[None, :, 1] - wy * E[None, :, 0]) / denom
-            s = (wx * d[:, None, 1] - wy * d[:, None, 0]) / denom
+        denom, t, s = _intersections(P, d, self.A, self.E)
         cross_ok = np.abs(denom) > 1e-14 * L[:, None] * self.elen[None, :]
         hit = cross_ok & (s >= 0.0) & (s <= 1.0) & (t > eps) & (t < 1.0 - eps)
         # polygon vertices lying on the segment (touching, or collinear overlaps)
@@ -327,13 +337,7 @@ class PolygonGeometry:
         at one point strictly inside both (touching a piece, running along it or
         passing through its end is not crossing; a point on a piece sees both
         sides)."""
-        A, E = self.SA, self.SE
-        wx = A[None, :, 0] - P[:, None, 0]
-        wy = A[None, :, 1] - P[:, None, 1]
-        denom = d[:, None, 0] * E[None, :, 1] - d[:, None, 1] * E[None, :, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (wx * E[None, :, 1] - wy * E[None, :, 0]) / denom
-            s = (wx * d[:, None, 1] - wy * d[:, None, 0]) / denom
+        denom, t, s = _intersections(P, d, self.SA, self.SE)
         et = (self.tol / L)[:, None]
         es = (self.tol / self.slen)[None, :]
         ok = np.abs(denom) > 1e-14 * L[:, None] * self.slen[None, :]

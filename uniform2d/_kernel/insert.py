@@ -7,9 +7,12 @@ Candidates (the only places the farthest point can be):
   midpoint of a boundary subsegment and belongs to the subsegment's entry).
   Its value, the circumradius, never changes while the triangle lives.
   Payload ``(t, tstamp[t])``: alive while the slot's stamp is unchanged.
-* a boundary subsegment ``u -> v``: its largest visible distance, found by
-  :func:`eval_segment`; it changes only when sites appear near it.
-  Payload ``(-(u + 1), v)``: alive while ``u -> v`` is a boundary half-edge.
+* a constrained subsegment ``u -> v`` (a boundary half-edge, or one side of an
+  interior segment piece, valued by the sites on that side): its largest visible
+  distance, found by :func:`eval_segment`; it changes only when sites appear
+  near it.  Payload ``(-(u + 1), v)``: alive while ``u -> v`` is a constrained
+  half-edge (:func:`cdt.find_constrained`).  A point chosen there splits the
+  piece on both sides.
 
 The main queue M (a value heap, key = an upper bound of the candidate's weight:
 exact for triangles, the last evaluation or |uv|/2 for subsegments) holds every
