@@ -13,8 +13,9 @@ falling back to exact rational arithmetic (``fractions.Fraction``) near zero.
   vertices lying on them (every polygon edge present, nothing else on the boundary);
 * the triangle areas add up to the polygon's area;
 * every interior segment piece of P is a chain of mesh edges from one end to the
-  other whose inner vertices are Steiner points on the piece (within rounding of
-  the coordinates), in order along it; every fixed point is a mesh vertex;
+  other whose inner vertices lie on the piece (within rounding of the
+  coordinates: Steiner points, or a fixed point that close), in order along it;
+  every fixed point is a mesh vertex;
 * every interior edge that is not on a segment is locally Delaunay (the opposite
   vertex is not strictly inside the circumcircle) -- with the boundary and the
   segments as constraints, this is the constrained Delaunay property.
@@ -153,7 +154,6 @@ def segment_chains(points, he, polygon) -> set:
     (directed half-edges ``he``) through Steiner points on it, in order; return
     those edges as a set of (u, v) pairs, both directions."""
     V = polygon.vertices
-    nV = len(V)
     nbrs: dict[int, set] = {}
     for u, v in he:
         nbrs.setdefault(int(u), set()).add(int(v))
@@ -170,7 +170,7 @@ def segment_chains(points, he, polygon) -> set:
                 break
             best = None
             for w in nbrs.get(cur, ()):
-                if w < nV:
+                if w == int(a):
                     continue
                 q = points[w] - pa
                 t = float(q @ d) / (L * L)

@@ -128,15 +128,36 @@ def test_tplus_keeps_constraints(case, n):
     assert long_.any()
 
 
-def test_uniform_mesh_refuses_constraints():
-    P = _polygon("free")
-    with pytest.raises(uniform2d.UnsupportedConstraintError, match="tplus"):
-        uniform2d.uniform_mesh(P, 50)
+@pytest.mark.parametrize("case", list(CASES))
+@pytest.mark.parametrize("n", [60, 400])
+def test_uniform_mesh_keeps_constraints(case, n):
+    P = _polygon(case)
+    mesh = uniform2d.uniform_mesh(P, n)
+    # exactly n, segments are chains of edges through points on them, fixed points
+    # are vertices where given, constrained Delaunay
+    check_mesh(mesh.points, mesh.triangles, P, n_steiner=n)
+    start = mesh.info["start"]
+    if start is not None:  # never worse than T+ on the objective
+        assert mesh.info["objective_value"] <= start["objective"]
+    assert mesh.info["fallback"] is None  # the optimiser's own mesh, not T+'s
+    q = mesh.quality()
+    assert q.edge_ratio < 2.0 and q.min_angle > 30.0
+
+
+def test_points_slide_along_their_segment():
     from uniform2d.optimize import improve
 
-    with pytest.raises(uniform2d.UnsupportedConstraintError, match="segments"):
-        improve(P, np.array([[2.0, 0.5]]))
-    assert issubclass(uniform2d.UnsupportedConstraintError, uniform2d.Uniform2dError)
+    P = _polygon("free")
+    sites = np.array([[2.0, 1.5], [1.5, 1.25], [2.5, 1.75], [3.0, 0.5], [1.0, 2.0]])
+    pts, tri, info = improve(P, sites, href=0.6)
+    check_mesh(pts, tri, P, n_steiner=len(sites))
+    E = P.segment_edges[0]
+    a, d = P.vertices[E[0]], P.vertices[E[1]] - P.vertices[E[0]]
+    on = np.flatnonzero(info["edges"] >= P.n_ring_vertices)
+    assert len(on) == 3
+    rel = pts[len(P.vertices) + on] - a
+    assert np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]).max() <= 1e-12
+    assert not np.array_equal(pts[len(P.vertices) + on], sites[on])  # they moved
 
 
 def test_final_check_sees_a_missing_segment():
@@ -209,6 +230,8 @@ def test_fuzz_constrained(seed, n):
     res = uniform2d.insert(P, n)
     check_mesh(res.mesh_points, res.triangles, P, n_steiner=n)
     assert (np.diff(res.weights) <= 1e-9 * res.weights[1:]).all()
+    mesh = uniform2d.uniform_mesh(P, n)
+    check_mesh(mesh.points, mesh.triangles, P, n_steiner=n)
     try:
         mesh = uniform2d.tplus(P, 4 * n)
     except uniform2d.InsufficientPointsError:

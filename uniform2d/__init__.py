@@ -23,7 +23,6 @@ from .errors import (
     InvalidSitesError,
     TooManyPointsError,
     Uniform2dError,
-    UnsupportedConstraintError,
     UnsupportedFormatError,
 )
 from .insert import InsertResult, insert
@@ -68,6 +67,5 @@ __all__ = [
     "InvalidArgumentError",
     "InternalError",
     "CoordinatePrecisionError",
-    "UnsupportedConstraintError",
     "__version__",
 ]

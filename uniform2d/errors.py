@@ -22,7 +22,6 @@ __all__ = [
     "InvalidArgumentError",
     "ArgumentTypeError",
     "InternalError",
-    "UnsupportedConstraintError",
     "CoordinatePrecisionError",
     "TooManyPointsError",
 ]
@@ -82,18 +81,3 @@ class InternalError(RuntimeError):
 class TooManyPointsError(InvalidArgumentError, MemoryError):
     """More points were asked for than this machine's memory can hold (also a
     ``MemoryError``); refused before any work starts."""
-
-
-class UnsupportedConstraintError(InvalidArgumentError):
-    """The method asked for cannot yet keep a polygon's interior segments and fixed
-    points (the message names the methods that can)."""
-
-
-def refuse_constraints(polygon, what: str) -> None:
-    """Raise :class:`UnsupportedConstraintError` if ``polygon`` has interior
-    segments or fixed points, which ``what`` cannot keep."""
-    if polygon.has_constraints:
-        raise UnsupportedConstraintError(
-            f"{what} cannot yet keep interior segments or fixed points; mesh this polygon "
-            "with tplus (method 'paper') or insert, or drop its segments and points"
-        )

@@ -69,6 +69,7 @@ import numpy as np
 
 from .errors import InsufficientPointsError, InvalidArgumentError
 from ._kernel.insert import REL_TIE
+from .geometry import is_vertex
 from .insert import insert, insert_on_edges
 from .triangulation import ensure_valid
 from .mesh import Mesh
@@ -100,13 +101,6 @@ def boundary_points(polygon: Polygon, gap: float, rtol: float = 0.0):
 def edge_of(pieces: np.ndarray) -> np.ndarray:
     """The constraint edge of each point :func:`boundary_points` placed."""
     return np.repeat(np.arange(len(pieces)), pieces - 1)
-
-
-def _is_vertex(polygon: Polygon, pts: np.ndarray) -> np.ndarray:
-    """Which of the points (k, 2) equal a polygon vertex exactly."""
-    V = polygon.vertices
-    key = V[:, 0] + 1j * V[:, 1]
-    return np.isin(pts[:, 0] + 1j * pts[:, 1], key)
 
 
 def ratio_tolerance(polygon: Polygon, d_n: float) -> float:
@@ -192,7 +186,7 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
     if polygon.has_constraints:
         # a fixed point may lie within rounding of a segment without splitting it
         # (decided exactly); a point placed on that piece can land on it
-        keep = ~_is_vertex(polygon, bpts)
+        keep = ~is_vertex(polygon, bpts)
         bpts, on = bpts[keep], on[keep]
     k = len(bpts)
     if k > n:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import numbers
 
-from .errors import InsufficientPointsError, InvalidArgumentError, refuse_constraints
+from .errors import InsufficientPointsError, InvalidArgumentError
 from .geometry import vertex_count
 from .mesh import Mesh
 from .polygon import Polygon
@@ -67,7 +67,6 @@ def uniform_mesh(
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
-    refuse_constraints(polygon, "uniform_mesh")
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     what = f"n = {n}"

@@ -418,8 +418,10 @@ def build_adjacency(m, tris):
     """
     nt = tris.shape[0]
     nv = m.nv
+    m.vcs[:] = -1  # no constraint flags: the caller flags the segment pieces
     for t in range(nt):
         _set_triangle(m, np.int64(t), np.int64(tris[t, 0]), np.int64(tris[t, 1]), np.int64(tris[t, 2]))
+        m.tc[3 * t : 3 * t + 3] = 0
     m.nt = nt
     keys = np.empty(3 * nt, np.int64)
     for h in range(3 * nt):

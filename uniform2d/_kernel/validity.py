@@ -155,9 +155,9 @@ def mesh_problem(points, triangles, polygon, n_steiner, boundary_tol):
 def _pieces_problem(P, u, v, polygon, tol):
     """None if every segment piece of ``polygon`` is a chain of the mesh edges
     ``u -> v`` (directed, both directions present for interior edges) through
-    Steiner points on it, else what is wrong."""
+    points on it (Steiner points, or a fixed point within the tolerance of it),
+    else what is wrong."""
     V = polygon.vertices
-    nV = len(V)
     order = np.argsort(u, kind="stable")
     us, vs = u[order], v[order]
     start = np.searchsorted(us, np.arange(len(P) + 1))
@@ -170,7 +170,7 @@ def _pieces_problem(P, u, v, polygon, tol):
             nb = vs[start[cur]:start[cur + 1]]
             if (nb == b).any():
                 break
-            nb = nb[(nb >= nV) & ~used[nb]]
+            nb = nb[(nb != a) & ~used[nb]]
             rel = P[nb] - pa
             t = (rel @ d) / L2
             off = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / np.sqrt(L2)

@@ -13,10 +13,9 @@ from typing import NamedTuple
 import numpy as np
 
 from .._kernel import cdt, relax
-from ..errors import refuse_constraints
 from ..geometry import polygon_edges
 from ..polygon import Polygon
-from ..triangulation import load_mesh, triangulate
+from ..triangulation import load_mesh, piece_chains, rebuild, triangulate
 from . import schedule as S
 from .objective import objective_code
 from .seed import target_size
@@ -96,7 +95,6 @@ def improve(
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
-    refuse_constraints(polygon, "improve")
     obj = objective_code(objective)
     P0, T0 = triangulate(polygon, sites, edges)
     nV = len(polygon.vertices)
@@ -137,8 +135,7 @@ def _run(st: "_Loaded", sched: S.Schedule, obj: int):
         # continue from the best state of this stage
         xy[:] = best_xy
         t[:] = best_t
-        cdt.build_adjacency(m, best_tv.reshape(-1, 3))
-        cdt.legalize_all(m)
+        rebuild(m, best_tv.reshape(-1, 3), st.pieces)
     if sched.spread_sweeps:
         best_xy, best_t = xy.copy(), t.copy()
         best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
@@ -165,6 +162,7 @@ class _Loaded(NamedTuple):
     href: float  # target length (uniform) or field scale (graded), normalised
     centre: np.ndarray
     scale: float
+    pieces: tuple  # (us, vs): the segment pieces split at the points on them
 
 
 def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -> _Loaded:
@@ -176,7 +174,7 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
     T0 = np.asarray(triangles, dtype=np.int32)
     m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
     N = len(xy)
-    a, d, _ = polygon_edges(polygon)
+    a, d, _ = polygon_edges(polygon, constraints=True)
     role = np.full(N, relax.FREE, np.int8)
     role[:nV] = relax.FIXED
     eid = np.full(N, -1, np.int64)
@@ -196,7 +194,8 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
         href_n = float(np.sqrt((Ls**2).mean() / (hs**2).mean()))
     else:
         href_n = (target_size(polygon, N - nV) if href is None else href) / scale
-    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale)
+    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale,
+                   piece_chains(polygon, boundary))
 
 
 def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:

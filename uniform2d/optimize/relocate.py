@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry import is_vertex
 from ..polygon import Polygon
 from ..quality import edge_lengths
 from . import schedule as S
@@ -49,6 +50,8 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
             break
         failed.add(tuple(target))
         new = 0.5 * (pts[target[0]] + pts[target[1]])  # on P's boundary if the edge is
+        if is_vertex(polygon, new[None])[0]:  # a fixed point a rounding off a segment
+            continue
         new_edge = _common_edge(polygon, edges, *target)
         sites = pts[nV:]
         free = (edges < 0) & ~fixed
@@ -81,7 +84,7 @@ def _common_edge(polygon: Polygon, edges, u: int, v: int) -> int:
     edge runs along it).  ``edges`` as :func:`improve`'s, for the points after
     the polygon's vertices (a vertex lies on the two edges that meet there)."""
     nV = len(polygon.vertices)
-    E = polygon.edges
+    E = polygon.constraint_edges
 
     def on(w):
         if w >= nV:
