@@ -26,6 +26,7 @@ from ._kernel.outcomes import failed_site
 from ._kernel.validity import mesh_problem
 from .errors import ArgumentTypeError, InternalError, InvalidArgumentError, InvalidSitesError
 from .polygon import Polygon
+from .segment_chains import piece_chains, piece_pairs, rebuild
 from .sizefield import SizeField
 
 __all__ = [
@@ -302,7 +303,7 @@ def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
     on = {}
     for i in np.flatnonzero(edges >= nE):
         on.setdefault(int(edges[i]) - nE, []).append((float(t[i]), nV + int(i)))
-    pieces = _piece_pairs(polygon, on)
+    pieces = piece_pairs(polygon, on, boundary_tol(polygon))
     rings, chains = [], []
     for r in range(len(polygon.rings)):
         lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
@@ -504,53 +505,5 @@ def load_mesh(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, size=
     m, xy = cdt.allocate(len(P0), len(T0), grid, (centre, scale, _grain(polygon, centre) / scale))
     xy[:] = (P0 - centre) / scale
     cdt.set_nv(m, len(P0))
-    rebuild(m, T0, piece_chains(polygon, boundary))
+    rebuild(m, T0, piece_chains(polygon, boundary, boundary_tol(polygon)))
     return m, xy, centre, scale, boundary, grid is not None
-
-
-def piece_chains(polygon: Polygon, boundary) -> tuple[np.ndarray, np.ndarray]:
-    """The segment pieces of P split at the points on them, as vertex pairs
-    ``(us, vs)`` (mesh indices), from ``boundary`` as :func:`load_mesh` returns
-    it: ``(index among the points after P's vertices, edge, parameter)``."""
-    nV, nR = len(polygon.vertices), polygon.n_ring_vertices
-    on: dict[int, list] = {}
-    for i, e, t in boundary:
-        if e >= nR:
-            on.setdefault(e - nR, []).append((t, nV + i))
-    out = np.array(_piece_pairs(polygon, on), dtype=np.int64).reshape(-1, 2)
-    return out[:, 0].copy(), out[:, 1].copy()
-
-
-def _piece_pairs(polygon: Polygon, on: dict) -> list:
-    """Consecutive vertex pairs along every segment piece s: its ends, the points
-    ``on[s]`` ((parameter, vertex) pairs) and any polygon vertex within
-    :func:`boundary_tol` of the piece between its ends, in order along it.  Such a
-    vertex (a fixed point a rounding off a segment, which the polygon does not
-    split there, deciding exactly) may lie exactly on the line between two
-    points placed on the piece, which then cannot be an edge: it joins the chain."""
-    V = polygon.vertices
-    tol = boundary_tol(polygon)
-    pairs = []
-    for s, (a, b) in enumerate(polygon.segment_edges):
-        d = V[b] - V[a]
-        L2 = float(d @ d)
-        rel = V - V[a]
-        tt = rel @ d / L2
-        off = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / np.sqrt(L2)
-        near = np.flatnonzero((off <= tol) & (tt > 0.0) & (tt < 1.0))
-        inner = sorted(on.get(s, []) + [(float(tt[k]), int(k)) for k in near if k not in (a, b)])
-        chain = [int(a), *(v for _, v in inner), int(b)]
-        pairs.extend(zip(chain[:-1], chain[1:]))
-    return pairs
-
-
-def rebuild(m, triangles, pieces) -> None:
-    """Load the triangles (a valid mesh of P whose edges include the segment
-    pieces ``pieces`` = (us, vs)) into ``m``, flag the pieces and make it the
-    constrained Delaunay triangulation of its points."""
-    cdt.build_adjacency(m, np.ascontiguousarray(triangles, dtype=np.int32))
-    if len(pieces[0]):
-        if polytri.recover_pieces(m, pieces[0], pieces[1]) < 0:
-            raise RuntimeError("a segment piece is not an edge of the mesh (please report it)")
-    else:
-        cdt.legalize_all(m)

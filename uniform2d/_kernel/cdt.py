@@ -74,7 +74,7 @@ from .predicates import incircle, orient2d
 __all__ = [
     "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
     "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
-    "snap", "boundary_is", "count_not_ccw", "constrained", "find_constrained",
+    "snap", "boundary_is", "count_not_ccw", "constrained",
 ]  # fmt: skip
 
 #: Initial size of the scratch buffers; cavities and searches are small in practice,
@@ -237,38 +237,6 @@ def snap(m, x, y):
 def constrained(m, h):
     """Whether half-edge h is a constraint: a boundary edge or a flagged piece."""
     return m.tw[h] < 0 or m.tc[h] != 0
-
-
-@njit(cache=True)
-def find_constrained(m, u, v):
-    """The constrained half-edge u -> v (boundary or flagged), or -1: a turn
-    around u from ``vseg[u]`` or ``vcs[u]``, both ways (a boundary vertex's
-    turn stops at the boundary)."""
-    h = m.vseg[u]
-    if h >= 0 and m.tv[nxt(h)] == v:
-        return h
-    h0 = m.vcs[u]
-    if h0 < 0:
-        return -1
-    h = h0
-    while True:  # counter-clockwise
-        if m.tc[h] and m.tv[nxt(h)] == v:
-            return h
-        h = m.tw[prv(h)]
-        if h < 0 or h == h0:
-            break
-    if h == h0:
-        return -1
-    h = h0
-    while True:  # clockwise, from u's flagged edge back to the boundary
-        g = m.tw[h]
-        if g < 0:
-            return -1
-        h = nxt(g)
-        if h == h0:
-            return -1
-        if m.tc[h] and m.tv[nxt(h)] == v:
-            return h
 
 
 @njit(cache=True)

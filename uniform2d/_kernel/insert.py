@@ -11,7 +11,7 @@ Candidates (the only places the farthest point can be):
   interior segment piece, valued by the sites on that side): its largest visible
   distance, found by :func:`eval_segment`; it changes only when sites appear
   near it.  Payload ``(-(u + 1), v)``: alive while ``u -> v`` is a constrained
-  half-edge (:func:`cdt.find_constrained`).  A point chosen there splits the
+  half-edge (:func:`find_constrained`).  A point chosen there splits the
   piece on both sides.
 
 The main queue M (a value heap, key = an upper bound of the candidate's weight:
@@ -57,7 +57,7 @@ from numba import njit
 
 from . import heap
 from .cavity import insert_point
-from .cdt import circumcircle, constrained, find_constrained, locate_scan, nxt, prv, snap
+from .cdt import circumcircle, constrained, locate_scan, nxt, prv, snap
 from .predicates import dot2d, orient2d
 from .pool import dump_window, new_pool, pool_add, pool_kill, to_window
 from .rank import REL_TIE, size_at, tied_above
@@ -133,6 +133,38 @@ def push_new(m, M, k, split):
                 h = 3 * t + e
                 if _subsegment(m, h) and (m.tv[h] == p or m.tv[nxt(h)] == p):
                     _push_segment(m, M, h)
+
+
+@njit(cache=True)
+def find_constrained(m, u, v):
+    """The constrained half-edge u -> v (boundary or flagged), or -1: a turn
+    around u from ``vseg[u]`` or ``vcs[u]``, both ways (a boundary vertex's
+    turn stops at the boundary)."""
+    h = m.vseg[u]
+    if h >= 0 and m.tv[nxt(h)] == v:
+        return h
+    h0 = m.vcs[u]
+    if h0 < 0:
+        return -1
+    h = h0
+    while True:  # counter-clockwise
+        if m.tc[h] and m.tv[nxt(h)] == v:
+            return h
+        h = m.tw[prv(h)]
+        if h < 0 or h == h0:
+            break
+    if h == h0:
+        return -1
+    h = h0
+    while True:  # clockwise, from u's flagged edge back to the boundary
+        g = m.tw[h]
+        if g < 0:
+            return -1
+        h = nxt(g)
+        if h == h0:
+            return -1
+        if m.tc[h] and m.tv[nxt(h)] == v:
+            return h
 
 
 @njit(cache=True)

@@ -15,7 +15,8 @@ import numpy as np
 from .._kernel import cdt, relax
 from ..geometry import polygon_edges
 from ..polygon import Polygon
-from ..triangulation import load_mesh, piece_chains, rebuild, triangulate
+from ..segment_chains import piece_chains, rebuild
+from ..triangulation import boundary_tol, load_mesh, triangulate
 from . import schedule as S
 from .objective import objective_code
 from .seed import target_size
@@ -195,7 +196,7 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
     else:
         href_n = (target_size(polygon, N - nV) if href is None else href) / scale
     return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale,
-                   piece_chains(polygon, boundary))
+                   piece_chains(polygon, boundary, boundary_tol(polygon)))
 
 
 def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:
