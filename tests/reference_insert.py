@@ -718,12 +718,7 @@ def _candidates_voronoi(g: PolygonGeometry, S, tree, out: _Candidates):
     D[inf] = sign[:, None] * nn
     tmax[inf] = np.inf
     A, E = g.A, g.E
-    wx = A[None, :, 0] - O[:, None, 0]
-    wy = A[None, :, 1] - O[:, None, 1]
-    denom = D[:, None, 0] * E[None, :, 1] - D[:, None, 1] * E[None, :, 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (wx * E[None, :, 1] - wy * E[None, :, 0]) / denom
-        s = (wx * D[:, None, 1] - wy * D[:, None, 0]) / denom
+    denom, t, s = _intersections(O, D, A, E)
     eps_s = 1e-12
     Dn = np.hypot(*D.T)
     eps_t = (g.tol / np.where(Dn > 0, Dn, 1.0))[:, None]
