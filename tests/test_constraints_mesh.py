@@ -266,3 +266,23 @@ def test_t_max_counts_constraint_vertices_twice():
     res = uniform2d.insert(P, 10)
     inner = (~res.on_boundary).sum()
     assert len(res.triangles) == 2 * inner + 2 * c + P.n_ring_vertices + (10 - inner) - 2
+
+
+def test_uniform_mesh_power_of_two_scaling_is_exact():
+    P = _polygon("hole")
+    a = uniform2d.uniform_mesh(P, 150)
+    b = uniform2d.uniform_mesh(P.transformed(2.0**-20), 150)
+    assert np.array_equal(b.points, a.points * 2.0**-20)
+    assert np.array_equal(b.triangles, a.triangles)
+
+
+@pytest.mark.parametrize("s, off", [(1e-6, (0, 0)), (1e6, (0, 0)), (1.0, (1e6, -1e6))])
+def test_uniform_mesh_scale_and_offset_keep_constraints_and_quality(s, off):
+    P = _polygon("crossing-ridge")
+    a = uniform2d.uniform_mesh(P, 150)
+    Q = P.transformed(s, off)
+    b = uniform2d.uniform_mesh(Q, 150)
+    check_mesh(b.points, b.triangles, Q, n_steiner=150)
+    qa, qb = a.quality(), b.quality()
+    assert qb.edge_ratio == pytest.approx(qa.edge_ratio, rel=0.05)
+    assert qb.min_angle == pytest.approx(qa.min_angle, rel=0.1)
