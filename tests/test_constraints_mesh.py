@@ -286,3 +286,21 @@ def test_uniform_mesh_scale_and_offset_keep_constraints_and_quality(s, off):
     qa, qb = a.quality(), b.quality()
     assert qb.edge_ratio == pytest.approx(qa.edge_ratio, rel=0.05)
     assert qb.min_angle == pytest.approx(qa.min_angle, rel=0.1)
+
+
+def test_a_piece_through_a_vertex_is_refused_not_forced(monkeypatch):
+    from uniform2d import triangulation
+    from uniform2d._kernel import cdt, polytri
+    from uniform2d.segment_chains import rebuild
+
+    P = Polygon(SQ, points=[(1, 1), (2, 2), (2.5, 2.5)])
+    loaded = triangulation.load(P)
+    u, _, v = (int(k) for k in P.fixed)
+    # (2, 2) lies on the segment from (1, 1) to (2.5, 2.5): no edge can join them
+    assert polytri.recover_pieces(loaded.m, np.array([u]), np.array([v])) == -1
+    tri = cdt.triangle_list(loaded.m)
+    with pytest.raises(RuntimeError, match="segment piece is not an edge"):
+        rebuild(loaded.m, tri, (np.array([u]), np.array([v])))
+    monkeypatch.setattr(polytri, "recover_pieces", lambda m, us, vs: -1)
+    with pytest.raises(RuntimeError, match="could not recover the segment piece"):
+        triangulation.load(_polygon("free"))
