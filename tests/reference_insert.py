@@ -207,7 +207,8 @@ class PolygonGeometry:
         self.elen = np.hypot(self.E[:, 0], self.E[:, 1])
         # interior segment pieces: they block visibility (a proper crossing) and
         # carry candidates like ring edges; constraint edge k < len(A) is ring edge k
-        sp = np.asarray(polygon.segment_edges if pieces is None else pieces, np.int64).reshape(-1, 2)
+        sp = polygon.segment_edges if pieces is None else pieces
+        sp = np.asarray(sp, np.int64).reshape(-1, 2)
         self.piece_idx = sp
         self.SA = self.V[sp[:, 0]]
         self.SE = self.V[sp[:, 1]] - self.SA

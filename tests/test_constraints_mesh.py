@@ -111,7 +111,8 @@ def test_deterministic_and_invariant():
 
 
 @pytest.mark.parametrize(
-    "case, n", [("free", 300), ("fixed", 300), ("tjunction", 300), ("hole", 300), ("crossing-ridge", 1000)]
+    "case, n",
+    [("free", 300), ("fixed", 300), ("tjunction", 300), ("hole", 300), ("crossing-ridge", 1000)],
 )
 def test_tplus_keeps_constraints(case, n):
     P = _polygon(case)

@@ -88,7 +88,8 @@ def _near_constraint(polygon: Polygon, p, edge: int) -> bool:
         return True
     a, d, _ = polygon_edges(polygon, constraints=True)
     others = np.flatnonzero(np.arange(len(a)) != edge)
-    dist = to_segments(np.asarray(p, dtype=np.float64)[None], a[others], a[others] + d[others], np.inf)
+    p = np.asarray(p, dtype=np.float64)[None]
+    dist = to_segments(p, a[others], a[others] + d[others], np.inf)
     return float(dist[0]) <= boundary_tol(polygon)
 
 
