@@ -12,9 +12,15 @@ falling back to exact rational arithmetic (``fractions.Fraction``) near zero.
 * the boundary edges, chained, are exactly the polygon's edges split at the mesh
   vertices lying on them (every polygon edge present, nothing else on the boundary);
 * the triangle areas add up to the polygon's area;
-* every interior edge is locally Delaunay (the opposite vertex is not strictly
-  inside the circumcircle) -- for a constrained triangulation of P whose only
-  constraints are the boundary, this is the constrained Delaunay property.
+* every interior segment piece of P is a chain of mesh edges from one end to the
+  other whose inner vertices lie on the piece (within rounding of the
+  coordinates: Steiner points, or a fixed point that close), in order along it;
+  every fixed point is a mesh vertex;
+* every interior edge that is not on a segment is locally Delaunay (the opposite
+  vertex is not strictly inside the circumcircle) -- with the boundary and the
+  segments as constraints, this is the constrained Delaunay property.
+
+``n_steiner`` (optional) also asserts exactly that many points besides P's vertices.
 """
 
 from __future__ import annotations
@@ -68,7 +74,7 @@ def edge_table(triangles):
     return he, twin, key
 
 
-def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9):
+def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_steiner=None):
     points = np.asarray(points, dtype=np.float64)
     triangles = np.asarray(triangles, dtype=np.int64)
     assert points.ndim == 2 and points.shape[1] == 2
@@ -119,6 +125,15 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9):
         else:
             raise AssertionError("boundary walk did not terminate")
     assert covered == len(bnd), "the mesh boundary has edges that are not on the polygon"
+    if n_steiner is not None:
+        assert len(points) == nV + n_steiner, f"{len(points) - nV} Steiner points, not {n_steiner}"
+    used = np.zeros(len(points), bool)
+    used[triangles.ravel()] = True
+    for i, k in enumerate(np.asarray(polygon.fixed)):
+        assert used[k] and np.array_equal(points[k], polygon.points[i]), (
+            f"fixed point {i} is not a mesh vertex where it was given"
+        )
+    on_segments = segment_chains(points, he, polygon)
 
     # area
     p = points[triangles]
@@ -130,7 +145,44 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9):
 
     if delaunay:
         bad = non_delaunay_edges(points, triangles, he, twin)
+        bad = [h for h in bad if (int(he[h, 0]), int(he[h, 1])) not in on_segments]
         assert not bad, f"{len(bad)} interior edges are not locally Delaunay, e.g. {bad[:3]}"
+
+
+def segment_chains(points, he, polygon) -> set:
+    """Assert every segment piece of ``polygon`` is a chain of the mesh's edges
+    (directed half-edges ``he``) through Steiner points on it, in order; return
+    those edges as a set of (u, v) pairs, both directions."""
+    V = polygon.vertices
+    nbrs: dict[int, set] = {}
+    for u, v in he:
+        nbrs.setdefault(int(u), set()).add(int(v))
+        nbrs.setdefault(int(v), set()).add(int(u))
+    tol = 1e-9 * max(1.0, float(np.abs(V).max()))
+    out = set()
+    for a, b in np.asarray(polygon.segment_edges):
+        pa, d = V[a], V[b] - V[a]
+        L = float(np.hypot(*d))
+        cur, tc = int(a), 0.0
+        for _ in range(len(points) + 1):
+            if int(b) in nbrs.get(cur, ()):
+                out |= {(cur, int(b)), (int(b), cur)}
+                break
+            best = None
+            for w in nbrs.get(cur, ()):
+                if w == int(a):
+                    continue
+                q = points[w] - pa
+                t = float(q @ d) / (L * L)
+                off = abs(float(d[0] * q[1] - d[1] * q[0])) / L
+                if off <= 1e-9 * L + tol and tc < t < 1.0 and (best is None or t < best[0]):
+                    best = (t, w)
+            assert best is not None, f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
+            out |= {(cur, best[1]), (best[1], cur)}
+            tc, cur = best
+        else:
+            raise AssertionError("segment walk did not terminate")
+    return out
 
 
 def non_delaunay_edges(points, triangles, he=None, twin=None):

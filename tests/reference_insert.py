@@ -12,7 +12,11 @@ Definitions (paper Sections 2 and 5, design notes Sections 1-2)
 * sites = polygon vertices V, the optional extra ``sites`` and the points inserted
   so far;
 * w(x) = distance from x to the nearest site *visible* from x (segment inside the
-  closed polygon; touching the boundary or passing through a vertex is visible);
+  closed polygon; touching the boundary or passing through a vertex is visible;
+  crossing an interior segment piece at a point inside both is not);
+* on an interior segment piece, each side is a candidate place of its own, valued
+  by the piece's ends and the sites strictly on that side (the limit of w there
+  from that side): that is where w's supremum near the piece is attained;
 * step j inserts p_j = argmax of w over the closed polygon.
 
 Where the maximum can be -- the candidates:
@@ -174,18 +178,44 @@ def circumcircles(a: np.ndarray, b: np.ndarray, c: np.ndarray):
 # --------------------------------------------------------------------------------------
 # polygon geometry: inside test, boundary distance, visibility
 # --------------------------------------------------------------------------------------
+def _intersections(P, d, A, E):
+    """For segments P[i] + t d[i] and edges A[j] + s E[j]: (denominator, t, s) of
+    their lines' intersection, (len(P), len(A)) each (denominator 0: parallel)."""
+    wx = A[None, :, 0] - P[:, None, 0]
+    wy = A[None, :, 1] - P[:, None, 1]
+    denom = d[:, None, 0] * E[None, :, 1] - d[:, None, 1] * E[None, :, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (wx * E[None, :, 1] - wy * E[None, :, 0]) / denom
+        s = (wx * d[:, None, 1] - wy * d[:, None, 0]) / denom
+    return denom, t, s
+
+
 class PolygonGeometry:
     """Closed-polygon predicates with a tolerance relative to the polygon size."""
 
-    def __init__(self, polygon: Polygon):
+    def __init__(self, polygon: Polygon, vertices=None, pieces=None):
+        """``vertices`` (all polygon vertices, constraint vertices after the rings')
+        and ``pieces`` (S, 2) indices into them: the interior segment pieces, when
+        they are not ``polygon``'s own (the reference normalises coordinates)."""
         self.polygon = polygon
-        self.V = np.asarray(polygon.vertices, dtype=np.float64)
+        self.V = np.asarray(polygon.vertices if vertices is None else vertices, dtype=np.float64)
         e = np.asarray(polygon.edges)
         self.edge_idx = e
         self.A = self.V[e[:, 0]]
         self.B = self.V[e[:, 1]]
         self.E = self.B - self.A
         self.elen = np.hypot(self.E[:, 0], self.E[:, 1])
+        # interior segment pieces: they block visibility (a proper crossing) and
+        # carry candidates like ring edges; constraint edge k < len(A) is ring edge k
+        sp = polygon.segment_edges if pieces is None else pieces
+        sp = np.asarray(sp, np.int64).reshape(-1, 2)
+        self.piece_idx = sp
+        self.SA = self.V[sp[:, 0]]
+        self.SE = self.V[sp[:, 1]] - self.SA
+        self.slen = np.hypot(self.SE[:, 0], self.SE[:, 1])
+        self.CA = np.concatenate([self.A, self.SA])
+        self.CE = np.concatenate([self.E, self.SE])
+        self.clen = np.concatenate([self.elen, self.slen])
         x0, y0, x1, y1 = polygon.bounds
         self.centre = np.array([(x0 + x1) / 2.0, (y0 + y1) / 2.0])
         self.size = max(x1 - x0, y1 - y0)
@@ -195,24 +225,28 @@ class PolygonGeometry:
         self.shp = polygon.to_shapely()
         shapely.prepare(self.shp)
         angles = polygon.interior_angles()
-        self.convex = polygon.n_holes == 0 and bool((angles <= np.pi + 1e-12).all())
+        self.convex = (
+            polygon.n_holes == 0 and len(sp) == 0 and bool((angles <= np.pi + 1e-12).all())
+        )
 
     # -- point predicates -----------------------------------------------------------
-    def boundary_distance(self, X: np.ndarray):
-        """Distance of each point to the boundary and the index of the nearest edge."""
+    def boundary_distance(self, X: np.ndarray, pieces: bool = False):
+        """Distance of each point to the boundary (with ``pieces``: to the boundary
+        and the segment pieces) and the index of the nearest constraint edge."""
         X = np.atleast_2d(X)
         if len(X) == 0:
             return np.zeros(0), np.zeros(0, dtype=np.int64)
         dist = np.empty(len(X))
         arg = np.empty(len(X), dtype=np.int64)
-        ee = self.elen**2
+        A, E = (self.CA, self.CE) if pieces else (self.A, self.E)
+        ee = (self.clen if pieces else self.elen) ** 2
         for s in range(0, len(X), _CHUNK):
             P = X[s : s + _CHUNK]
-            wx = P[:, None, 0] - self.A[None, :, 0]
-            wy = P[:, None, 1] - self.A[None, :, 1]
-            t = np.clip((wx * self.E[None, :, 0] + wy * self.E[None, :, 1]) / ee, 0.0, 1.0)
-            dx = wx - t * self.E[None, :, 0]
-            dy = wy - t * self.E[None, :, 1]
+            wx = P[:, None, 0] - A[None, :, 0]
+            wy = P[:, None, 1] - A[None, :, 1]
+            t = np.clip((wx * E[None, :, 0] + wy * E[None, :, 1]) / ee, 0.0, 1.0)
+            dx = wx - t * E[None, :, 0]
+            dy = wy - t * E[None, :, 1]
             d = np.hypot(dx, dy)
             arg[s : s + _CHUNK] = d.argmin(1)
             dist[s : s + _CHUNK] = d.min(1)
@@ -257,13 +291,7 @@ class PolygonGeometry:
             return out
         P, d, dd, L = P[live], d[live], dd[live], L[live]
         eps = (self.tol / L)[:, None]
-        A, E = self.A, self.E
-        wx = A[None, :, 0] - P[:, None, 0]
-        wy = A[None, :, 1] - P[:, None, 1]
-        denom = d[:, None, 0] * E[None, :, 1] - d[:, None, 1] * E[None, :, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (wx * E[None, :, 1] - wy * E[None, :, 0]) / denom
-            s = (wx * d[:, None, 1] - wy * d[:, None, 0]) / denom
+        denom, t, s = _intersections(P, d, self.A, self.E)
         cross_ok = np.abs(denom) > 1e-14 * L[:, None] * self.elen[None, :]
         hit = cross_ok & (s >= 0.0) & (s <= 1.0) & (t > eps) & (t < 1.0 - eps)
         # polygon vertices lying on the segment (touching, or collinear overlaps)
@@ -300,8 +328,21 @@ class PolygonGeometry:
             bad = np.zeros(rows.size, dtype=bool)
             np.logical_or.at(bad, rr, ~ok)
             res[rows] = ~bad
+        if len(self.SA):
+            res &= ~self._crosses_piece(P, d, L)
         out[live] = res
         return out
+
+    def _crosses_piece(self, P, d, L):
+        """Whether each segment P[i] + [0, 1] d[i] properly crosses a segment piece:
+        at one point strictly inside both (touching a piece, running along it or
+        passing through its end is not crossing; a point on a piece sees both
+        sides)."""
+        denom, t, s = _intersections(P, d, self.SA, self.SE)
+        et = (self.tol / L)[:, None]
+        es = (self.tol / self.slen)[None, :]
+        ok = np.abs(denom) > 1e-14 * L[:, None] * self.slen[None, :]
+        return (ok & (t > et) & (t < 1.0 - et) & (s > es) & (s < 1.0 - es)).any(1)
 
     def visible_distance(self, X: np.ndarray, S: np.ndarray, tree: cKDTree, k0: int = 8):
         """Distance from each point of X to its nearest visible site (and that site)."""
@@ -385,8 +426,8 @@ class _State:
         V = geom.V
         self.sites = [tuple(p) for p in V]
         # boundary sites per edge: list of (param, site index)
-        self.on_edge: list[list[tuple[float, int]]] = [[] for _ in range(len(geom.A))]
-        for ei, (i, j) in enumerate(geom.edge_idx):
+        self.on_edge: list[list[tuple[float, int]]] = [[] for _ in range(len(geom.CA))]
+        for ei, (i, j) in enumerate(np.concatenate([geom.edge_idx, geom.piece_idx])):
             self.on_edge[ei] += [(0.0, int(i)), (1.0, int(j))]
         if extra is not None:
             extra = np.asarray(extra, dtype=np.float64).reshape(-1, 2)
@@ -399,14 +440,14 @@ class _State:
                 for p in extra:
                     idx = len(self.sites)
                     self.sites.append(tuple(p))
-                    d, e = geom.boundary_distance(p[None])
+                    d, e = geom.boundary_distance(p[None], pieces=True)
                     if d[0] <= max(SITE_TOL * geom.size, geom.tol):
                         self._add_boundary(int(e[0]), idx)
 
     def _add_boundary(self, ei: int, idx: int):
         g = self.geom
         p = np.array(self.sites[idx])
-        t = float(np.dot(p - g.A[ei], g.E[ei]) / g.elen[ei] ** 2)
+        t = float(np.dot(p - g.CA[ei], g.CE[ei]) / g.clen[ei] ** 2)
         self.on_edge[ei].append((t, idx))
 
     def add(self, p, edge: int | None):
@@ -416,11 +457,15 @@ class _State:
             self._add_boundary(edge, idx)
 
     def subsegments(self):
-        """(edge, site a, site b) for consecutive boundary sites along every edge."""
+        """(edge, site a, site b, side) for consecutive sites along every constraint
+        edge: side 0 on a ring edge; a segment piece's subsegment comes twice, side
+        +1 (sites on the left of a -> b) and -1 (on the right)."""
         out = []
+        nE = len(self.geom.A)
         for ei, lst in enumerate(self.on_edge):
             lst = sorted(lst)
-            out += [(ei, lst[k][1], lst[k + 1][1]) for k in range(len(lst) - 1)]
+            for sd in (0,) if ei < nE else (1, -1):
+                out += [(ei, lst[k][1], lst[k + 1][1], sd) for k in range(len(lst) - 1)]
         return out
 
 
@@ -525,8 +570,8 @@ def _interior_general(g: PolygonGeometry, S, tree, w_prev, prune, out: _Candidat
         keep &= (u * v).sum(1) >= -1e-9 * np.hypot(*u.T) * np.hypot(*v.T)
     idx = np.flatnonzero(keep)
     idx = idx[g.inside_closed(C[idx])]
-    # a circumcentre on the boundary belongs to the boundary candidates
-    idx = idx[g.boundary_distance(C[idx])[0] > g.tol]
+    # a circumcentre on the boundary (or a segment) belongs to the boundary candidates
+    idx = idx[g.boundary_distance(C[idx], pieces=True)[0] > g.tol]
     I, J, K, C = I[idx], J[idx], K[idx], C[idx]
     val = np.min(
         [np.hypot(*(C - S[I]).T), np.hypot(*(C - S[J]).T), np.hypot(*(C - S[K]).T)], axis=0
@@ -564,8 +609,10 @@ def _boundary_general(g: PolygonGeometry, S, tree, subsegs, out: _Candidates):
     lists = tree.query_ball_point(0.5 * (a + b), 0.5 * L * (1 + 1e-9))
     # every pair of sites among {a, b} and the sites in the diametral disk
     rows, p1, p2 = [], [], []
-    for k, (_, ia, ib) in enumerate(subsegs):
+    for k, (_, ia, ib, sd) in enumerate(subsegs):
         q = sorted(set(lists[k]) | {ia, ib})
+        if sd:
+            q = [x for x in q if x in (ia, ib) or _on_side(g, S[ia], S[ib], sd, S[x])]
         for x, y in itertools.combinations(q, 2):
             rows.append(k)
             p1.append(x)
@@ -582,16 +629,45 @@ def _boundary_general(g: PolygonGeometry, S, tree, subsegs, out: _Candidates):
     X = A0 + np.where(ok, t, 0.0)[:, None] * U
     ok[ok] = _straddles(g, X[ok], U[ok], q1[ok], q2[ok])
     X, Q1, Q2, EDGE = X[ok], Q1[ok], Q2[ok], ea[rows[ok], 0]
+    SIDE, IA, IB = ea[rows[ok], 3], ea[rows[ok], 1], ea[rows[ok], 2]
     val = np.minimum(np.hypot(*(X - S[Q1]).T), np.hypot(*(X - S[Q2]).T))
 
     def validator(sel):
-        ok = g.no_visible_closer(X[sel], val[sel], S, tree)
+        ring = SIDE[sel] == 0
+        ok = np.zeros(len(sel), bool)
+        ok[ring] = g.no_visible_closer(X[sel[ring]], val[sel[ring]], S, tree)
+        for r in np.flatnonzero(~ring):
+            k = sel[r]
+            d, _ = side_distance(g, X[k], S, tree, IA[k], IB[k], SIDE[k])
+            ok[r] = d >= val[k] * (1.0 - EMPTY_REL)
         if not g.convex and ok.any():
             s2 = sel[ok]
             ok[ok] = g.visible(X[s2], S[Q1[s2]]) & g.visible(X[s2], S[Q2[s2]])
         return ok
 
-    out.add(X, val, validator, EDGE)
+    # a piece's sides are told apart by the code edge + (1 or 2) * (number of edges)
+    out.add(X, val, validator, EDGE + np.where(SIDE > 0, 1, np.where(SIDE < 0, 2, 0)) * len(g.CA))
+
+
+def _on_side(g, a, b, sd, q) -> bool:
+    """Whether q lies strictly (beyond the tolerance) on side sd of the line a -> b
+    (+1 left, -1 right)."""
+    d = b - a
+    return sd * float(d[0] * (q - a)[1] - d[1] * (q - a)[0]) / float(np.hypot(*d)) > g.tol
+
+
+def side_distance(g, x, S, tree, ia, ib, sd):
+    """The visible distance at x on a segment piece from its side sd, the limit
+    approaching it from there: to the nearest of the piece's ends a, b and the
+    sites strictly on that side seen from x.  Returns (distance, site)."""
+    d = np.hypot(*(S - x).T)
+    order = np.argsort(d, kind="stable")
+    for k in order:
+        if k in (ia, ib):
+            return float(d[k]), int(k)
+        if _on_side(g, S[ia], S[ib], sd, S[k]) and g.visible(x[None], S[k][None])[0]:
+            return float(d[k]), int(k)
+    raise RuntimeError("a piece sees its own ends")  # pragma: no cover
 
 
 def _candidates_voronoi(g: PolygonGeometry, S, tree, out: _Candidates):
@@ -643,12 +719,7 @@ def _candidates_voronoi(g: PolygonGeometry, S, tree, out: _Candidates):
     D[inf] = sign[:, None] * nn
     tmax[inf] = np.inf
     A, E = g.A, g.E
-    wx = A[None, :, 0] - O[:, None, 0]
-    wy = A[None, :, 1] - O[:, None, 1]
-    denom = D[:, None, 0] * E[None, :, 1] - D[:, None, 1] * E[None, :, 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (wx * E[None, :, 1] - wy * E[None, :, 0]) / denom
-        s = (wx * D[:, None, 1] - wy * D[:, None, 0]) / denom
+    denom, t, s = _intersections(O, D, A, E)
     eps_s = 1e-12
     Dn = np.hypot(*D.T)
     eps_t = (g.tol / np.where(Dn > 0, Dn, 1.0))[:, None]
@@ -713,7 +784,9 @@ def reference_insert(
     poly_n = Polygon((polygon.outer - centre) / size, [(h - centre) / size for h in polygon.holes])
     if sites is not None:
         sites = (np.asarray(sites, dtype=np.float64).reshape(-1, 2) - centre) / size
-    g = PolygonGeometry(poly_n)
+    # segment vertices and fixed points are sites from the start (they follow the
+    # ring vertices); the pieces keep their indices
+    g = PolygonGeometry(poly_n, (polygon.vertices - centre) / size, polygon.segment_edges)
     if method == "auto":
         method = "voronoi" if g.convex else "general"
     if method == "voronoi" and not g.convex:
@@ -737,6 +810,12 @@ def reference_insert(
             _boundary_general(g, S, tree, state.subsegments(), cands)
         p, boundary, edge, nraw, ntied, gap = cands.select(g, diagnostics)
         w, _ = g.visible_distance(p[None], S, tree)
+        if edge is not None and edge >= len(g.CA):  # one side of a segment piece
+            edge, code = edge % len(g.CA), edge // len(g.CA)
+            lst = sorted(state.on_edge[edge])
+            ts = float(np.dot(p - g.CA[edge], g.CE[edge]) / g.clen[edge] ** 2)
+            k = max(i for i in range(len(lst)) if lst[i][0] < ts)
+            w = [side_distance(g, p, S, tree, lst[k][1], lst[k + 1][1], 1 if code == 1 else -1)[0]]
         pts[j] = p
         wts[j] = w[0]
         onb[j] = boundary

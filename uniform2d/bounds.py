@@ -158,7 +158,9 @@ def euler_ratio_floor(alphas, n_holes: int) -> float:
 
 # -- helpers -----------------------------------------------------------------
 def _is_convex(polygon: Polygon) -> bool:
-    if polygon.n_holes:
+    """Convex without holes, segments or fixed points: where Lemma 9 (the packing
+    terms) is proven."""
+    if polygon.n_holes or polygon.has_constraints:
         return False
     r = polygon.outer  # counter-clockwise
     a = r - np.roll(r, 1, axis=0)
@@ -275,7 +277,10 @@ def lower_bound_terms(polygon: Polygon, n: int, d_n: float | None) -> dict[str, 
     """
     n_v = len(polygon.vertices)
     A, B = polygon.area, polygon.perimeter
-    t_max = 2 * n + n_v + 2 * polygon.n_holes - 2
+    # Euler: T = 2 (interior vertices) + (boundary vertices) + 2h - 2, largest with
+    # every Steiner point inside; segment vertices and fixed points not on a ring
+    # are interior vertices, so they count twice
+    t_max = 2 * n + n_v + (n_v - polygon.n_ring_vertices) + 2 * polygon.n_holes - 2
     pe = polygon.edges
     dv = polygon.vertices[pe[:, 1]] - polygon.vertices[pe[:, 0]]
     edges = np.hypot(dv[:, 0], dv[:, 1])

@@ -66,15 +66,25 @@ def size_for_count(area: float, perimeter: float, n_vertices: int, n_holes: int 
     return 1.0 / u if u > 0 else math.inf
 
 
-def polygon_edges(polygon) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def polygon_edges(polygon, constraints: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(starts (E, 2), vectors (E, 2), lengths (E,)) of a polygon's edges, in
-    :attr:`uniform2d.Polygon.edges` order (the interior is on each edge's left)."""
+    :attr:`uniform2d.Polygon.edges` order (the interior is on each edge's left);
+    with ``constraints``, of every edge the mesh must keep, the interior segment
+    pieces after the rings' edges (:attr:`uniform2d.Polygon.constraint_edges`)."""
     V = polygon.vertices
-    E = polygon.edges
+    E = polygon.constraint_edges if constraints else polygon.edges
     a = V[E[:, 0]]
     d = V[E[:, 1]] - a
     L = np.hypot(d[:, 0], d[:, 1])
     return a, d, L
+
+
+def is_vertex(polygon, pts: np.ndarray) -> np.ndarray:
+    """Which of the points (k, 2) equal a polygon vertex exactly (a fixed point may
+    lie within rounding of a segment piece without splitting it, and a point
+    placed on the piece can land on it)."""
+    V = polygon.vertices
+    return np.isin(pts[:, 0] + 1j * pts[:, 1], V[:, 0] + 1j * V[:, 1])
 
 
 def unique_edges(triangles, n_points: int | None = None, *, return_counts: bool = False):

@@ -67,7 +67,8 @@ class InsertResult:
         present before it was inserted.  Non-increasing up to the tie tolerance:
         ``weights[j + 1] <= weights[j] * (1 + 1e-9)``.
     on_boundary : ndarray, shape (n,), bool
-        Whether p_j was placed on the polygon boundary.
+        Whether p_j was placed on the polygon boundary or on an interior segment
+        (a constraint the mesh keeps).
     mesh_points : ndarray, shape (N, 2)
         All vertices of the final triangulation: the polygon vertices (exactly as
         ``polygon.vertices``), then the extra ``sites``, then ``points``.

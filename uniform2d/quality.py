@@ -316,6 +316,10 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
       L_e / ceil(L_e / L) long, so its ratio is >= L ceil(L_e / L) / L_e for
       every e; the term is the least such value over L (at least ``boundary``).
 
+    With interior segments and fixed points every term still holds (the guide says
+    why, term by term); T_max then counts the constraint vertices off the rings
+    twice (they are inner vertices), and the packing terms are not used.
+
     Each bound is lowered by a relative :data:`BOUND_SLACK` (1e-9) so that
     floating-point rounding cannot lift it above the true value.
 

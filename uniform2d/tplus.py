@@ -2,7 +2,8 @@
 
 1. Run INSERT for n points; d_n = l(S_n ∪ V, S_n ∪ V), the smallest distance
    among the polygon vertices and the inserted points.
-2. Put points on every polygon edge (outer ring and holes) at equal spacing: an
+2. Put points on every polygon edge (outer ring and holes) and every interior
+   segment piece at equal spacing: an
    edge of length L gets m = max(1, ⌈L / (hi · d_n)⌉) pieces (hi = 3 by default),
    where a ratio L / (hi · d_n) within the precision of the coordinates of an
    integer j counts as j (see "The piece count" below).
@@ -26,7 +27,9 @@ gaps ≥ 1.5 d_n it becomes k ≤ B/(1.5 d_n), so Lemma 6's sufficient condition
 weaker than stated -- which is why the hypothesis n ≥ 2k is checked directly.
 
 Which hypotheses are checked.  Theorem 2 assumes d_n ≤ l(V,V)/2 and
-d_n ≤ A/(π·B); the second only serves (Lemma 6) to guarantee n ≥ 2k, which
+d_n ≤ A/(π·B); with interior segments V holds their vertices and fixed points
+too, and B is the total length phase 2 places points on (the perimeter plus
+the segments' length).  The second only serves (Lemma 6) to guarantee n ≥ 2k, which
 Lemma 5 needs.  Since k is known, ``info`` reports all three conditions and
 the theorem is taken to apply when d_n ≤ l(V,V)/2 and n ≥ 2k hold -- exactly
 what the proof uses.  Then every edge of T+ is ≤ 6 d_n and the edge ratio ≤ 6.
@@ -66,6 +69,7 @@ import numpy as np
 
 from .errors import InsufficientPointsError, InvalidArgumentError
 from ._kernel.insert import REL_TIE
+from .geometry import is_vertex
 from .insert import insert, insert_on_edges
 from .triangulation import ensure_valid
 from .mesh import Mesh
@@ -77,7 +81,8 @@ log = logging.getLogger(__name__)
 
 
 def boundary_points(polygon: Polygon, gap: float, rtol: float = 0.0):
-    """Equally spaced points on every polygon edge, at most ``gap`` apart.
+    """Equally spaced points on every constraint edge (polygon edges, then the
+    interior segment pieces: ``polygon.constraint_edges``), at most ``gap`` apart.
 
     Returns ``(points (k, 2) float64, pieces (E,) int)``: an edge of length L is
     cut into m = max(1, ⌈r − rtol · r⌉) equal pieces, r = L / gap (m − 1 new points
@@ -85,7 +90,7 @@ def boundary_points(polygon: Polygon, gap: float, rtol: float = 0.0):
     edge each point lies on.
     """
     V = polygon.vertices
-    E = polygon.edges
+    E = polygon.constraint_edges
     a, b = V[E[:, 0]], V[E[:, 1]]
     r = np.hypot(*(b - a).T) / gap
     m = np.maximum(1, np.ceil(r - rtol * r)).astype(np.int64)
@@ -94,7 +99,7 @@ def boundary_points(polygon: Polygon, gap: float, rtol: float = 0.0):
 
 
 def edge_of(pieces: np.ndarray) -> np.ndarray:
-    """The polygon edge of each point :func:`boundary_points` placed."""
+    """The constraint edge of each point :func:`boundary_points` placed."""
     return np.repeat(np.arange(len(pieces)), pieces - 1)
 
 
@@ -177,6 +182,12 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
     n = int(n)
 
     _, d_n, bpts, m = _phase1(polygon, n, hi)
+    on = edge_of(m)
+    if polygon.has_constraints:
+        # a fixed point may lie within rounding of a segment without splitting it
+        # (decided exactly); a point placed on that piece can land on it
+        keep = ~is_vertex(polygon, bpts)
+        bpts, on = bpts[keep], on[keep]
     k = len(bpts)
     if k > n:
         need = smallest_feasible_n(polygon, hi, start=n + 1)
@@ -185,14 +196,15 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
             f"the smallest n that works for this polygon is {need}"
         )
     # the boundary points are on their edges by construction: placed by index
-    res2 = insert_on_edges(polygon, n - k, bpts, edge_of(m))
+    res2 = insert_on_edges(polygon, n - k, bpts, on)
 
     V = polygon.vertices
-    E = polygon.edges
+    E = polygon.constraint_edges
     L = np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T)
     gaps = L / m
     lVV = polygon.min_vertex_distance()
-    A, B = polygon.area, polygon.perimeter
+    # B: the length phase 2 places points on (Lemma 6 counts them by it)
+    A, B = polygon.area, polygon.perimeter + float(L[len(polygon.edges):].sum())
     c = 2.0 if hi == 3.0 else (max(2.0, hi * hi / (hi * hi - 4.0)) if hi > 2 else math.inf)
     hyp = {
         "d_n <= l(V,V)/2": bool(d_n <= lVV / 2),

@@ -26,6 +26,7 @@ from ._kernel.outcomes import failed_site
 from ._kernel.validity import mesh_problem
 from .errors import ArgumentTypeError, InternalError, InvalidArgumentError, InvalidSitesError
 from .polygon import Polygon
+from .segment_chains import piece_chains, piece_pairs, rebuild
 from .sizefield import SizeField
 
 __all__ = [
@@ -106,7 +107,9 @@ def ensure_valid(points, triangles, polygon: Polygon, n_steiner: int, what: str)
 
 
 def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
-    """Split sites into interior ones and boundary ones (edge index, parameter).
+    """Split sites into interior ones and constrained ones (edge index into
+    ``polygon.constraint_edges``: a ring edge, or a segment piece after them,
+    and parameter).
 
     Vectorised: one compiled point-to-edges distance and one GEOS point-in-polygon
     query per site; only the few sites within ``tol`` of the boundary are matched
@@ -115,7 +118,7 @@ def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
     if len(sites) == 0:
         return [], []
     V = polygon.vertices
-    edges = polygon.edges
+    edges = polygon.constraint_edges
     a = V[edges[:, 0]]
     d = V[edges[:, 1]] - a
     # only "within tol or not" is asked: distances beyond 2 tol come back as 2 tol
@@ -274,12 +277,12 @@ class Loaded:
 
 
 def edge_parameters(polygon: Polygon, sites: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    """Parameter t in [0, 1] of each site's projection on its polygon edge (0 for
-    interior sites, ``edges`` -1)."""
+    """Parameter t in [0, 1] of each site's projection on its constraint edge (an
+    index into ``polygon.constraint_edges``; 0 for interior sites, ``edges`` -1)."""
     t = np.zeros(len(sites))
     on = np.flatnonzero(edges >= 0)
     if len(on):
-        V, E = polygon.vertices, polygon.edges[edges[on]]
+        V, E = polygon.vertices, polygon.constraint_edges[edges[on]]
         a = V[E[:, 0]]
         d = V[E[:, 1]] - a
         t[on] = np.clip(((sites[on] - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
@@ -287,14 +290,20 @@ def edge_parameters(polygon: Polygon, sites: np.ndarray, edges: np.ndarray) -> n
 
 
 def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
-    """The rings with the boundary sites spliced in (kernel vertex indices), and the
-    chains of sites per polygon edge: (start vertex, [sites in order along it])."""
+    """The rings with the boundary sites spliced in (kernel vertex indices), the
+    chains of sites per polygon edge: (start vertex, [sites in order along it]),
+    and the segment pieces split at their sites, as (u, v) vertex pairs."""
     nV = len(polygon.vertices)
+    nE = polygon.n_ring_vertices  # ring edge e starts at vertex e
     t = edge_parameters(polygon, sites, edges)
     by_edge: dict[int, list[int]] = {}
     for i in np.lexsort((np.arange(len(sites)), t)):
         if edges[i] >= 0:
             by_edge.setdefault(int(edges[i]), []).append(nV + int(i))
+    on = {}
+    for i in np.flatnonzero(edges >= nE):
+        on.setdefault(int(edges[i]) - nE, []).append((float(t[i]), nV + int(i)))
+    pieces = piece_pairs(polygon, on, boundary_tol(polygon))
     rings, chains = [], []
     for r in range(len(polygon.rings)):
         lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
@@ -305,10 +314,10 @@ def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
             if e in by_edge:
                 chains.append((e, by_edge[e]))
         rings.append(ring)
-    return rings, chains
+    return rings, chains, pieces
 
 
-def _initial(allxy, rings, chains, nV, nmax, tmax, grid, normal):
+def _initial(allxy, rings, chains, nR, nmax, tmax, grid, normal):
     """The triangulation of the rings (boundary sites included), exactly CDT.
 
     GEOS triangulates the rings; its result is used only if it passes the exact
@@ -328,17 +337,17 @@ def _initial(allxy, rings, chains, nV, nmax, tmax, grid, normal):
         m, xy = cdt.allocate(nmax, tmax, grid, normal)
         xy[: len(allxy)] = allxy
         cdt.set_nv(m, len(allxy))
-        own = [[v for v in r if v < nV] for r in rings]
-        tris = polytri.triangulate(allxy[:nV], own)
-        if cdt.build_adjacency(m, tris) != nV or not _valid(m, allxy, own):
+        own = [[v for v in r if v < nR] for r in rings]
+        tris = polytri.triangulate(allxy[:nR], own)
+        if cdt.build_adjacency(m, tris) != nR or not _valid(m, allxy, own):
             raise RuntimeError("could not triangulate the polygon exactly (please report it)")
         if chains:
             idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
             first = np.array([([e] + c)[j] for e, c in chains for j in range(len(c))], np.int64)
             status = cavity.split_sites(m, idx, first)
             if status < 0:
-                k = int(idx[-status - 1]) - nV
-                raise RuntimeError(f"could not put boundary site {k} on its edge")
+                k = int(idx[-status - 1])
+                raise RuntimeError(f"could not put boundary vertex {k} on its edge")
     cdt.legalize_all(m)
     return m, xy
 
@@ -402,21 +411,29 @@ def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) 
     grain = _grain(polygon, centre)
     V = polygon.vertices
     nV = len(V)
-    interior = np.flatnonzero(edges < 0)
-    rings, chains = _rings_with_sites(polygon, sites, edges)
+    nR = polygon.n_ring_vertices
+    # inside the rings: the constraint vertices, the interior sites, the sites on pieces
+    interior = np.concatenate([np.arange(nR, nV), nV + np.flatnonzero((edges < 0) | (edges >= nR))])
+    rings, chains, pieces = _rings_with_sites(polygon, sites, edges)
     allxy = np.concatenate([(V - centre) / scale, (sites - centre) / scale], axis=0)
     nb0 = sum(len(r) for r in rings)
     t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
     tmax = t0 + 2 * (len(interior) + room) + 4
     grid = _size_grid(size, centre, scale)
-    m, xy = _initial(allxy, rings, chains, nV, nV + len(sites) + room, tmax, grid,
+    m, xy = _initial(allxy, rings, chains, nR, nV + len(sites) + room, tmax, grid,
                      (centre, scale, grain / scale))
     if len(interior):
-        idx = nV + interior
+        idx = interior.astype(np.int64)
         idx = idx[hilbert_order(allxy[idx])]
         status = cavity.insert_sites(m, idx)
         if status < 0:
-            raise RuntimeError(f"could not insert site {int(idx[failed_site(status)]) - nV}")
+            raise RuntimeError(f"could not insert vertex {int(idx[failed_site(status)])}")
+    if pieces:
+        us, vs = np.array(pieces, dtype=np.int64).T.copy()
+        status = polytri.recover_pieces(m, us, vs)
+        if status < 0:
+            u, v = pieces[-status - 1]
+            raise RuntimeError(f"could not recover the segment piece {u}-{v} as an edge")
     return Loaded(m, xy, sites, edges, centre, scale, grain, tmax)
 
 
@@ -488,6 +505,5 @@ def load_mesh(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, size=
     m, xy = cdt.allocate(len(P0), len(T0), grid, (centre, scale, _grain(polygon, centre) / scale))
     xy[:] = (P0 - centre) / scale
     cdt.set_nv(m, len(P0))
-    cdt.build_adjacency(m, T0)
-    cdt.legalize_all(m)
+    rebuild(m, T0, piece_chains(polygon, boundary, boundary_tol(polygon)))
     return m, xy, centre, scale, boundary, grid is not None

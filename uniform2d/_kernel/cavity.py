@@ -68,12 +68,17 @@ def insert_point(m, x, y, t0, hs):
     xy, tv = m.xy, m.tv
     a, b, c = tv[3 * t0], tv[3 * t0 + 1], tv[3 * t0 + 2]
     seeded = incircle(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], x, y) > 0.0
+    piece = hs >= 0 and m.tw[hs] >= 0
+    ea = tv[hs] if piece else -1
+    eb = tv[nxt(hs)] if piece else -1
     tag = new_tag(m)
     ncav = _grow_cavity(m, x, y, t0, hs, tag)
     nb = _cavity_boundary(m, x, y, ncav, hs, tag)
     if nb < 0:
         return _split_and_flip(m, x, y, t0, hs)
     _write_fan(m, x, y, ncav, nb, tag)
+    if piece:
+        _flag_split(m, ea, eb, nb)
     if not seeded:  # t0 joined the cavity without p in its circle: flips mend that
         return _flip_fan(m, nb)
     return nb
@@ -89,6 +94,13 @@ def _grow_cavity(m, x, y, t0, hs, tag):
     m.tmark[t0] = tag
     sp = 1
     m.stack[0] = t0
+    if hs >= 0 and tw[hs] >= 0:  # on an interior piece: both sides from the start
+        n = tw[hs] // 3
+        m.cav[1] = n
+        m.tmark[n] = tag
+        m.stack[1] = n
+        ncav = 2
+        sp = 2
     while sp > 0:
         sp -= 1
         t = m.stack[sp]
@@ -97,7 +109,7 @@ def _grow_cavity(m, x, y, t0, hs, tag):
             if h == hs:
                 continue
             g = tw[h]
-            if g < 0:
+            if g < 0 or m.tc[h]:
                 continue
             n = g // 3
             if m.tmark[n] == tag:
@@ -130,7 +142,10 @@ def _cavity_boundary(m, x, y, ncav, hs, tag):
             if h == hs:
                 continue
             g = tw[h]
-            if g >= 0 and m.tmark[g // 3] == tag:
+            # a flagged edge stays unless it is the piece being split (the
+            # cavity then holds both its sides); with both sides of another
+            # piece in the cavity, p cannot see both and the check below fails
+            if g >= 0 and m.tmark[g // 3] == tag and (m.tc[h] == 0 or g == hs):
                 continue
             if _orient_v(xy, tv[h], tv[nxt(h)], x, y) <= 0.0:
                 return ERR_ORIENT
@@ -151,6 +166,7 @@ def _write_fan(m, x, y, ncav, nb, tag):
     xy[p, 0] = x
     xy[p, 1] = y
     m.vseg[p] = -1
+    m.vcs[p] = -1
     m.nv = p + 1
     nt = m.nt
     bu = m.vbuf  # reused as scratch: u, v, outer twin of each boundary edge
@@ -170,6 +186,8 @@ def _write_fan(m, x, y, ncav, nb, tag):
         _link(m, 3 * s, m.stack[k])
         tw[3 * s + 1] = -1
         tw[3 * s + 2] = -1
+        m.tc[3 * s + 1] = 0
+        m.tc[3 * s + 2] = 0
         m.vmark[u] = tag
         m.vmap[u] = k
     for k in range(nb):
@@ -188,6 +206,24 @@ def _write_fan(m, x, y, ncav, nb, tag):
 
 
 @njit(cache=True)
+def _flag_split(m, a, b, nb):
+    """After splitting the interior piece a-b at the new vertex p: flag both
+    halves a-p and p-b (spokes of the fan ``cav[:nb]``, both half-edges)."""
+    tv, tw = m.tv, m.tw
+    p = m.nv - 1
+    for k in range(nb):
+        s = m.cav[k]
+        h = 3 * s + 1  # v -> p
+        v = tv[h]
+        if v == a or v == b:
+            g = tw[h]
+            m.tc[h] = 1
+            m.tc[g] = 1
+            m.vcs[v] = h
+            m.vcs[p] = g
+
+
+@njit(cache=True)
 def _split_and_flip(m, x, y, t0, hs):
     """Insert (x, y) into t0 (and the neighbour across an unconstrained edge of t0
     it lies on), then Lawson-flip from the new triangles' outer edges.
@@ -202,10 +238,11 @@ def _split_and_flip(m, x, y, t0, hs):
     m.cav[0] = t0
     m.tmark[t0] = tag
     ncav = np.int64(1)
+    piece = hs >= 0 and tw[hs] >= 0
     for i in range(3):
         h = 3 * t0 + i
         g = tw[h]
-        if h != hs and g >= 0 and _orient_v(xy, tv[h], tv[nxt(h)], x, y) == 0.0:
+        if g >= 0 and (h == hs or (m.tc[h] == 0 and _orient_v(xy, tv[h], tv[nxt(h)], x, y) == 0.0)):
             reserve(m, ncav + 2)
             m.cav[ncav] = g // 3
             m.tmark[g // 3] = tag
@@ -213,7 +250,11 @@ def _split_and_flip(m, x, y, t0, hs):
     nb = _cavity_boundary(m, x, y, ncav, hs, tag)
     if nb < 0:
         return ERR_ORIENT
+    ea = tv[hs] if piece else -1
+    eb = tv[nxt(hs)] if piece else -1
     _write_fan(m, x, y, ncav, nb, tag)
+    if piece:
+        _flag_split(m, ea, eb, nb)
     return _flip_fan(m, nb)
 
 

@@ -11,11 +11,21 @@ Triangle ``t`` owns the three half-edges ``h = 3*t + i`` (i = 0, 1, 2)::
         tv[3t] ------- tv[3t+1]           nxt(h) = 3t + (i+1) % 3, prv(h) = 3t + (i+2) % 3;
                  h = 3t                   tw[h] = the opposite half-edge, or -1.
 
-Only the inside of P is triangulated, and the only constraints of a polygon with
-holes are its boundary edges, so **a half-edge is constrained exactly when it has
-no twin** (``tw[h] == -1``): that is the constrained flag, and every boundary
-subsegment.  ``vseg[v]`` is the boundary half-edge leaving boundary vertex ``v``
-(each boundary vertex has exactly one: rings are disjoint and simple), -1 inside.
+Only the inside of P is triangulated.  Its boundary edges are the half-edges
+with no twin (``tw[h] == -1``): every place that means "boundary, no neighbour"
+reads that.  An interior constraint piece (a segment of the polygon, split at
+the points on it) is a pair of twins like any interior edge, with the flag
+``tc[h] = tc[tw[h]] = 1``: a point on it sees both sides, its triangles are
+neighbours for walks and turns around a vertex, but flips, Bowyer-Watson
+cavities, searches and visibility stop at it as at the boundary.  So **a
+half-edge is constrained exactly when ``tw[h] < 0 or tc[h]``**.  A flag lives
+with the edge, not the slot: whoever links a half-edge to an existing twin
+copies the twin's flag (:func:`_link`), new inner edges are unflagged, and only
+splitting a piece (:mod:`.cavity`) and loading the segments
+(:mod:`.polytri`) set flags.  ``vseg[v]`` is the boundary half-edge leaving
+boundary vertex ``v`` (each boundary vertex has exactly one: rings are disjoint
+and simple), -1 inside; ``vcs[v]`` is some flagged half-edge leaving ``v``, -1
+for a vertex on no interior piece.
 ``tstamp[t]`` counts rewrites of slot ``t``, so a stored ``(t, stamp)`` pair tells
 whether a triangle still exists.  Everything is preallocated to its final size and
 held by one mutable ``Tri`` structref (a numba record passed by reference: one
@@ -64,7 +74,7 @@ from .predicates import incircle, orient2d
 __all__ = [
     "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
     "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
-    "snap", "boundary_is", "count_not_ccw",
+    "snap", "boundary_is", "count_not_ccw", "constrained",
 ]  # fmt: skip
 
 #: Initial size of the scratch buffers; cavities and searches are small in practice,
@@ -110,16 +120,18 @@ _FIELDS = [
     "gc",  # (2,) float64 the caller's origin in these coordinates' units (see snap)
     "gs",  # float64 the caller's units per unit here (a power of two)
     "wg",  # float64 how far rounding to the caller's coordinates can move a distance
+    "tc",  # (3*tmax,) int8 1 on both half-edges of an interior constraint piece
+    "vcs",  # (nmax,) int32 a flagged half-edge leaving each vertex, or -1
 ]
 structref.define_proxy(Tri, TriType, _FIELDS)
 
 
 @njit(cache=True)
 def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
-             sgx, sgy, sgv, sized, gc, gs, wg):  # fmt: skip
+             sgx, sgy, sgv, sized, gc, gs, wg, tc, vcs):  # fmt: skip
     hmin = sgv.min() if sized else 1.0
     return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
-               0, 0, 0, sgx, sgy, sgv, hmin, sized, gc, gs, wg)  # fmt: skip
+               0, 0, 0, sgx, sgy, sgv, hmin, sized, gc, gs, wg, tc, vcs)  # fmt: skip
 
 
 @njit(cache=True)
@@ -172,6 +184,8 @@ def allocate(nmax, tmax, size_grid=None, grid=None):
         np.ascontiguousarray(gc, dtype=np.float64),
         float(gs),
         float(wg),
+        np.zeros(3 * tmax, np.int8),
+        np.full(nmax, -1, np.int32),
     )
     return m, xy
 
@@ -219,6 +233,12 @@ def snap(m, x, y):
     return ((x * s + cx) - cx) / s, ((y * s + cy) - cy) / s
 
 
+@njit(cache=True, inline="always")
+def constrained(m, h):
+    """Whether half-edge h is a constraint: a boundary edge or a flagged piece."""
+    return m.tw[h] < 0 or m.tc[h] != 0
+
+
 @njit(cache=True)
 def new_tag(m):
     m.tag += 1
@@ -252,11 +272,16 @@ def _set_triangle(m, t, a, b, c):
 
 @njit(cache=True)
 def _link(m, h, g):
-    """Make h and g twins (g may be -1: then h is a boundary half-edge)."""
+    """Make h and g twins (g may be -1: then h is a boundary half-edge); h takes
+    g's constrained flag, g being the side that stays."""
     m.tw[h] = g
     if g >= 0:
         m.tw[g] = h
+        m.tc[h] = m.tc[g]
+        if m.tc[g]:
+            m.vcs[m.tv[h]] = h
     else:
+        m.tc[h] = 0
         m.vseg[m.tv[h]] = h
 
 
@@ -282,12 +307,14 @@ def flip(m, h):
     _link(m, 3 * u + 1, n_bc)
     m.tw[3 * t + 2] = 3 * u + 2
     m.tw[3 * u + 2] = 3 * t + 2
+    m.tc[3 * t + 2] = 0
+    m.tc[3 * u + 2] = 0
 
 
 @njit(cache=True)
 def _not_delaunay(m, h):
     g = m.tw[h]
-    if g < 0:
+    if g < 0 or m.tc[h]:
         return False
     xy = m.xy
     a = m.tv[h]
@@ -359,8 +386,10 @@ def build_adjacency(m, tris):
     """
     nt = tris.shape[0]
     nv = m.nv
+    m.vcs[:] = -1  # no constraint flags: the caller flags the segment pieces
     for t in range(nt):
         _set_triangle(m, np.int64(t), np.int64(tris[t, 0]), np.int64(tris[t, 1]), np.int64(tris[t, 2]))
+        m.tc[3 * t : 3 * t + 3] = 0
     m.nt = nt
     keys = np.empty(3 * nt, np.int64)
     for h in range(3 * nt):

@@ -222,7 +222,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     A vertex's star is read once per visit (:func:`gather`); the trials of its
     line search only recompute the distances to the moved vertex.
     """
-    prevb, nextb = ring_neighbours(m, role)
+    prevb, nextb = ring_neighbours(m, role, eid, t, ea)
     lmax, lmin, pmax = measure(m, hv, href)
     best = objective_of(objective, lmax, lmin, pmax)
     step = initial_steps(m, hv, href, step0)

@@ -7,9 +7,12 @@ Candidates (the only places the farthest point can be):
   midpoint of a boundary subsegment and belongs to the subsegment's entry).
   Its value, the circumradius, never changes while the triangle lives.
   Payload ``(t, tstamp[t])``: alive while the slot's stamp is unchanged.
-* a boundary subsegment ``u -> v``: its largest visible distance, found by
-  :func:`eval_segment`; it changes only when sites appear near it.
-  Payload ``(-(u + 1), v)``: alive while ``u -> v`` is a boundary half-edge.
+* a constrained subsegment ``u -> v`` (a boundary half-edge, or one side of an
+  interior segment piece, valued by the sites on that side): its largest visible
+  distance, found by :func:`eval_segment`; it changes only when sites appear
+  near it.  Payload ``(-(u + 1), v)``: alive while ``u -> v`` is a constrained
+  half-edge (:func:`find_constrained`).  A point chosen there splits the
+  piece on both sides.
 
 The main queue M (a value heap, key = an upper bound of the candidate's weight:
 exact for triangles, the last evaluation or |uv|/2 for subsegments) holds every
@@ -54,8 +57,8 @@ from numba import njit
 
 from . import heap
 from .cavity import insert_point
-from .cdt import circumcircle, locate, locate_scan, nxt, prv, snap
-from .predicates import dot2d
+from .cdt import circumcircle, constrained, locate_scan, nxt, prv, snap
+from .predicates import dot2d, orient2d
 from .pool import dump_window, new_pool, pool_add, pool_kill, to_window
 from .rank import REL_TIE, size_at, tied_above
 from .segment import eval_segment, seg_dist2
@@ -79,7 +82,7 @@ def triangle_key(m, t):
             xy[m.tv[nxt(h)], 0], xy[m.tv[nxt(h)], 1],
             xy[m.tv[prv(h)], 0], xy[m.tv[prv(h)], 1],
         )  # fmt: skip
-        if s < 0.0 or (s == 0.0 and m.tw[h] < 0):
+        if s < 0.0 or (s == 0.0 and constrained(m, h)):
             return -1.0
     cx, cy, r = circumcircle(xy, m.tv[3 * t], m.tv[3 * t + 1], m.tv[3 * t + 2])
     return r / size_at(m, cx, cy)
@@ -103,12 +106,19 @@ def _push_segment(m, M, h):
 
 @njit(cache=True)
 def push_initial(m, M):
-    """Entries for every candidate triangle and every boundary subsegment."""
+    """Entries for every candidate triangle and every constrained subsegment."""
     for t in range(m.nt):
         _push_triangle(m, M, np.int64(t))
     for h in range(3 * m.nt):
-        if m.tw[h] < 0:
+        if _subsegment(m, h):
             _push_segment(m, M, h)
+
+
+@njit(cache=True, inline="always")
+def _subsegment(m, h):
+    """Whether h is a subsegment candidate: a boundary half-edge, or either side
+    of an interior piece (each valued by its own side, :func:`eval_segment`)."""
+    return constrained(m, h)
 
 
 @njit(cache=True)
@@ -121,8 +131,40 @@ def push_new(m, M, k, split):
         if split:
             for e in range(3):
                 h = 3 * t + e
-                if m.tw[h] < 0 and (m.tv[h] == p or m.tv[nxt(h)] == p):
+                if _subsegment(m, h) and (m.tv[h] == p or m.tv[nxt(h)] == p):
                     _push_segment(m, M, h)
+
+
+@njit(cache=True)
+def find_constrained(m, u, v):
+    """The constrained half-edge u -> v (boundary or flagged), or -1: a turn
+    around u from ``vseg[u]`` or ``vcs[u]``, both ways (a boundary vertex's
+    turn stops at the boundary)."""
+    h = m.vseg[u]
+    if h >= 0 and m.tv[nxt(h)] == v:
+        return h
+    h0 = m.vcs[u]
+    if h0 < 0:
+        return -1
+    h = h0
+    while True:  # counter-clockwise
+        if m.tc[h] and m.tv[nxt(h)] == v:
+            return h
+        h = m.tw[prv(h)]
+        if h < 0 or h == h0:
+            break
+    if h == h0:
+        return -1
+    h = h0
+    while True:  # clockwise, from u's flagged edge back to the boundary
+        g = m.tw[h]
+        if g < 0:
+            return -1
+        h = nxt(g)
+        if h == h0:
+            return -1
+        if m.tc[h] and m.tv[nxt(h)] == v:
+            return h
 
 
 @njit(cache=True)
@@ -133,8 +175,8 @@ def _current(m, a, b, xtol):
             return False, 0.0, 0.0, 0.0
         cx, cy, r = circumcircle(m.xy, m.tv[3 * a], m.tv[3 * a + 1], m.tv[3 * a + 2])
         return True, r / size_at(m, cx, cy), cx, cy
-    h = m.vseg[-a - 1]
-    if h < 0 or m.tv[nxt(h)] != b:
+    h = find_constrained(m, -a - 1, b)
+    if h < 0:
         return False, 0.0, 0.0, 0.0
     w, x, y = eval_segment(m, h, xtol)
     return True, w, x, y
@@ -283,11 +325,11 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
             s = _choose(m, M, P, w, xtol)
             if s < 0:
                 return ERR_EMPTY - 100 * j
-            a, w, x, y = P.pa[s], P.pw[s], P.px[s], P.py[s]
+            a, b, w, x, y = P.pa[s], P.pb[s], P.pw[s], P.px[s], P.py[s]
             pool_kill(P, np.int64(s))
         if a >= 0:
             x, y = snap(m, x, y)
-            loc = locate(m, np.int64(a), x, y, np.int64(64))
+            loc = _walk(m, np.int64(a), x, y, np.int64(64))
             if loc < -(m.tv.shape[0] + 1):  # the walk gave up: look everywhere
                 loc = locate_scan(m, x, y)
                 if loc < 0:
@@ -296,13 +338,13 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
                 t0 = loc
                 hsplit = _near_boundary(m, loc, x, y, snap_d)
             else:
-                hsplit = -loc - 1  # the rounded circumcentre crossed this boundary edge
+                hsplit = -loc - 1  # the rounded circumcentre crossed this constraint
                 t0 = hsplit // 3
             if hsplit >= 0:
                 x, y = _project(m, hsplit, x, y)
                 x, y = snap(m, x, y)
         else:
-            hsplit = m.vseg[-a - 1]
+            hsplit = find_constrained(m, -a - 1, b)
             t0 = hsplit // 3
             x, y = snap(m, x, y)
         out_xy[j, 0] = x
@@ -371,17 +413,41 @@ def _insert_nearby(m, x, y, t0, hs):
 
 @njit(cache=True)
 def _near_boundary(m, t, x, y, snap):
-    """A boundary half-edge of t within distance ``snap`` of (x, y), or -1."""
+    """A constrained half-edge of t within distance ``snap`` of (x, y), or -1."""
     xy = m.xy
     for i in range(3):
         h = 3 * t + i
-        if m.tw[h] >= 0:
+        if not constrained(m, h):
             continue
         u = m.tv[h]
         v = m.tv[nxt(h)]
         if seg_dist2(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y) <= snap * snap:
             return h
     return -1
+
+
+@njit(cache=True)
+def _walk(m, t, x, y, max_steps):
+    """:func:`cdt.locate` that stops at every constraint: the triangle containing
+    (x, y) (closed), ``-(h + 1)`` when the walk must cross the constrained
+    half-edge h (a boundary edge or an interior piece), ``-(3*tmax + 2)`` when it
+    gives up.  A point is inserted on the side of a piece its candidate is on."""
+    xy = m.xy
+    for _ in range(max_steps):
+        moved = False
+        for i in range(3):
+            h = 3 * t + i
+            u = m.tv[h]
+            v = m.tv[nxt(h)]
+            if orient2d(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y) < 0.0:
+                if constrained(m, h):
+                    return -(h + 1)
+                t = m.tw[h] // 3
+                moved = True
+                break
+        if not moved:
+            return t
+    return -(m.tv.shape[0] + 2)
 
 
 @njit(cache=True)

@@ -24,10 +24,10 @@ import numpy as np
 from numba import njit
 
 from .cavity import insert_sites
-from .cdt import allocate, build_adjacency, flip, nxt, prv, set_nv, triangle_list
+from .cdt import allocate, build_adjacency, flip, legalize_all, nxt, prv, set_nv, triangle_list
 from .predicates import orient2d
 
-__all__ = ["triangulate"]
+__all__ = ["triangulate", "recover_pieces"]
 
 #: The enclosing triangle's half-size, in units of the (normalised) coordinates'
 #: extent: far enough that it does not touch the polygon's hull.
@@ -130,7 +130,7 @@ def _recover(m, u, v):
         head = (head + 1) % cap
         size -= 1
         h = _out_edge(m, a, b)
-        if h < 0 or m.tw[h] < 0:
+        if h < 0 or m.tw[h] < 0 or m.tc[h]:
             return False
         c = m.tv[prv(h)]
         d = m.tv[prv(m.tw[h])]
@@ -149,6 +149,27 @@ def _recover(m, u, v):
             qr[tail] = b
             size += 1
     return _out_edge(m, u, v) >= 0
+
+
+@njit(cache=True)
+def recover_pieces(m, us, vs):
+    """Make every ``us[k] - vs[k]`` (interior constraint pieces, both ends vertices
+    of the triangulation, no vertex strictly on them) an edge by flips, flag it
+    constrained (both half-edges, :mod:`.cdt`), then legalise the rest.  Flips
+    never cross a flagged edge, so pieces recovered earlier stay.  Returns 0, or
+    -(k + 1) if piece k could not be recovered."""
+    for k in range(us.shape[0]):
+        u, v = us[k], vs[k]
+        if not _recover(m, u, v):
+            return -(k + 1)
+        h = _out_edge(m, u, v)
+        g = m.tw[h]
+        m.tc[h] = 1
+        m.tc[g] = 1
+        m.vcs[u] = h
+        m.vcs[v] = g
+    legalize_all(m)
+    return 0
 
 
 @njit(cache=True)

@@ -54,8 +54,8 @@ def _visible(m, ne, x, y, q):
 def _collect(m, h, mx, my, r2):
     """Search from the triangle on h across unconstrained edges that meet the disk
     (centre (mx, my), squared radius r2): the sites strictly inside it on the
-    inner side of h go to ``m.vbuf``, the constrained edges met (h excepted) to
-    ``m.ebuf``.  Returns (sites, edges) collected."""
+    inner side of h go to ``m.vbuf``, the constrained edges met (h and its twin
+    excepted) to ``m.ebuf``.  Returns (sites, edges) collected."""
     xy = m.xy
     a = m.tv[h]
     b = m.tv[nxt(h)]
@@ -86,8 +86,8 @@ def _collect(m, h, mx, my, r2):
                     m.vbuf[nv] = w
                     nv += 1
             g = m.tw[e]
-            if g < 0:
-                if e != h:
+            if g < 0 or m.tc[e]:
+                if e != h and g != h:
                     m.ebuf[ne] = e
                     ne += 1
                 continue
@@ -155,9 +155,14 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
 
 @njit(cache=True)
 def eval_segment(m, h, xtol):
-    """Largest visible distance on boundary subsegment h and where: (value, x, y),
+    """Largest visible distance on constrained subsegment h and where: (value, x, y),
     value = distance / size field (the distance itself without a field).
 
+    h is a boundary subsegment or one side of an interior piece.  A piece is a
+    candidate once per side, valued by the sites on that side: approached from
+    one side, the visible distance tends to that side's value, so the largest
+    visible distance near the piece is attained there (taking the smaller of
+    the two sides at the piece itself would leave a supremum no point attains).
     If the apex of the triangle on h is outside the open diametral disk of h, no
     visible site is inside that disk and the midpoint wins with |h|/2.
     Otherwise gather, by a search across unconstrained edges that meet the disk,

@@ -131,7 +131,7 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
     run, and ``best_*`` (which must hold the starting state) keep the last state
     that was not.  Returns the number of sweeps kept.
     """
-    prevb, nextb = ring_neighbours(m, role)
+    prevb, nextb = ring_neighbours(m, role, eid, t, ea)
     lmax, lmin, pmax = measure(m, hv, href)
     start = objective_of(objective, lmax, lmin, pmax)
     step = initial_steps(m, hv, href, step0)

@@ -28,7 +28,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
     """
     n = m.nv
     xy, tv = m.xy, m.tv
-    prevb, nextb = ring_neighbours(m, role)
+    prevb, nextb = ring_neighbours(m, role, eid, t, ea)
     F = np.zeros((n, 2))
     new = np.empty((n, 2))
     newt = t.copy()

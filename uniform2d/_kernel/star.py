@@ -80,8 +80,9 @@ def objective_of(objective, lmax, lmin, pmax):
 
 
 @njit(cache=True)
-def ring_neighbours(m, role):
-    """Previous and next vertex along the boundary ring of every SLIDE vertex."""
+def ring_neighbours(m, role, eid, t, ea):
+    """Previous and next vertex along the boundary ring, or along the interior
+    segment piece ``eid[v]`` (start ``ea[eid[v]]``), of every SLIDE vertex."""
     n = m.nv
     prevb = np.full(n, -1, np.int64)
     nextb = np.full(n, -1, np.int64)
@@ -91,6 +92,20 @@ def ring_neighbours(m, role):
             w = m.tv[nxt(h)]
             nextb[v] = w
             prevb[w] = v
+    for h in range(3 * m.nt):
+        v = m.tv[h]
+        if m.tc[h] == 0 or role[v] != SLIDE:
+            continue
+        w = m.tv[nxt(h)]
+        e = eid[v]
+        if role[w] == SLIDE:
+            before = t[w] < t[v]
+        else:  # an end of the piece (or a point frozen on it: then by its place)
+            before = m.xy[w, 0] == ea[e, 0] and m.xy[w, 1] == ea[e, 1]
+        if before:
+            prevb[v] = w
+        else:
+            nextb[v] = w
     return prevb, nextb
 
 

@@ -15,6 +15,9 @@ arrays the caller gets.  A mesh of P with n Steiner points is valid when
   points only, to the next vertex of its ring, every point on the way within
   :func:`uniform2d.insert.boundary_tol` of that polygon edge and in order along
   it, and there are no other boundary edges;
+* every interior segment piece is a chain of mesh edges from one end to the
+  other through Steiner points within the tolerance of the piece, in order
+  along it (fixed points are polygon vertices, so corners by the first rule);
 * the triangle areas add up to P's area (up to what the boundary points' offsets
   and rounding allow).
 
@@ -56,6 +59,8 @@ def _walk(succ, ring_next, nV, edge_of):
     walked = 0
     n = succ.shape[0]
     for a in range(nV):
+        if ring_next[a] < 0:
+            continue  # a constraint vertex inside P
         cur = a
         for _ in range(n + 1):
             nxt = succ[cur]
@@ -109,7 +114,7 @@ def mesh_problem(points, triangles, polygon, n_steiner, boundary_tol):
         return "a boundary vertex has two outgoing boundary edges"
     succ[bu] = bv
     E = polygon.edges
-    ring_next = np.empty(nV, np.int64)
+    ring_next = np.full(nV, -1, np.int64)
     ring_next[E[:, 0]] = E[:, 1]
     edge_of = np.full(len(P), -1, np.int64)
     walked = _walk(succ, ring_next, nV, edge_of)
@@ -132,6 +137,10 @@ def mesh_problem(points, triangles, polygon, n_steiner, boundary_tol):
         nxt_t = np.where(bv < nV, 1.0, tt[bv])
         if not (nxt_t > tt[bu]).all() or not ((t > 0.0) & (t < 1.0)).all():
             return "boundary points are out of order along their polygon edge"
+    if len(polygon.segment_edges):
+        problem = _pieces_problem(P, u, v, polygon, boundary_tol)
+        if problem is not None:
+            return problem
     q = P[T]
     area = 0.5 * (
         (q[:, 1, 0] - q[:, 0, 0]) * (q[:, 2, 1] - q[:, 0, 1])
@@ -140,4 +149,37 @@ def mesh_problem(points, triangles, polygon, n_steiner, boundary_tol):
     slack = 1e-9 * polygon.area + 2.0 * polygon.perimeter * boundary_tol
     if abs(area - polygon.area) > slack:
         return f"the triangles cover {area!r}, the polygon has area {polygon.area!r}"
+    return None
+
+
+def _pieces_problem(P, u, v, polygon, tol):
+    """None if every segment piece of ``polygon`` is a chain of the mesh edges
+    ``u -> v`` (directed, both directions present for interior edges) through
+    points on it (Steiner points, or a fixed point within the tolerance of it),
+    else what is wrong."""
+    V = polygon.vertices
+    order = np.argsort(u, kind="stable")
+    us, vs = u[order], v[order]
+    start = np.searchsorted(us, np.arange(len(P) + 1))
+    used = np.zeros(len(P), bool)
+    for a, b in polygon.segment_edges:
+        pa, d = V[a], V[b] - V[a]
+        L2 = float(d @ d)
+        cur, tc = int(a), 0.0
+        for _ in range(len(P)):
+            nb = vs[start[cur]:start[cur + 1]]
+            if (nb == b).any():
+                break
+            nb = nb[(nb != a) & ~used[nb]]
+            rel = P[nb] - pa
+            t = (rel @ d) / L2
+            off = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / np.sqrt(L2)
+            ok = (off <= tol) & (t > tc) & (t < 1.0)
+            if not ok.any():
+                return f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
+            k = int(np.flatnonzero(ok)[np.argmin(t[ok])])
+            cur, tc = int(nb[k]), float(t[k])
+            used[cur] = True
+        else:
+            return f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
     return None

@@ -15,7 +15,8 @@ import numpy as np
 from .._kernel import cdt, relax
 from ..geometry import polygon_edges
 from ..polygon import Polygon
-from ..triangulation import load_mesh, triangulate
+from ..segment_chains import piece_chains, rebuild
+from ..triangulation import boundary_tol, load_mesh, triangulate
 from . import schedule as S
 from .objective import objective_code
 from .seed import target_size
@@ -135,8 +136,7 @@ def _run(st: "_Loaded", sched: S.Schedule, obj: int):
         # continue from the best state of this stage
         xy[:] = best_xy
         t[:] = best_t
-        cdt.build_adjacency(m, best_tv.reshape(-1, 3))
-        cdt.legalize_all(m)
+        rebuild(m, best_tv.reshape(-1, 3), st.pieces)
     if sched.spread_sweeps:
         best_xy, best_t = xy.copy(), t.copy()
         best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
@@ -163,6 +163,7 @@ class _Loaded(NamedTuple):
     href: float  # target length (uniform) or field scale (graded), normalised
     centre: np.ndarray
     scale: float
+    pieces: tuple  # (us, vs): the segment pieces split at the points on them
 
 
 def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -> _Loaded:
@@ -174,7 +175,7 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
     T0 = np.asarray(triangles, dtype=np.int32)
     m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
     N = len(xy)
-    a, d, _ = polygon_edges(polygon)
+    a, d, _ = polygon_edges(polygon, constraints=True)
     role = np.full(N, relax.FREE, np.int8)
     role[:nV] = relax.FIXED
     eid = np.full(N, -1, np.int64)
@@ -194,7 +195,8 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
         href_n = float(np.sqrt((Ls**2).mean() / (hs**2).mean()))
     else:
         href_n = (target_size(polygon, N - nV) if href is None else href) / scale
-    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale)
+    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale,
+                   piece_chains(polygon, boundary, boundary_tol(polygon)))
 
 
 def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:

@@ -10,7 +10,7 @@ import numpy as np
 
 from .._kernel.distance import to_segments
 from ..errors import InsufficientPointsError
-from ..geometry import polygon_edges
+from ..geometry import is_vertex, polygon_edges
 from ..insert import insert
 from ..mesh import Mesh
 from ..polygon import Polygon
@@ -31,9 +31,14 @@ def _start(polygon: Polygon, n: int, h: float, variant):
     """The sites of one start (boundary points, then the lattice), the polygon edge of
     each (-1 inside) and which stay put."""
     spacing, edge, layered = variant
-    a, d, L = polygon_edges(polygon)
+    # points on the rings' edges and on the interior segment pieces (after them)
+    a, d, L = polygon_edges(polygon, constraints=True)
     m = boundary_counts(L, spacing * h, n)
     bpts, beid, _ = boundary_points(a, d, m)
+    if polygon.has_constraints:
+        keep = ~is_vertex(polygon, bpts)
+        bpts, beid = bpts[keep], beid[keep]
+    layered = layered and not polygon.has_constraints  # rows are made for the rings only
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
     ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays

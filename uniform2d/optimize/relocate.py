@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._kernel.distance import to_segments
+from ..geometry import is_vertex, polygon_edges
 from ..polygon import Polygon
 from ..quality import edge_lengths
+from ..triangulation import boundary_tol
 from . import schedule as S
 from .moves import improve
 from .objective import extremes, objective_value
@@ -50,6 +53,8 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
         failed.add(tuple(target))
         new = 0.5 * (pts[target[0]] + pts[target[1]])  # on P's boundary if the edge is
         new_edge = _common_edge(polygon, edges, *target)
+        if polygon.has_constraints and _near_constraint(polygon, new, new_edge):
+            continue
         sites = pts[nV:]
         free = (edges < 0) & ~fixed
         free &= np.hypot(*(sites - new).T) > S.RELOCATE_RADIUS * h
@@ -75,13 +80,26 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
     return pts, tri, kept
 
 
+def _near_constraint(polygon: Polygon, p, edge: int) -> bool:
+    """Whether p is a polygon vertex, or lies within :func:`boundary_tol` of a
+    constraint edge other than ``edge`` (where a fixed point lies a rounding
+    off a segment, say): no place for a point of its own."""
+    if is_vertex(polygon, p[None])[0]:
+        return True
+    a, d, _ = polygon_edges(polygon, constraints=True)
+    others = np.flatnonzero(np.arange(len(a)) != edge)
+    p = np.asarray(p, dtype=np.float64)[None]
+    dist = to_segments(p, a[others], a[others] + d[others], np.inf)
+    return float(dist[0]) <= boundary_tol(polygon)
+
+
 def _common_edge(polygon: Polygon, edges, u: int, v: int) -> int:
     """The polygon edge both mesh points u and v lie on, or -1: the polygon edge
     of the midpoint of mesh edge u-v (a mesh edge joining two points of one polygon
     edge runs along it).  ``edges`` as :func:`improve`'s, for the points after
     the polygon's vertices (a vertex lies on the two edges that meet there)."""
     nV = len(polygon.vertices)
-    E = polygon.edges
+    E = polygon.constraint_edges
 
     def on(w):
         if w >= nV:

@@ -189,7 +189,8 @@ class _Candidates:
         self.origin = a[e] + nrm * h * math.sqrt(3) / 2 + d[e] / L[e] * (h / 2)
         self.shape = polygon.to_shapely()
         shapely.prepare(self.shape)
-        self.sa, self.sb = a, a + d
+        ca, cd, _ = polygon_edges(polygon, constraints=True)  # clear of the segments too
+        self.sa, self.sb = ca, ca + cd
         self.rows = rows
         if rows is not None:
             self.rtree = cKDTree(rows)
