@@ -73,3 +73,33 @@ def test_samples_lie_on_the_chain_and_end_exactly_on_its_ends():
     assert np.array_equal(S[0], uv[chains[0][0]]) and np.array_equal(S[-1], uv[chains[0][-1]])
     assert np.allclose(Q[:, 0], 0.0) and np.allclose(Q[:, 2], 0.0)  # on the ridge line
     assert len(S) == 1 + round(1.0 / 0.15)
+
+
+@pytest.mark.parametrize("n", [150, 400])
+def test_remesh_keeps_the_ridge(n):
+    import surface
+
+    P, idx = roof()
+    r = surface.remesh((P.vertices, P.faces), n, feature_angle=20.0, check=False, hausdorff=False)
+    X = r.vertices
+    assert len(X) == n
+    on = np.abs(X[:, 0]) <= 1e-12
+    # points on the ridge are on the input's ridge line, and there are enough of them
+    assert np.allclose(X[on, 2], 0.0, atol=1e-12) and on.sum() >= 1 + round(1.0 / r.report.target_size) - 1
+    # no triangle straddles the ridge: its vertices are all on one side (or on it)
+    side = np.where(on, 0, np.sign(X[:, 0]))[r.faces]
+    assert not ((side.max(axis=1) > 0) & (side.min(axis=1) < 0)).any()
+    # every vertex lies on the input surface z = -0.3 |x|
+    assert np.allclose(X[:, 2], -0.3 * np.abs(X[:, 0]), atol=1e-9)
+
+
+def test_remesh_without_features_straddles_the_ridge():
+    """The check above can fail: without feature lines triangles do straddle it."""
+    import surface
+
+    P, _ = roof()
+    r = surface.remesh((P.vertices, P.faces), 400, check=False, hausdorff=False)
+    X = r.vertices
+    on = np.abs(X[:, 0]) <= 1e-12
+    side = np.where(on, 0, np.sign(X[:, 0]))[r.faces]
+    assert ((side.max(axis=1) > 0) & (side.min(axis=1) < 0)).any()
