@@ -179,8 +179,23 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
     lo, hi = (float(s) for s in spacing)
     if not (0 < lo <= hi):
         raise InvalidArgumentError(f"spacing must be (lo, hi) with 0 < lo <= hi, got {spacing!r}")
-    n = int(n)
+    return _tplus(polygon, int(n), lo, hi, name_smallest=True)
 
+
+def tplus_if_feasible(polygon: Polygon, n: int):
+    """:func:`tplus` with the default spacing, or None where n is too small for it.
+
+    For callers that only compare with T+ when there is one: the search for the
+    smallest n that works, which :func:`tplus`'s error names, can cost many
+    INSERT runs when phase 1 needs far more boundary points than n.
+    """
+    try:
+        return _tplus(polygon, int(n), 2.0, 3.0, name_smallest=False)
+    except InsufficientPointsError:
+        return None
+
+
+def _tplus(polygon: Polygon, n: int, lo: float, hi: float, *, name_smallest: bool) -> Mesh:
     _, d_n, bpts, m = _phase1(polygon, n, hi)
     on = edge_of(m)
     if polygon.has_constraints:
@@ -190,10 +205,12 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
         bpts, on = bpts[keep], on[keep]
     k = len(bpts)
     if k > n:
-        need = smallest_feasible_n(polygon, hi, start=n + 1)
+        need = ""
+        if name_smallest:
+            need = (f"; the smallest n that works for this polygon is "
+                    f"{smallest_feasible_n(polygon, hi, start=n + 1)}")
         raise InsufficientPointsError(
-            f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n; "
-            f"the smallest n that works for this polygon is {need}"
+            f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n{need}"
         )
     # the boundary points are on their edges by construction: placed by index
     res2 = insert_on_edges(polygon, n - k, bpts, on)

@@ -15,7 +15,7 @@ from ..insert import insert
 from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import edge_lengths, quality
-from ..tplus import tplus
+from ..tplus import tplus_if_feasible
 from . import schedule as S
 from .moves import improve
 from .objective import extremes, objective_code, objective_value, quality_objective
@@ -102,10 +102,9 @@ def _reference(polygon: Polygon, n: int, start):
     """(T+ mesh or None, its quality or None, d_n) to compare the optimised mesh with."""
     tp = start
     if tp is None:
-        try:
-            tp = tplus(polygon, n)
-        except InsufficientPointsError as exc:  # too few points for T+, not for this method
-            log.info("uniform: no T+ to compare with (%s)", exc)
+        tp = tplus_if_feasible(polygon, n)
+        if tp is None:  # too few points for T+, not for this method
+            log.info("uniform: n = %d is too small for T+; nothing to compare with", n)
     if tp is None:  # d_n for the certificates comes from INSERT alone
         return None, None, insert(polygon, n).min_distance()
     d_n = tp.info.get("d_n")
