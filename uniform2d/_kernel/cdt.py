@@ -117,7 +117,12 @@ structref.define_proxy(Tri, TriType, _FIELDS)
 @njit(cache=True)
 def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
              sgx, sgy, sgv, sized, gc, gs, wg):  # fmt: skip
-    hmin = sgv.min() if sized else 1.0
+    hmin = 1.0
+    if sized:  # a loop: the generic array min costs more to compile
+        hmin = np.inf
+        for j in range(sgv.shape[0]):
+            for i in range(sgv.shape[1]):
+                hmin = min(hmin, sgv[j, i])
     return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
                0, 0, 0, sgx, sgy, sgv, hmin, sized, gc, gs, wg)  # fmt: skip
 

@@ -72,7 +72,8 @@ def grown(a, need):
     if need <= a.shape[0]:
         return a
     out = np.empty(max(need, 2 * a.shape[0]), a.dtype)
-    out[: a.shape[0]] = a
+    for i in range(a.shape[0]):  # a loop: a slice copy compiles numba's shape-error code
+        out[i] = a[i]
     return out
 
 
