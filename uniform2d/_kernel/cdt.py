@@ -55,11 +55,13 @@ our own exact ``incircle``: a flip replaces the diagonal of the quadrilateral
 """
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.experimental import structref
 
+from ._jit import njit
 from .heap import grown
 from .predicates import incircle, orient2d
+from .radix import stable_argsort
 
 __all__ = [
     "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
@@ -374,7 +376,7 @@ def build_adjacency(m, tris):
         lo = min(u, v)
         hi = max(u, v)
         keys[h] = lo * nv + hi
-    order = np.argsort(keys, kind="mergesort")
+    order = stable_argsort(keys)
     nb = 0
     i = 0
     while i < 3 * nt:

@@ -5,7 +5,7 @@ move keeps the mesh a valid constrained Delaunay triangulation.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO

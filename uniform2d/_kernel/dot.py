@@ -6,7 +6,7 @@ A plain floating-point value decides when it clears :data:`DOTERRBOUNDA`
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .expansion import EPSILON, FILTER_FLOOR, TARGET_DEG2, differences3, leading_of_products
 from .expansion import leading_of_sum, scaled3, unscale

@@ -21,7 +21,7 @@ rely on IEEE round-to-nearest-even without reassociation or FMA contraction.
 import math
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 #: Half an ulp of 1.0: the relative rounding error bound of one operation.
 EPSILON = 2.0**-53

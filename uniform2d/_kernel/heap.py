@@ -16,8 +16,10 @@ the arrays when full.
 """
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.experimental import structref
+
+from ._jit import njit
 
 __all__ = ["grown", "new_heap", "push", "pop", "top_key", "new_lheap", "lpush", "lpop", "ltop"]
 

@@ -50,7 +50,7 @@ depend on the polygon's position.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from . import heap
 from .cavity import insert_point

@@ -6,7 +6,7 @@ described in :mod:`.insert`.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 __all__ = ["REL_TIE", "tied_above", "better", "size_at"]
 

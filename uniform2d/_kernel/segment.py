@@ -6,7 +6,7 @@ visible lower envelope of the sites near it.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import new_tag, nxt, prv, reserve
 from .predicates import dot2d, orient2d

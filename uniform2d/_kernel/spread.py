@@ -6,7 +6,7 @@ the mesh a valid constrained Delaunay triangulation.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import snap
 from .star import FIXED, TRIES, accept, edge, edge_halves, gather, initial_steps, keep_state

@@ -5,7 +5,7 @@ the mesh a valid constrained Delaunay triangulation.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import nxt, snap
 from .predicates import orient2d

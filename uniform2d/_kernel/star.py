@@ -17,7 +17,7 @@ ends at -1)::
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import legalize_stack, nxt, prv
 from .heap import grown

@@ -27,7 +27,7 @@ and no point lies outside.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .predicates import orient2d
 
