@@ -5,7 +5,6 @@ and the point moves (:mod:`.star`, for the size field); the rule itself is
 described in :mod:`.insert`.
 """
 
-import numpy as np
 from ._jit import njit
 
 __all__ = ["REL_TIE", "tied_above", "better", "size_at"]
