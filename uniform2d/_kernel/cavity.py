@@ -36,7 +36,7 @@ sites known to lie on a polygon edge split that edge's constraint by index
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import (
     ERR_ORIENT, _lawson, _link, _orient_v, _set_triangle, locate, locate_scan, new_tag, nxt,

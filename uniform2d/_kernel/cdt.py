@@ -65,11 +65,13 @@ our own exact ``incircle``: a flip replaces the diagonal of the quadrilateral
 """
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.experimental import structref
 
+from ._jit import njit
 from .heap import grown
 from .predicates import incircle, orient2d
+from .radix import stable_argsort
 
 __all__ = [
     "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
@@ -129,7 +131,12 @@ structref.define_proxy(Tri, TriType, _FIELDS)
 @njit(cache=True)
 def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
              sgx, sgy, sgv, sized, gc, gs, wg, tc, vcs):  # fmt: skip
-    hmin = sgv.min() if sized else 1.0
+    hmin = 1.0
+    if sized:  # a loop: the generic array min costs more to compile
+        hmin = np.inf
+        for j in range(sgv.shape[0]):
+            for i in range(sgv.shape[1]):
+                hmin = min(hmin, sgv[j, i])
     return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
                0, 0, 0, sgx, sgy, sgv, hmin, sized, gc, gs, wg, tc, vcs)  # fmt: skip
 
@@ -398,7 +405,7 @@ def build_adjacency(m, tris):
         lo = min(u, v)
         hi = max(u, v)
         keys[h] = lo * nv + hi
-    order = np.argsort(keys, kind="mergesort")
+    order = stable_argsort(keys)
     nb = 0
     i = 0
     while i < 3 * nt:

@@ -5,7 +5,7 @@ move keeps the mesh a valid constrained Delaunay triangulation.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
@@ -156,7 +156,7 @@ def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR,
         x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
         x, y = snap(m, x, y)
         if star_ok(x, y, x0, y0, ns, nt, SP, floor):
-            E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, False)
+            E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, np.bool_(False))
             if E1 < E0:
                 return True, x, y, tt, st
         st *= 0.5
@@ -183,7 +183,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
         x0 = xy[v, 0]
         y0 = xy[v, 1]
         ns, nt = gather(m, v, h0, hv, href, SP, TR)
-        E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, True)
+        E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, np.bool_(True))
         emax = max(emax, E0)
         if E0 < floor:
             active[v] = False

@@ -34,7 +34,7 @@ force.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 __all__ = ["to_segments"]
 
@@ -80,10 +80,14 @@ def to_segments(points, a, b, cap):
     E = a.shape[0]
     if E <= BRUTE_MAX or k <= BRUTE_MAX or cap == np.inf:
         return _brute(points, a, b, cap)
-    x0 = min(a[:, 0].min(), b[:, 0].min())
-    y0 = min(a[:, 1].min(), b[:, 1].min())
-    x1 = max(a[:, 0].max(), b[:, 0].max())
-    y1 = max(a[:, 1].max(), b[:, 1].max())
+    # loops, not numba's generic array min / max / cumsum (costly to compile)
+    x0 = y0 = np.inf
+    x1 = y1 = -np.inf
+    for e in range(E):
+        x0 = min(x0, a[e, 0], b[e, 0])
+        y0 = min(y0, a[e, 1], b[e, 1])
+        x1 = max(x1, a[e, 0], b[e, 0])
+        y1 = max(y1, a[e, 1], b[e, 1])
     G = max(1, int(np.sqrt(E)))
     cell = max(x1 - x0, y1 - y0) / G
     if not cell > 1e-9 * max(abs(x0), abs(y0), abs(x1), abs(y1)):
@@ -102,7 +106,11 @@ def to_segments(points, a, b, cap):
         for i in range(lo_i[e], hi_i[e] + 1):
             for j in range(lo_j[e], hi_j[e] + 1):
                 count[i * G + j + 1] += 1
-    start = np.cumsum(count)
+    start = np.empty(G * G + 1, np.int64)
+    total = 0
+    for c in range(G * G + 1):
+        total += count[c]
+        start[c] = total
     fill = start[:-1].copy()
     items = np.empty(start[-1], np.int64)
     for e in range(E):

@@ -6,7 +6,7 @@ A plain floating-point value decides when it clears :data:`DOTERRBOUNDA`
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .expansion import EPSILON, FILTER_FLOOR, TARGET_DEG2, differences3, leading_of_products
 from .expansion import leading_of_sum, scaled3, unscale
@@ -45,7 +45,7 @@ def dot2d_exact(ax, ay, bx, by, cx, cy):
         return np.nan if ok < 0 else 0.0
     exact, acx, acy, bcx, bcy = differences3(ax, ay, bx, by, cx, cy)
     if exact:
-        return unscale(leading_of_products(acx, bcx, acy, bcy, False), 2 * k)
+        return unscale(leading_of_products(acx, bcx, acy, bcy, np.bool_(False)), 2 * k)
     # (ax - cx)(bx - cx) + (ay - cy)(by - cy), expanded into 8 monomials
     xs = np.array([ax, -ax, -cx, cx, ay, -ay, -cy, cy])
     ys = np.array([bx, cx, bx, cx, by, cy, by, cy])

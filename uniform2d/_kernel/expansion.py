@@ -21,7 +21,7 @@ rely on IEEE round-to-nearest-even without reassociation or FMA contraction.
 import math
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 #: Half an ulp of 1.0: the relative rounding error bound of one operation.
 EPSILON = 2.0**-53
@@ -326,7 +326,7 @@ def scaled3(ax, ay, bx, by, cx, cy, target):
     m = max(abs(ax), abs(ay), abs(bx), abs(by), abs(cx), abs(cy))
     if m == 0.0:
         return 0, 0, ax, ay, bx, by, cx, cy
-    k = shift_for(m, target)
+    k = shift_for(m, np.int64(target))
     f = pow2(k)
     return (
         1, k, scale2(ax, f, k), scale2(ay, f, k), scale2(bx, f, k),
@@ -349,7 +349,7 @@ def scaled4(ax, ay, bx, by, cx, cy, dx, dy, target):
     )
     if m == 0.0:
         return 0, 0, ax, ay, bx, by, cx, cy, dx, dy
-    k = shift_for(m, target)
+    k = shift_for(m, np.int64(target))
     f = pow2(k)
     return (
         1, k, scale2(ax, f, k), scale2(ay, f, k), scale2(bx, f, k), scale2(by, f, k),

@@ -16,8 +16,10 @@ the arrays when full.
 """
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.experimental import structref
+
+from ._jit import njit
 
 __all__ = ["grown", "new_heap", "push", "pop", "top_key", "new_lheap", "lpush", "lpop", "ltop"]
 
@@ -72,7 +74,8 @@ def grown(a, need):
     if need <= a.shape[0]:
         return a
     out = np.empty(max(need, 2 * a.shape[0]), a.dtype)
-    out[: a.shape[0]] = a
+    for i in range(a.shape[0]):  # a loop: a slice copy compiles numba's shape-error code
+        out[i] = a[i]
     return out
 
 

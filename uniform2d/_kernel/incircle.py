@@ -8,7 +8,7 @@ the coordinates themselves (:mod:`.expansion`).
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .expansion import (
     EPSILON,

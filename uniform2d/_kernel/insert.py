@@ -53,7 +53,7 @@ depend on the polygon's position.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from . import heap
 from .cavity import insert_point
@@ -92,7 +92,7 @@ def triangle_key(m, t):
 def _push_triangle(m, M, t):
     r = triangle_key(m, t)
     if r > 0.0:
-        heap.push(M, r, t, m.tstamp[t])
+        heap.push(M, r, np.int32(t), m.tstamp[t])
 
 
 @njit(cache=True)

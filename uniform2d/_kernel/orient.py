@@ -6,7 +6,7 @@ A plain floating-point determinant decides when it clears Shewchuk's
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .expansion import EPSILON, FILTER_FLOOR, TARGET_DEG2, differences3, leading_of_products
 from .expansion import leading_of_sum, scaled3, sum_of_products, unscale
@@ -51,7 +51,7 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
     # the determinant is a two-term sum of two_products.  No allocation.
     exact, acx, acy, bcx, bcy = differences3(ax, ay, bx, by, cx, cy)
     if exact:
-        return unscale(leading_of_products(acx, bcy, acy, bcx, True), 2 * k)
+        return unscale(leading_of_products(acx, bcy, acy, bcx, np.bool_(True)), 2 * k)
     # General case: the 6 coordinate monomials ax by - ax cy + ...
     xs = np.empty(6)
     ys = np.empty(6)

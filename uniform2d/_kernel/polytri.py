@@ -21,7 +21,7 @@ GEOS's result fails the exact check.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cavity import insert_sites
 from .cdt import allocate, build_adjacency, flip, legalize_all, nxt, prv, set_nv, triangle_list

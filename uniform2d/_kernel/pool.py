@@ -9,10 +9,11 @@ sel is scratch for the y-window.
 """
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.experimental import structref
 
 from . import heap
+from ._jit import njit
 
 __all__ = ["Pool", "new_pool", "pool_add", "pool_kill", "to_window", "dump_window"]
 

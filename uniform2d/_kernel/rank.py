@@ -5,8 +5,7 @@ and the point moves (:mod:`.star`, for the size field); the rule itself is
 described in :mod:`.insert`.
 """
 
-import numpy as np
-from numba import njit
+from ._jit import njit
 
 __all__ = ["REL_TIE", "tied_above", "better", "size_at"]
 
@@ -39,6 +38,20 @@ def better(w1, x1, y1, w2, x2, y2, xtol, wg):
 
 
 @njit(cache=True)
+def _right_of(g, x):
+    """np.searchsorted(g, x, side="right") for sorted g, as a plain bisection (the
+    generic searchsorted costs more to compile than this loop)."""
+    lo, hi = 0, g.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if g[mid] <= x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
 def size_at(m, x, y):
     """The size field h at (x, y): bilinear on its grid, clamped; 1 without a field.
 
@@ -50,8 +63,8 @@ def size_at(m, x, y):
     gx, gy, gv = m.sgx, m.sgy, m.sgv
     x = min(max(x, gx[0]), gx[-1])
     y = min(max(y, gy[0]), gy[-1])
-    i = min(max(np.searchsorted(gx, x, side="right") - 1, 0), gx.shape[0] - 2)
-    j = min(max(np.searchsorted(gy, y, side="right") - 1, 0), gy.shape[0] - 2)
+    i = min(max(_right_of(gx, x) - 1, 0), gx.shape[0] - 2)
+    j = min(max(_right_of(gy, y) - 1, 0), gy.shape[0] - 2)
     tx = (x - gx[i]) / (gx[i + 1] - gx[i])
     ty = (y - gy[j]) / (gy[j + 1] - gy[j])
     return (

@@ -6,7 +6,7 @@ visible lower envelope of the sites near it.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import new_tag, nxt, prv, reserve
 from .predicates import dot2d, orient2d
@@ -131,7 +131,8 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     sites = np.empty(ns, np.int32)
     sites[0] = a
     sites[1] = b
-    sites[2:] = m.vbuf[:nv]
+    for i in range(nv):
+        sites[2 + i] = m.vbuf[i]
     bv, bx_, by_ = -1.0, mx, my
     for i in range(ns):
         p = sites[i]

@@ -6,7 +6,7 @@ the mesh a valid constrained Delaunay triangulation.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import snap
 from .star import FIXED, TRIES, accept, edge, edge_halves, gather, initial_steps, keep_state
@@ -75,7 +75,7 @@ def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR,
         x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
         x, y = snap(m, x, y)
         if star_ok(x, y, x0, y0, ns, nt, SP, floor):
-            E1 = _star_spread(x, y, ns, nt, SP, TR, L, cbar, g2, ext, False)
+            E1 = _star_spread(x, y, ns, nt, SP, TR, L, cbar, g2, ext, np.bool_(False))
             if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:
                 return True, x, y, tt, st
         st *= 0.5
@@ -102,7 +102,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, l
         x0 = xy[v, 0]
         y0 = xy[v, 1]
         ns, nt = gather(m, v, h0, hv, href, SP, TR)
-        E0 = _star_spread(x0, y0, ns, nt, SP, TR, L, cbar, grad, ext, True)
+        E0 = _star_spread(x0, y0, ns, nt, SP, TR, L, cbar, grad, ext, np.bool_(True))
         ux, uy, st = search(role, eid, t, ed, prevb, nextb, v, grad, step[v])
         if st == 0.0:
             continue

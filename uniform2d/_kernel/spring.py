@@ -5,7 +5,7 @@ the mesh a valid constrained Delaunay triangulation.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import nxt, snap
 from .predicates import orient2d
@@ -100,8 +100,8 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
             ex, ey = ed[e, 0], ed[e, 1]
             L2 = ex * ex + ey * ey
             dtv = (dx * ex + dy * ey) / L2
-            tp = t_of(role, t, prevb[v], True)
-            tn = t_of(role, t, nextb[v], False)
+            tp = t_of(role, t, prevb[v], np.bool_(True))
+            tn = t_of(role, t, nextb[v], np.bool_(False))
             gap = 0.25 * min(t[v] - tp, tn - t[v])
             gap = min(gap, lim / np.sqrt(L2))
             dtv = min(max(dtv, -gap), gap)

@@ -17,7 +17,7 @@ ends at -1)::
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .cdt import legalize_stack, nxt, prv
 from .heap import grown
@@ -135,9 +135,11 @@ def outgoing(m):
 def star_buffers(m):
     """Buffers for the largest star: spokes (S, 3), triangles (S, 2), lengths (S,)."""
     deg = np.zeros(m.nv, np.int64)
+    top = 0
     for h in range(3 * m.nt):
         deg[m.tv[h]] += 1
-    s = deg.max() + 2
+        top = max(top, deg[m.tv[h]])
+    s = top + 2
     return np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
 
 
@@ -226,9 +228,9 @@ def search(role, eid, t, ed, prevb, nextb, v, grad, step_v):
             return 0.0, 0.0, 0.0
         sgn = 1.0 if gt > 0 else -1.0
         if sgn > 0:
-            room = t_of(role, t, nextb[v], False) - t[v]
+            room = t_of(role, t, nextb[v], np.bool_(False)) - t[v]
         else:
-            room = t[v] - t_of(role, t, prevb[v], True)
+            room = t[v] - t_of(role, t, prevb[v], np.bool_(True))
         return sgn * ex / L, sgn * ey / L, min(step_v, 0.45 * room * L)
     gn = np.hypot(grad[0], grad[1])
     if gn == 0.0:
@@ -298,6 +300,11 @@ def refuse(step, v, href, hvv):
 @njit(cache=True)
 def keep_state(m, t, best_xy, best_t, best_tv):
     """Copy the present points, edge parameters and triangles into ``best_*``."""
-    best_xy[:, :] = m.xy[: best_xy.shape[0]]
-    best_t[:] = t
-    best_tv[:] = m.tv[: best_tv.shape[0]]
+    # loops: slice copies compile numba's shape-error code
+    for i in range(best_xy.shape[0]):
+        best_xy[i, 0] = m.xy[i, 0]
+        best_xy[i, 1] = m.xy[i, 1]
+    for i in range(best_t.shape[0]):
+        best_t[i] = t[i]
+    for i in range(best_tv.shape[0]):
+        best_tv[i] = m.tv[i]

@@ -30,7 +30,7 @@ and no point lies outside.
 """
 
 import numpy as np
-from numba import njit
+from ._jit import njit
 
 from .predicates import orient2d
 
@@ -93,8 +93,9 @@ def mesh_problem(points, triangles, polygon, n_steiner, boundary_tol):
         return f"triangles of shape {T.shape} do not index the points"
     if np.bincount(T.ravel(), minlength=len(P)).min() == 0:
         return "a point is not a corner of any triangle"
-    T = np.ascontiguousarray(T, dtype=np.int64)
-    bad = _not_ccw(np.ascontiguousarray(P), T)
+    # writable C arrays (copies only where needed): one compiled version of _not_ccw
+    T = np.require(T, np.int64, ["C", "W"])
+    bad = _not_ccw(np.require(P, np.float64, ["C", "W"]), T)
     if bad:
         return f"{bad} triangles are not strictly counter-clockwise"
     # directed edges: unique; the boundary is the set without a reverse

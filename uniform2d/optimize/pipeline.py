@@ -64,19 +64,42 @@ def _trial_value(polygon: Polygon, sites, edges, frozen, objective: str, h: floa
 
 
 def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, report):
-    """Every start of :func:`~uniform2d.optimize.seed.variants`, ranked by a short run
-    when there are several: (sites, edges, frozen, boundary points, variant) of the best."""
+    """The best start of :func:`~uniform2d.optimize.seed.variants`, ranked by a short run
+    when there are several: (sites, edges, frozen, boundary points, variant).
+
+    The lattice edge and the boundary rows fix the mesh's structure; the boundary
+    spacing only tunes it.  Above ``schedule.SMALL`` points, where a trial costs
+    most, each (edge, rows) pair is ranked at the first spacing and the other
+    spacings are tried for the best pair only; smaller meshes try every start
+    (there the best spacing often belongs to another pair)."""
     tried = variants(polygon, n)
+    spacings = list(dict.fromkeys(c for c, _, _ in tried))
+    staged = n + len(polygon.vertices) > S.SMALL and len(spacings) > 1
+    first = [v for v in tried if v[0] == spacings[0]] if staged else tried
+    later = spacings[1:] if staged else []
+    total = len(first) + len(later)
     best = None
-    for i, variant in enumerate(tried):
-        report("seed", i, len(tried))
+    done = 0
+
+    def run(variant):
+        nonlocal best, done
+        report("seed", done, total)
         sites, edges, frozen, k = _start(polygon, n, h, variant)
         val = 0.0
         if len(tried) > 1:
             sites, edges, val = _trial_value(polygon, sites, edges, frozen, objective, h, options)
         if best is None or val < best[0]:
             best = (val, sites, edges, frozen, k, variant)
-    report("seed", len(tried), len(tried))
+        done += 1
+
+    for variant in first:
+        run(variant)
+    if later:
+        _, e, layered = best[-1]
+        for c in later:
+            if (c, e, layered) in tried:
+                run((c, e, layered))
+    report("seed", total, total)
     return best[1:]
 
 

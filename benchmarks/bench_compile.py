@@ -1,0 +1,98 @@
+"""Benchmark: the first run's compile time (README command 1 with no numba cache).
+
+Usage::
+
+    python benchmarks/bench_compile.py [--n 400] [--top 15]
+
+Runs ``uniform2d mesh data/plate_bolts.json -n 400 --stats`` (the mesh step of
+the README's command 1) in a fresh process whose numba cache is an empty
+directory (``NUMBA_CACHE_DIR``), so every kernel compiles, and prints the wall
+time, the process's CPU time and, from numba's compile events, the compile
+time per kernel module and the functions that take longest.  Times are
+exclusive: a function's own compile, without the callees it compiled on the
+way.  Functions compiled more than once (one specialisation per argument
+types) are listed: each extra one is compile time a caller could save.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+CHILD = r"""
+import collections, json, resource, sys, time
+from numba.core import event as ev
+
+stack, own, count = [], collections.Counter(), collections.Counter()
+
+def name_of(d):
+    mod = str(getattr(d.py_func, "__module__", None) or "numba")
+    return mod.rsplit(".", 1)[-1] + "." + d.py_func.__name__
+
+class Listener(ev.Listener):
+    def on_start(self, e):
+        stack.append([time.perf_counter(), 0.0])
+    def on_end(self, e):
+        t0, child = stack.pop()
+        dt = time.perf_counter() - t0
+        name = name_of(e.data["dispatcher"])
+        own[name] += dt - child
+        count[name] += 1
+        if stack:
+            stack[-1][1] += dt
+
+ev.register("numba:compile", Listener())
+t0 = time.perf_counter()
+from uniform2d.cli.main import main
+code = main(sys.argv[1:])
+wall = time.perf_counter() - t0
+ru = resource.getrusage(resource.RUSAGE_SELF)
+json.dump({"code": code, "wall": wall, "cpu": ru.ru_utime + ru.ru_stime,
+           "own": own, "count": count}, sys.stderr)
+"""
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--n", type=int, default=400)
+    ap.add_argument("--top", type=int, default=15, help="functions listed")
+    args = ap.parse_args(argv)
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        cmd = [sys.executable, "-c", CHILD, "mesh", str(ROOT / "data" / "plate_bolts.json"),
+               "-n", str(args.n), "-o", str(Path(out) / "plate.vtu"), "--stats"]
+        run = subprocess.run(cmd, env=env, cwd=out, capture_output=True, text=True, check=False)
+    tail = run.stderr[run.stderr.rfind('{"code"'):]
+    try:
+        res = json.loads(tail)
+    except ValueError:
+        print(run.stderr, file=sys.stderr)
+        return 1
+    own, count = res["own"], res["count"]
+    modules: dict[str, float] = {}
+    for name, t in own.items():
+        modules[name.split(".")[0]] = modules.get(name.split(".")[0], 0.0) + t
+    print(f"first run, mesh -n {args.n}, empty numba cache")
+    print(f"wall {res['wall']:.1f} s   CPU {res['cpu']:.1f} s   "
+          f"compile {sum(own.values()):.1f} s in {sum(count.values())} compilations   "
+          f"load {os.getloadavg()[0]:.2f}")
+    print("compile per module (s): " + ", ".join(
+        f"{m} {t:.1f}" for m, t in sorted(modules.items(), key=lambda kv: -kv[1])))
+    print("longest functions:")
+    for name, t in sorted(own.items(), key=lambda kv: -kv[1])[: args.top]:
+        print(f"  {t:6.2f} s  x{count[name]}  {name}")
+    again = {k: v for k, v in count.items() if v > 1 and not k.startswith(("arrayobj.", "builtins.", "numba."))}
+    if again:
+        print("compiled more than once: " + ", ".join(f"{k} x{v}" for k, v in sorted(again.items())))
+    return 0 if res["code"] == 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
