@@ -158,7 +158,7 @@ def fig_constrained(out: Path) -> None:
     for ax, (name, n) in zip(axes, (("slab_columns", 300), ("roof_panel", 300),
                                     ("plate_zones", 400))):
         poly = u.read_polygon(DATA / "constrained" / f"{name}.json")
-        mesh = u.tplus(poly, n)
+        mesh = u.uniform_mesh(poly, n)
         colours = [REGION_COLOURS[r % len(REGION_COLOURS)] for r in mesh.regions.tolist()]
         ax.add_collection(PolyCollection(mesh.points[mesh.triangles], facecolors=colours,
                                          edgecolors="none"))
