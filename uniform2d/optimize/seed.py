@@ -234,18 +234,18 @@ def _sectors(polygon: Polygon, vertices):
 
 class _Candidates:
     """Lattice points of a given spacing inside P (or inside ``face``, one of its
-    regions), clear of its boundary and of the first rows (when given): the
-    candidates :func:`seed_interior` counts."""
+    regions, anchored at ``origin``), clear of its boundary and of the first rows
+    (when given): the candidates :func:`seed_interior` counts."""
 
-    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows, face=None):
+    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows, face=None, origin=None):
         a, d, L = polygon_edges(polygon)
         e = int(np.argmax(L)) if edge is None else int(edge)
         self.angle = math.atan2(d[e, 1], d[e, 0])
         # anchor a lattice row at distance h·√3/2 inside the chosen edge
         nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: inside for the CCW outer ring
         self.origin = a[e] + nrm * h * math.sqrt(3) / 2 + d[e] / L[e] * (h / 2)
-        if face is not None:
-            self.origin = _anchor(polygon, face, self.angle, h)
+        if origin is not None:
+            self.origin = origin
         self.shape = polygon.to_shapely() if face is None else face
         self.bounds = polygon.bounds if face is None else face.bounds
         shapely.prepare(self.shape)
@@ -269,31 +269,6 @@ class _Candidates:
             near = np.flatnonzero(ok & (dist < 2.0 * self.band + sp))
             ok[near] = self.rtree.query(P[near])[0] >= 0.75 * sp
         return P[ok], dist[ok]
-
-
-def _anchor(polygon: Polygon, face, angle: float, h: float) -> np.ndarray:
-    """Where a lattice at ``angle`` starts in region ``face``: at the apex, inside
-    the region, of the piece on its boundary nearest to that angle (modulo 60
-    degrees; the longest of those within a degree), so that the lattice meets
-    that piece's row of :func:`boundary_rows` in step."""
-    a, d, L = polygon_edges(polygon, constraints=True)
-    nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / L[:, None]
-    mid = a + 0.5 * d
-    side = np.ones(len(L))
-    probe = mid + 1e-6 * L[:, None] * nrm
-    left = shapely.contains_xy(face, probe[:, 0], probe[:, 1])
-    probe = mid - 1e-6 * L[:, None] * nrm
-    right = shapely.contains_xy(face, probe[:, 0], probe[:, 1]) & ~left
-    side[right] = -1.0
-    on = np.flatnonzero(left | right)
-    if not len(on):
-        c = face.representative_point()
-        return np.array([c.x, c.y])
-    ang = np.arctan2(d[on, 1], d[on, 0])
-    off = np.abs((ang - angle + math.pi / 6) % (math.pi / 3) - math.pi / 6)
-    near = off <= max(off.min(), math.radians(1.0))
-    e = on[np.lexsort((on, -L[on], ~near))[0]]
-    return mid[e] + side[e] * nrm[e] * h * math.sqrt(3) / 2
 
 
 def _closest_count(cand: _Candidates, count: int, h: float):
@@ -362,7 +337,7 @@ def seed_interior(
         return np.empty((0, 2))
     if rows is not None and len(rows) >= count:
         rows = None
-    if len(polygon.segment_edges) and len(polygon.regions) > 1:
+    if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
         return _seed_regions(polygon, count, h, bpts, edge, rows)
     cand = _Candidates(polygon, h, edge, rows)
     total = count
@@ -378,16 +353,19 @@ def seed_interior(
 
 def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> np.ndarray:
     """:func:`seed_interior` region by region: the rows, then in each region a
-    lattice (of its own spacing) topped up to the region's share."""
+    lattice (of its own spacing, see :func:`_anchor`) topped up to the region's
+    share."""
     faces = polygon.regions.faces
-    share = _region_shares(polygon, faces, h, count)
+    sides = _sides(polygon, faces)
+    share = _region_shares(polygon, faces, sides, h, count)
     P = np.empty((0, 2)) if rows is None else rows
+    angle = _Candidates(polygon, h, edge, None).angle
     for r, face in enumerate(faces):
         have = int(np.count_nonzero(shapely.contains_xy(face, P[:, 0], P[:, 1])))
         need = share[r] - have
         if need <= 0:
             continue
-        cand = _Candidates(polygon, h, edge, rows, face)
+        cand = _Candidates(polygon, h, edge, rows, face, _anchor(polygon, sides, r, angle, h))
         Q, dist = _closest_count(cand, need, h)
         P = np.concatenate([P, _drop_nearest(cand, Q, dist, need)])
         P = _fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face)
@@ -399,21 +377,47 @@ def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> n
     return _fill_largest_gaps(polygon, bpts, P, count)[:count]
 
 
-def _region_shares(polygon: Polygon, faces, h: float, count: int) -> np.ndarray:
+def _sides(polygon: Polygon, faces) -> np.ndarray:
+    """(E + S, 2): the region on the left and on the right of every constraint
+    edge (-1 for none: outside P), probed a millionth of its length away from
+    its middle."""
+    a, d, L = polygon_edges(polygon, constraints=True)
+    off = 1e-6 * np.stack([-d[:, 1], d[:, 0]], axis=1)
+    out = np.full((len(L), 2), -1, np.int64)
+    for k, probe in enumerate((a + 0.5 * d + off, a + 0.5 * d - off)):
+        for r, f in enumerate(faces):
+            out[shapely.contains_xy(f, probe[:, 0], probe[:, 1]), k] = r
+    return out
+
+
+def _anchor(polygon: Polygon, sides: np.ndarray, r: int, angle: float, h: float) -> np.ndarray:
+    """Where a lattice at ``angle`` starts in region r: at the apex, inside the
+    region, of the piece on its boundary nearest to that angle (modulo 60
+    degrees; the longest of those within a degree), so that the lattice meets
+    that piece's row of :func:`boundary_rows` in step."""
+    a, d, L = polygon_edges(polygon, constraints=True)
+    on = np.flatnonzero((sides == r).any(axis=1))
+    ang = np.arctan2(d[on, 1], d[on, 0])
+    off = np.abs((ang - angle + math.pi / 6) % (math.pi / 3) - math.pi / 6)
+    near = off <= max(off.min(), math.radians(1.0))
+    e = on[np.lexsort((on, -L[on], ~near))[0]]
+    side = 1.0 if sides[e, 0] == r else -1.0
+    return a[e] + 0.5 * d[e] + side * np.array([-d[e, 1], d[e, 0]]) / L[e] * h * math.sqrt(3) / 2
+
+
+def _region_shares(polygon: Polygon, faces, sides, h: float, count: int) -> np.ndarray:
     """How many of ``count`` interior points each region gets: in proportion to
     the interior vertices of an equilateral mesh of side h of it (Euler's
     formula: 2A/(sqrt(3) h^2) - B/(2h) + 1 - holes, a free segment inside it
     counting as boundary on both sides, a fixed point off the segments as one
     vertex), by largest remainders."""
-    a, d, L = polygon_edges(polygon, constraints=True)
-    n_ring = len(polygon.edges)
-    mid = a[n_ring:] + 0.5 * d[n_ring:]
+    _, _, L = polygon_edges(polygon, constraints=True)
     on_seg = np.zeros(len(polygon.vertices), bool)
     on_seg[polygon.segment_edges.ravel()] = True
     lone = polygon.vertices[polygon.fixed[~on_seg[polygon.fixed]]]
     want = np.empty(len(faces))
     for r, f in enumerate(faces):
-        free = L[n_ring:][shapely.contains_xy(f, mid[:, 0], mid[:, 1])].sum()
+        free = L[(sides[:, 0] == r) & (sides[:, 1] == r)].sum()
         n_lone = np.count_nonzero(shapely.contains_xy(f, lone[:, 0], lone[:, 1]))
         want[r] = (2.0 * f.area / (math.sqrt(3.0) * h * h) - (f.length + 2.0 * free) / (2.0 * h)
                    + 1.0 - len(f.interiors) - n_lone)
