@@ -82,11 +82,14 @@ def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarr
     edge length from the corner that split its angle into near-60-degree
     parts), then one point above the middle of every polygon edge, at the apex
     of the equilateral triangle on it (those crowding a point before them
-    dropped): the boundary's own spacing, wherever it is.  The lattice, aligned
-    with P's longest edge, fills the rest; its spacing is chosen so that the
-    count comes out (the last few are dropped near the boundary or added in the
-    largest gaps).  A structured start for :func:`uniform2d.optimize.improve`:
-    relaxing a lattice ends far more uniform than relaxing scattered points.
+    dropped): the boundary's own spacing, wherever it is.  Interior segments
+    count as boundary on both sides (a free end is a corner of 360 degrees).
+    The lattice, aligned with P's longest edge, fills the rest; its spacing is
+    chosen so that the count comes out (the last few are dropped near the
+    boundary or added in the largest gaps).  Where segments split P into
+    regions, each region gets its share of the count and a lattice of its own.
+    A structured start for :func:`uniform2d.optimize.improve`: relaxing a
+    lattice ends far more uniform than relaxing scattered points.
 
     Parameters
     ----------
@@ -109,7 +112,8 @@ def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarr
         polygon = Polygon(polygon)
     count = int(count)
     h = target_size(polygon, count)
-    first = boundary_rows(polygon, np.ones(len(polygon.constraint_edges), np.int64), h) if rows else None
+    pieces = np.ones(len(polygon.constraint_edges), np.int64)
+    first = boundary_rows(polygon, pieces, h) if rows else None
     return seed_interior(polygon, count, h, np.empty((0, 2)), None, first)
 
 
