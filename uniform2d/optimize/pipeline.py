@@ -38,7 +38,6 @@ def _start(polygon: Polygon, n: int, h: float, variant):
     if polygon.has_constraints:
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
-    layered = layered and not polygon.has_constraints  # rows are made for the rings only
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
     ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays

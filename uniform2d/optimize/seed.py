@@ -55,8 +55,8 @@ def boundary_points(a, d, m):
     return np.concatenate(pts), np.concatenate(eid), np.concatenate(t)
 
 
-def _hex_lattice(polygon: Polygon, spacing: float, angle: float, origin) -> np.ndarray:
-    xmin, ymin, xmax, ymax = polygon.bounds
+def _hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
+    xmin, ymin, xmax, ymax = bounds
     cx, cy = (xmin + xmax) / 2, (ymin + ymax) / 2
     R0 = math.hypot(xmax - xmin, ymax - ymin) / 2 + 2 * spacing
     R = R0 + math.hypot(origin[0] - cx, origin[1] - cy)
@@ -82,11 +82,14 @@ def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarr
     edge length from the corner that split its angle into near-60-degree
     parts), then one point above the middle of every polygon edge, at the apex
     of the equilateral triangle on it (those crowding a point before them
-    dropped): the boundary's own spacing, wherever it is.  The lattice, aligned
-    with P's longest edge, fills the rest; its spacing is chosen so that the
-    count comes out (the last few are dropped near the boundary or added in the
-    largest gaps).  A structured start for :func:`uniform2d.optimize.improve`:
-    relaxing a lattice ends far more uniform than relaxing scattered points.
+    dropped): the boundary's own spacing, wherever it is.  Interior segments
+    count as boundary on both sides (a free end is a corner of 360 degrees).
+    The lattice, aligned with P's longest edge, fills the rest; its spacing is
+    chosen so that the count comes out (the last few are dropped near the
+    boundary or added in the largest gaps).  Where segments split P into
+    regions, each region gets its share of the count and a lattice of its own.
+    A structured start for :func:`uniform2d.optimize.improve`: relaxing a
+    lattice ends far more uniform than relaxing scattered points.
 
     Parameters
     ----------
@@ -109,27 +112,35 @@ def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarr
         polygon = Polygon(polygon)
     count = int(count)
     h = target_size(polygon, count)
-    first = boundary_rows(polygon, np.ones(len(polygon.edges), np.int64), h) if rows else None
+    pieces = np.ones(len(polygon.constraint_edges), np.int64)
+    first = boundary_rows(polygon, pieces, h) if rows else None
     return seed_interior(polygon, count, h, np.empty((0, 2)), None, first)
 
 
 def boundary_rows(polygon: Polygon, m: np.ndarray, h: float) -> np.ndarray:
-    """One row of points along every polygon edge: above the middle of each of its
-    m[e] pieces, at the apex of the equilateral triangle on it (inside P), after
-    the corners' fans (:func:`corner_fans`), keeping only those clear of the
-    other edges and of the points before them (the fans win at corners)."""
-    a, d, L = polygon_edges(polygon)
+    """One row of points along every polygon edge and segment piece (m[e] pieces
+    of each of :attr:`~uniform2d.Polygon.constraint_edges`): above the middle of
+    each piece, at the apex of the equilateral triangle on it, inside P for a
+    ring edge and on both sides for a segment piece (P is on both), after the
+    corners' fans (:func:`corner_fans`), keeping only those clear of the
+    constraint edges and fixed points and of the points before them (the fans
+    win at corners)."""
+    a, d, L = polygon_edges(polygon, constraints=True)
     rows, gaps = corner_fans(polygon, L / m, h)
+    n_ring = len(polygon.edges)
     for e in range(len(L)):
         g = L[e] / m[e]
         nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: into P on every ring
         s = (np.arange(m[e]) + 0.5) / m[e]
-        rows.append(a[e] + d[e] * s[:, None] + nrm * g * math.sqrt(3) / 2)
-        gaps.append(np.full(m[e], g))
+        mid = a[e] + d[e] * s[:, None]
+        for side in (1.0,) if e < n_ring else (1.0, -1.0):
+            rows.append(mid + side * nrm * g * math.sqrt(3) / 2)
+            gaps.append(np.full(m[e], g))
     R, G = np.concatenate(rows), np.concatenate(gaps)
     shp = polygon.to_shapely()
     ok = shapely.contains_xy(shp, R[:, 0], R[:, 1])
-    ok &= to_segments(R, a, a + d, 0.6 * G.max()) >= 0.6 * G
+    a, b = _keep_clear(polygon)
+    ok &= to_segments(R, a, b, 0.6 * G.max()) >= 0.6 * G
     R, G = R[ok], G[ok]
     keep = []
     tree = cKDTree(R)
@@ -142,6 +153,16 @@ def boundary_rows(polygon: Polygon, m: np.ndarray, h: float) -> np.ndarray:
     return R[keep]
 
 
+def _keep_clear(polygon: Polygon):
+    """(starts, ends) of what seed points keep clear of: the rings' edges, the
+    segment pieces and, as segments of length zero, the fixed points."""
+    a, d, _ = polygon_edges(polygon, constraints=True)
+    if not len(polygon.fixed):
+        return a, a + d
+    f = polygon.vertices[polygon.fixed]
+    return np.concatenate([a, f]), np.concatenate([a + d, f])
+
+
 def corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
     """Points that split every polygon corner of angle theta into
     k = round(theta / 60 degrees) equal angles, one boundary piece away from the
@@ -150,7 +171,10 @@ def corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
     below 90 degrees there is nothing to split, and a vertex within 30 degrees
     of straight (k = 3) is split into three by the apexes of
     :func:`boundary_rows` already (on the surface layer's domains, those are
-    the vertices that are not corners).
+    the vertices that are not corners).  At a vertex that segment pieces
+    touch, the corners are the angles between its consecutive constraint edges
+    (:func:`_sectors`): a free end of a segment is a corner of 360 degrees.
+    ``piece`` holds the piece length of every constraint edge.
 
     Returns lists of (1, 2) points and of their (1,) spacings."""
     E = polygon.edges
@@ -159,45 +183,84 @@ def corner_fans(polygon: Polygon, piece: np.ndarray, h: float):
     _, d, L = polygon_edges(polygon)
     e_in = np.empty(len(V), np.int64)
     e_in[E[:, 1]] = np.arange(len(E))
+    joined = np.zeros(len(V), bool)
+    joined[polygon.segment_edges.ravel()] = True
     out, gaps = [], []
     for e in range(len(E)):  # e leaves vertex v: the interior is on its left
         v = E[e, 0]
-        k = int(math.floor(theta[v] / (math.pi / 3) + 0.5))
-        if k < 2 or k == 3:  # k = 3: a near-straight vertex, the rows' apexes split it
+        if joined[v]:
             continue
-        g = min(0.5 * (piece[e] + piece[e_in[v]]), FAN_CAP * h)
-        u = d[e] / L[e]
-        for j in range(1, k):
-            phi = j * theta[v] / k
-            c, s = math.cos(phi), math.sin(phi)
-            out.append(V[v] + g * np.array([[c * u[0] - s * u[1], s * u[0] + c * u[1]]]))
-            gaps.append(np.full(1, g))
+        _fan(out, gaps, V[v], d[e] / L[e], theta[v], 0.5 * (piece[e] + piece[e_in[v]]), h)
+    for v, u, phi, c1, c2 in _sectors(polygon, np.flatnonzero(joined)):
+        _fan(out, gaps, V[v], u, phi, 0.5 * (piece[c1] + piece[c2]), h)
     return out, gaps
 
 
-class _Candidates:
-    """Lattice points of a given spacing inside P, clear of its boundary and of
-    the first rows (when given): the candidates :func:`seed_interior` counts."""
+def _fan(out: list, gaps: list, v, u, theta: float, piece: float, h: float) -> None:
+    """Append the fan of the corner at ``v`` that opens counter-clockwise from
+    unit direction ``u`` by ``theta``: see :func:`corner_fans`."""
+    k = int(math.floor(theta / (math.pi / 3) + 0.5))
+    if k < 2 or k == 3:  # k = 3: a near-straight vertex, the rows' apexes split it
+        return
+    g = min(piece, FAN_CAP * h)
+    for j in range(1, k):
+        phi = j * theta / k
+        c, s = math.cos(phi), math.sin(phi)
+        out.append(v + g * np.array([[c * u[0] - s * u[1], s * u[0] + c * u[1]]]))
+        gaps.append(np.full(1, g))
 
-    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows):
+
+def _sectors(polygon: Polygon, vertices):
+    """The corners inside P at each of ``vertices`` between consecutive
+    constraint edges (counter-clockwise): (vertex, unit direction of the first
+    edge, angle, constraint edge of the first and of the second side)."""
+    C = polygon.constraint_edges
+    V = polygon.vertices
+    ring_in = np.full(len(V), -1, np.int64)
+    ring_in[polygon.edges[:, 1]] = np.arange(len(polygon.edges))
+    out = []
+    for v in vertices:
+        cs = np.flatnonzero((C[:, 0] == v) | (C[:, 1] == v))
+        w = np.where(C[cs, 0] == v, C[cs, 1], C[cs, 0])
+        u = V[w] - V[v]
+        u /= np.hypot(u[:, 0], u[:, 1])[:, None]
+        ang = np.arctan2(u[:, 1], u[:, 0])
+        order = np.lexsort((cs, ang))
+        cs, u, ang = cs[order], u[order], ang[order]
+        gap = np.diff(np.append(ang, ang[0] + 2 * math.pi))
+        for i in range(len(cs)):
+            if cs[i] == ring_in[v]:  # from the incoming ring edge on: outside P
+                continue
+            j = (i + 1) % len(cs)
+            out.append((v, u[i], float(gap[i]), int(cs[i]), int(cs[j])))
+    return out
+
+
+class _Candidates:
+    """Lattice points of a given spacing inside P (or inside ``face``, one of its
+    regions, anchored at ``origin``), clear of its boundary and of the first rows
+    (when given): the candidates :func:`seed_interior` counts."""
+
+    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows, face=None, origin=None):
         a, d, L = polygon_edges(polygon)
         e = int(np.argmax(L)) if edge is None else int(edge)
-        self.polygon = polygon
         self.angle = math.atan2(d[e, 1], d[e, 0])
         # anchor a lattice row at distance h·√3/2 inside the chosen edge
         nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: inside for the CCW outer ring
         self.origin = a[e] + nrm * h * math.sqrt(3) / 2 + d[e] / L[e] * (h / 2)
-        self.shape = polygon.to_shapely()
+        if origin is not None:
+            self.origin = origin
+        self.shape = polygon.to_shapely() if face is None else face
+        self.bounds = polygon.bounds if face is None else face.bounds
         shapely.prepare(self.shape)
-        ca, cd, _ = polygon_edges(polygon, constraints=True)  # clear of the segments too
-        self.sa, self.sb = ca, ca + cd
+        self.sa, self.sb = _keep_clear(polygon)  # clear of the segments and fixed points too
         self.rows = rows
         if rows is not None:
             self.rtree = cKDTree(rows)
             self.band = h * math.sqrt(3) / 2
 
     def __call__(self, sp):
-        P = _hex_lattice(self.polygon, sp, self.angle, self.origin)
+        P = _hex_lattice(self.bounds, sp, self.angle, self.origin)
         inside = shapely.contains_xy(self.shape, P[:, 0], P[:, 1])
         P = P[inside]
         rows = self.rows is not None
@@ -233,18 +296,35 @@ def _closest_count(cand: _Candidates, count: int, h: float):
     return best
 
 
-def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int) -> np.ndarray:
-    """Add the centroids of the largest triangles until there are ``count`` points."""
+def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None) -> np.ndarray:
+    """Add the centroids of the largest triangles (of those inside ``face``, if
+    given) until there are ``count`` points."""
     while len(P) < count:
         allp = np.concatenate([polygon.vertices, bpts, P])
         _, tri = triangulate(polygon, allp[len(polygon.vertices):])
         q = allp[tri]
         u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
         area = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
-        need = count - len(P)
+        if face is not None:
+            c = q.mean(axis=1)
+            area[~shapely.contains_xy(face, c[:, 0], c[:, 1])] = -1.0
+        need = min(count - len(P), int(np.count_nonzero(area >= 0)))
+        if need == 0:
+            break
         order = np.lexsort((np.arange(len(tri)), -area))[:need]
         P = np.concatenate([P, q[order].mean(axis=1)])
     return P
+
+
+def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
+    """The ``count`` of the lattice points P farthest from the boundary (in
+    their order)."""
+    if len(P) <= count:
+        return P
+    if np.count_nonzero(dist < dist.max()) < len(P) - count:  # capped ones would go
+        dist = to_segments(P, cand.sa, cand.sb, np.inf)
+    order = np.lexsort((np.arange(len(P)), dist))
+    return P[np.sort(order[len(P) - count :])]
 
 
 def seed_interior(
@@ -254,25 +334,103 @@ def seed_interior(
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
     ``edge`` (default: the longest), deterministic.  With ``rows`` (from
     :func:`boundary_rows`) those come first and the lattice fills the rest,
-    clear of them."""
+    clear of them.  Where the segments split P into regions, each region gets
+    its own share of the points (:func:`_region_shares`): points cannot cross
+    a segment afterwards, so a region seeded too densely stays so."""
     if count <= 0:
         return np.empty((0, 2))
     if rows is not None and len(rows) >= count:
         rows = None
+    if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
+        return _seed_regions(polygon, count, h, bpts, edge, rows)
     cand = _Candidates(polygon, h, edge, rows)
     total = count
     if rows is not None:
         count = total - len(rows)
     P, dist = _closest_count(cand, count, h)
-    if len(P) > count:  # drop the points nearest to the boundary
-        if np.count_nonzero(dist < dist.max()) < len(P) - count:  # capped ones would go
-            dist = to_segments(P, cand.sa, cand.sb, np.inf)
-        order = np.lexsort((np.arange(len(P)), dist))
-        P = P[np.sort(order[len(P) - count :])]
+    P = _drop_nearest(cand, P, dist, count)
     if rows is not None:
         P = np.concatenate([rows, P])
         count = total
     return _fill_largest_gaps(polygon, bpts, P, count)
+
+
+def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> np.ndarray:
+    """:func:`seed_interior` region by region: the rows, then in each region a
+    lattice (of its own spacing, see :func:`_anchor`) topped up to the region's
+    share."""
+    faces = polygon.regions.faces
+    sides = _sides(polygon, faces)
+    share = _region_shares(polygon, faces, sides, h, count)
+    P = np.empty((0, 2)) if rows is None else rows
+    angle = _Candidates(polygon, h, edge, None).angle
+    for r, face in enumerate(faces):
+        have = int(np.count_nonzero(shapely.contains_xy(face, P[:, 0], P[:, 1])))
+        need = share[r] - have
+        if need <= 0:
+            continue
+        cand = _Candidates(polygon, h, edge, rows, face, _anchor(polygon, sides, r, angle, h))
+        Q, dist = _closest_count(cand, need, h)
+        P = np.concatenate([P, _drop_nearest(cand, Q, dist, need)])
+        P = _fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face)
+    if len(P) > count:  # rows beyond some region's share: drop lattice points instead
+        first = 0 if rows is None else len(rows)
+        dist = to_segments(P[first:], *_keep_clear(polygon), np.inf)
+        order = np.lexsort((np.arange(len(dist)), dist))
+        P = np.concatenate([P[:first], P[first:][np.sort(order[len(P) - count:])]])
+    return _fill_largest_gaps(polygon, bpts, P, count)[:count]
+
+
+def _sides(polygon: Polygon, faces) -> np.ndarray:
+    """(E + S, 2): the region on the left and on the right of every constraint
+    edge (-1 for none: outside P), probed a millionth of its length away from
+    its middle."""
+    a, d, L = polygon_edges(polygon, constraints=True)
+    off = 1e-6 * np.stack([-d[:, 1], d[:, 0]], axis=1)
+    out = np.full((len(L), 2), -1, np.int64)
+    for k, probe in enumerate((a + 0.5 * d + off, a + 0.5 * d - off)):
+        for r, f in enumerate(faces):
+            out[shapely.contains_xy(f, probe[:, 0], probe[:, 1]), k] = r
+    return out
+
+
+def _anchor(polygon: Polygon, sides: np.ndarray, r: int, angle: float, h: float) -> np.ndarray:
+    """Where a lattice at ``angle`` starts in region r: at the apex, inside the
+    region, of the piece on its boundary nearest to that angle (modulo 60
+    degrees; the longest of those within a degree), so that the lattice meets
+    that piece's row of :func:`boundary_rows` in step."""
+    a, d, L = polygon_edges(polygon, constraints=True)
+    on = np.flatnonzero((sides == r).any(axis=1))
+    ang = np.arctan2(d[on, 1], d[on, 0])
+    off = np.abs((ang - angle + math.pi / 6) % (math.pi / 3) - math.pi / 6)
+    near = off <= max(off.min(), math.radians(1.0))
+    e = on[np.lexsort((on, -L[on], ~near))[0]]
+    side = 1.0 if sides[e, 0] == r else -1.0
+    return a[e] + 0.5 * d[e] + side * np.array([-d[e, 1], d[e, 0]]) / L[e] * h * math.sqrt(3) / 2
+
+
+def _region_shares(polygon: Polygon, faces, sides, h: float, count: int) -> np.ndarray:
+    """How many of ``count`` interior points each region gets: in proportion to
+    the interior vertices of an equilateral mesh of side h of it (Euler's
+    formula: 2A/(sqrt(3) h^2) - B/(2h) + 1 - holes, a free segment inside it
+    counting as boundary on both sides, a fixed point off the segments as one
+    vertex), by largest remainders."""
+    _, _, L = polygon_edges(polygon, constraints=True)
+    on_seg = np.zeros(len(polygon.vertices), bool)
+    on_seg[polygon.segment_edges.ravel()] = True
+    lone = polygon.vertices[polygon.fixed[~on_seg[polygon.fixed]]]
+    want = np.empty(len(faces))
+    for r, f in enumerate(faces):
+        free = L[(sides[:, 0] == r) & (sides[:, 1] == r)].sum()
+        n_lone = np.count_nonzero(shapely.contains_xy(f, lone[:, 0], lone[:, 1]))
+        want[r] = (2.0 * f.area / (math.sqrt(3.0) * h * h) - (f.length + 2.0 * free) / (2.0 * h)
+                   + 1.0 - len(f.interiors) - n_lone)
+    want = np.maximum(want, 0.0) + 1e-12
+    exact = count * want / want.sum()
+    share = np.floor(exact).astype(np.int64)
+    extra = np.lexsort((np.arange(len(faces)), share - exact))[: count - int(share.sum())]
+    share[extra] += 1
+    return share
 
 
 def variants(polygon: Polygon, n: int):
