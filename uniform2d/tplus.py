@@ -221,7 +221,8 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
     ------
     InsufficientPointsError
         If phase 1 asks for more boundary points than n (the message names the
-        smallest n that works).
+        smallest n that works, or, when even a lower bound on k over every n
+        exceeds :data:`SEARCH_LIMIT`, the polygon's closest vertices).
 
     Examples
     --------
