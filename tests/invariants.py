@@ -151,8 +151,14 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
 
 def segment_chains(points, he, polygon) -> set:
     """Assert every segment piece of ``polygon`` is a chain of the mesh's edges
-    (directed half-edges ``he``) through Steiner points on it, in order; return
-    those edges as a set of (u, v) pairs, both directions."""
+    (directed half-edges ``he``) through Steiner points on it, in order, no
+    point on two chains; return those edges as a set of (u, v) pairs, both
+    directions.
+
+    Where two pieces leave a vertex at a tiny angle (or a piece runs a rounding
+    off a ring edge), the points of one are within the tolerance of the other
+    too: the search takes the neighbours nearest the piece's line first and
+    backs up from dead ends."""
     V = polygon.vertices
     nbrs: dict[int, set] = {}
     for u, v in he:
@@ -160,29 +166,49 @@ def segment_chains(points, he, polygon) -> set:
         nbrs.setdefault(int(v), set()).add(int(u))
     tol = 1e-9 * max(1.0, float(np.abs(V).max()))
     out = set()
+    used: set = set()
     for a, b in np.asarray(polygon.segment_edges):
-        pa, d = V[a], V[b] - V[a]
-        L = float(np.hypot(*d))
-        cur, tc = int(a), 0.0
-        for _ in range(len(points) + 1):
-            if int(b) in nbrs.get(cur, ()):
-                out |= {(cur, int(b)), (int(b), cur)}
-                break
-            best = None
+        chain = _chain(points, nbrs, used, V, int(a), int(b), tol)
+        assert chain is not None, f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
+        used |= set(chain[1:-1])
+        for p, q in zip(chain[:-1], chain[1:]):
+            out |= {(p, q), (q, p)}
+    return out
+
+
+def _chain(points, nbrs, used, V, a, b, tol):
+    """A path a .. b of mesh edges through unused points near the piece a-b with
+    growing parameter, or None (depth-first, nearest the line first; a vertex
+    that led nowhere is not tried again, its parameter being fixed)."""
+    pa, d = V[a], V[b] - V[a]
+    L = float(np.hypot(*d))
+    seen: set = set()
+    path, stack = [a], [None]
+    tcs = [0.0]
+    while path:
+        cur, tc = path[-1], tcs[-1]
+        if stack[-1] is None:
+            if b in nbrs.get(cur, ()):
+                return path + [b]
+            cands = []
             for w in nbrs.get(cur, ()):
-                if w == int(a):
+                if w == a or w in used or w in seen:
                     continue
                 q = points[w] - pa
                 t = float(q @ d) / (L * L)
                 off = abs(float(d[0] * q[1] - d[1] * q[0])) / L
-                if off <= 1e-9 * L + tol and tc < t < 1.0 and (best is None or t < best[0]):
-                    best = (t, w)
-            assert best is not None, f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
-            out |= {(cur, best[1]), (best[1], cur)}
-            tc, cur = best
-        else:
-            raise AssertionError("segment walk did not terminate")
-    return out
+                if off <= 1e-9 * L + tol and tc < t < 1.0:
+                    cands.append((off, t, w))
+            stack[-1] = sorted(cands, reverse=True)
+        if not stack[-1]:
+            path.pop(), stack.pop(), tcs.pop()
+            continue
+        _, t, w = stack[-1].pop()
+        if w in seen:
+            continue
+        seen.add(w)
+        path.append(w), stack.append(None), tcs.append(t)
+    return None
 
 
 def non_delaunay_edges(points, triangles, he=None, twin=None):

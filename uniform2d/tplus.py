@@ -92,10 +92,28 @@ def boundary_points(polygon: Polygon, gap: float, rtol: float = 0.0):
     V = polygon.vertices
     E = polygon.constraint_edges
     a, b = V[E[:, 0]], V[E[:, 1]]
-    r = np.hypot(*(b - a).T) / gap
-    m = np.maximum(1, np.ceil(r - rtol * r)).astype(np.int64)
+    m = boundary_counts(polygon, gap, rtol)
     pts = [a[e] + (b[e] - a[e]) * (np.arange(1, m[e])[:, None] / m[e]) for e in range(len(E))]
     return np.concatenate(pts, axis=0) if pts else np.empty((0, 2)), m
+
+
+def boundary_counts(polygon: Polygon, gap: float, rtol: float = 0.0) -> np.ndarray:
+    """The piece count m of every constraint edge, as :func:`boundary_points`
+    cuts it (without making the points)."""
+    V = polygon.vertices
+    E = polygon.constraint_edges
+    r = np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T) / gap
+    return np.maximum(1, np.ceil(r - rtol * r)).astype(np.int64)
+
+
+def least_k(polygon: Polygon, hi: float = 3.0) -> int:
+    """A lower bound on T+'s k for every n: d_n <= l(V, V), and a smaller d_n
+    only shortens the gap, so the edges take at least the points they take for
+    d_n = l(V, V) (less any that land on a polygon vertex and are dropped)."""
+    d = polygon.min_vertex_distance()
+    m = boundary_counts(polygon, hi * d, ratio_tolerance(polygon, d))
+    dropped = len(polygon.vertices) if polygon.has_constraints else 0
+    return max(0, int(m.sum() - len(m)) - dropped)
 
 
 def edge_of(pieces: np.ndarray) -> np.ndarray:
@@ -111,18 +129,43 @@ def ratio_tolerance(polygon: Polygon, d_n: float) -> float:
 
 
 def _phase1(polygon, n, hi):
+    """(INSERT's result, d_n, the boundary points T+ keeps and their edges, the
+    piece counts); the points are None when there are more than n of them for
+    certain (they are then not made: a tiny d_n can ask for billions)."""
     res = insert(polygon, n)
     d_n = res.min_distance()
-    pts, m = boundary_points(polygon, hi * d_n, ratio_tolerance(polygon, d_n))
-    return res, d_n, pts, m
+    rtol = ratio_tolerance(polygon, d_n)
+    m = boundary_counts(polygon, hi * d_n, rtol)
+    if int(m.sum() - len(m)) - len(polygon.vertices) > n:
+        return res, d_n, None, None, m
+    pts, m = boundary_points(polygon, hi * d_n, rtol)
+    on = edge_of(m)
+    if polygon.has_constraints:
+        # a fixed point may lie within rounding of a segment without splitting it
+        # (decided exactly); a point placed on that piece can land on it
+        keep = ~is_vertex(polygon, pts)
+        pts, on = pts[keep], on[keep]
+    return res, d_n, pts, on, m
+
+
+def _k(polygon, n, hi):
+    """T+'s k for n, or n + 1 when it is certainly more than n."""
+    pts = _phase1(polygon, n, hi)[2]
+    return n + 1 if pts is None else len(pts)
+
+
+#: Above this lower bound on k, T+ is refused without searching for the smallest
+#: n that works (each step of that search runs INSERT for about k points).
+SEARCH_LIMIT = 100_000
 
 
 def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1) -> int:
     """The smallest n for which T+ places no more boundary points than n (k <= n)."""
 
     def ok(n):
-        return len(_phase1(polygon, n, hi)[2]) <= n
+        return _k(polygon, n, hi) <= n
 
+    start = max(start, least_k(polygon, hi))
     lo, n = max(0, start - 1), max(1, start)
     while not ok(n):
         lo, n = n, 2 * n
@@ -135,6 +178,24 @@ def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1) -> in
         else:
             lo = mid
     return n
+
+
+def _too_few(polygon, n, hi, d_n, k):
+    """The error for k > n: naming the smallest n that works, or, where even a
+    lower bound on k is out of reach, the polygon's closest vertices."""
+    least = least_k(polygon, hi)
+    if least > SEARCH_LIMIT:
+        return InsufficientPointsError(
+            f"T+ needs at least {least} boundary points for this polygon, more than n = {n}: "
+            f"two of its vertices are only {polygon.min_vertex_distance():.6g} apart, d_n is "
+            f"never larger, and T+ puts boundary points at most {hi:g} d_n apart; use "
+            "uniform_mesh or insert for this polygon, or move those vertices apart"
+        )
+    need = smallest_feasible_n(polygon, hi, start=n + 1)
+    return InsufficientPointsError(
+        f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n; "
+        f"the smallest n that works for this polygon is {need}"
+    )
 
 
 def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
@@ -160,7 +221,8 @@ def tplus(polygon: Polygon, n: int, *, spacing=(2.0, 3.0)) -> Mesh:
     ------
     InsufficientPointsError
         If phase 1 asks for more boundary points than n (the message names the
-        smallest n that works).
+        smallest n that works, or, when even a lower bound on k over every n
+        exceeds :data:`SEARCH_LIMIT`, the polygon's closest vertices).
 
     Examples
     --------
@@ -196,22 +258,12 @@ def tplus_if_feasible(polygon: Polygon, n: int):
 
 
 def _tplus(polygon: Polygon, n: int, lo: float, hi: float, *, name_smallest: bool) -> Mesh:
-    _, d_n, bpts, m = _phase1(polygon, n, hi)
-    on = edge_of(m)
-    if polygon.has_constraints:
-        # a fixed point may lie within rounding of a segment without splitting it
-        # (decided exactly); a point placed on that piece can land on it
-        keep = ~is_vertex(polygon, bpts)
-        bpts, on = bpts[keep], on[keep]
-    k = len(bpts)
+    _, d_n, bpts, on, m = _phase1(polygon, n, hi)
+    k = int(m.sum() - len(m)) if bpts is None else len(bpts)
     if k > n:
-        need = ""
-        if name_smallest:
-            need = (f"; the smallest n that works for this polygon is "
-                    f"{smallest_feasible_n(polygon, hi, start=n + 1)}")
-        raise InsufficientPointsError(
-            f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n{need}"
-        )
+        if not name_smallest:
+            raise InsufficientPointsError(f"T+ needs {k} boundary points for n = {n}")
+        raise _too_few(polygon, n, hi, d_n, k)
     # the boundary points are on their edges by construction: placed by index
     res2 = insert_on_edges(polygon, n - k, bpts, on)
 

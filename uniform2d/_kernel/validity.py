@@ -157,30 +157,52 @@ def _pieces_problem(P, u, v, polygon, tol):
     """None if every segment piece of ``polygon`` is a chain of the mesh edges
     ``u -> v`` (directed, both directions present for interior edges) through
     points on it (Steiner points, or a fixed point within the tolerance of it),
-    else what is wrong."""
-    V = polygon.vertices
+    no point on two chains, else what is wrong."""
     order = np.argsort(u, kind="stable")
     us, vs = u[order], v[order]
     start = np.searchsorted(us, np.arange(len(P) + 1))
     used = np.zeros(len(P), bool)
     for a, b in polygon.segment_edges:
-        pa, d = V[a], V[b] - V[a]
-        L2 = float(d @ d)
-        cur, tc = int(a), 0.0
-        for _ in range(len(P)):
+        chain = _piece_chain(P, vs, start, used, polygon.vertices, int(a), int(b), tol)
+        if chain is None:
+            return f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
+        used[chain] = True
+    return None
+
+
+def _piece_chain(P, vs, start, used, V, a, b, tol):
+    """The inner vertices of a chain of mesh edges from a to b through points
+    within ``tol`` of the piece a-b, in order along it and not ``used``, or None.
+
+    Two pieces leaving a vertex at a tiny angle, or a piece a rounding off a
+    ring edge, put the points of the other chain within ``tol`` of this one
+    too: so the search tries the neighbours nearest the piece's line first and
+    backs up from a dead end (each vertex is tried once: the parameter only
+    grows along a chain, so a vertex that led nowhere leads nowhere again)."""
+    pa, d = V[a], V[b] - V[a]
+    L2 = float(d @ d)
+    seen = np.zeros(len(P), bool)
+    path = [(a, 0.0, None)]
+    while path:
+        cur, tc, todo = path[-1]
+        if todo is None:
             nb = vs[start[cur]:start[cur + 1]]
             if (nb == b).any():
-                break
-            nb = nb[(nb != a) & ~used[nb]]
+                return [w for w, _, _ in path[1:]]
+            nb = nb[(nb != a) & ~used[nb] & ~seen[nb]]
             rel = P[nb] - pa
             t = (rel @ d) / L2
             off = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / np.sqrt(L2)
             ok = (off <= tol) & (t > tc) & (t < 1.0)
-            if not ok.any():
-                return f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
-            k = int(np.flatnonzero(ok)[np.argmin(t[ok])])
-            cur, tc = int(nb[k]), float(t[k])
-            used[cur] = True
-        else:
-            return f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
+            k = np.flatnonzero(ok)
+            todo = [(int(nb[j]), float(t[j])) for j in k[np.lexsort((t[k], off[k]))][::-1]]
+            path[-1] = (cur, tc, todo)
+        if not todo:
+            path.pop()
+            continue
+        w, tw = todo.pop()
+        if seen[w]:
+            continue
+        seen[w] = True
+        path.append((w, tw, None))
     return None
