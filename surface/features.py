@@ -22,7 +22,8 @@ import logging
 
 import numpy as np
 
-from uniform2d.errors import InvalidArgumentError
+from uniform2d import Polygon
+from uniform2d.errors import InsufficientPointsError, InvalidArgumentError, InvalidConstraintError
 
 from ._trimesh import dihedral_edges
 from .patch import Patch
@@ -203,11 +204,9 @@ def constrain(patch: Patch, uv, domain, chains, fixed, h: float, measure: str, m
     another line), the chains are sampled again at 0.7 times the spacing, at
     most ``max_refine`` times.
     """
-    from uniform2d import Polygon
-    from uniform2d.errors import InsufficientPointsError, InvalidConstraintError
-
     poly0 = domain.polygon
-    inner = [int(v) for v in fixed if v not in set(np.concatenate(patch.boundary_loops).tolist())]
+    on_boundary = set(np.concatenate(patch.boundary_loops).tolist())
+    inner = [int(v) for v in fixed if int(v) not in on_boundary]
     pts = uv[inner] if inner else np.empty((0, 2))
     for attempt in range(max_refine + 1):
         lines = sample_chains(patch, uv, chains, h, measure)
