@@ -312,7 +312,8 @@ def build(rings, lines, points) -> Constraints:
     n_ring = sum(len(r) for r in rings)
     ring_verts = [p.a for p in pieces[:n_ring]]
     more = [p.a for p in pieces[n_ring:]] + [p.b for p in pieces[n_ring:]] + [_q(x) for x in points]
-    verts = ring_verts + [v for v in dict.fromkeys(more) if v not in set(ring_verts)]
+    on_rings = set(ring_verts)
+    verts = ring_verts + [v for v in dict.fromkeys(more) if v not in on_rings]
     inner = _splits(pieces, verts, n_ring)
     _check_inside(pieces, inner, points, rings)
     new_rings = []
