@@ -71,7 +71,6 @@ from .errors import InsufficientPointsError, InvalidArgumentError
 from ._kernel.insert import REL_TIE
 from .geometry import is_vertex
 from .insert import insert, insert_on_edges
-from .triangulation import ensure_valid
 from .mesh import Mesh
 from .polygon import Polygon
 
@@ -264,7 +263,8 @@ def _tplus(polygon: Polygon, n: int, lo: float, hi: float, *, name_smallest: boo
         if not name_smallest:
             raise InsufficientPointsError(f"T+ needs {k} boundary points for n = {n}")
         raise _too_few(polygon, n, hi, d_n, k)
-    # the boundary points are on their edges by construction: placed by index
+    # the boundary points are on their edges by construction: placed by index;
+    # insert_on_edges checks the mesh (ensure_valid) before it returns it
     res2 = insert_on_edges(polygon, n - k, bpts, on)
 
     V = polygon.vertices
@@ -300,7 +300,6 @@ def _tplus(polygon: Polygon, n: int, lo: float, hi: float, *, name_smallest: boo
         "edge_ratio_bound": 2 * hi if applies else None,
     }
     log.debug("tplus: n=%d d_n=%g k=%d theorem=%s", n, d_n, k, info["theorem_applies"])
-    ensure_valid(res2.mesh_points, res2.triangles, polygon, n, "tplus")
     return Mesh(
         points=np.array(res2.mesh_points),
         triangles=np.array(res2.triangles),

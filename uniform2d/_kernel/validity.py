@@ -106,10 +106,11 @@ def mesh_problem(points, triangles, polygon, n_steiner, boundary_tol):
     skey = np.sort(key)
     if (skey[1:] == skey[:-1]).any():
         return "an edge occurs twice in the same direction (overlapping triangles)"
-    rev = v * N + u
+    # the reverse keys sorted: searching sorted needles walks skey once, where
+    # needles in mesh order jump through it at random (20x slower at 1e6 points)
+    rev = np.sort(v * N + u)
     pos = np.minimum(np.searchsorted(skey, rev), len(skey) - 1)
-    bnd = skey[pos] != rev
-    bu, bv = u[bnd], v[bnd]
+    bv, bu = np.divmod(rev[skey[pos] != rev], N)  # v*N + u has no edge v -> u: u -> v is boundary
     succ = np.full(len(P), -1, np.int64)
     if len(np.unique(bu)) != len(bu):
         return "a boundary vertex has two outgoing boundary edges"
