@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernel import cdt, polytri
+from .errors import InternalError, PLEASE_REPORT
 from .polygon import Polygon
 
 __all__ = ["piece_pairs", "piece_chains", "rebuild"]
@@ -60,6 +61,6 @@ def rebuild(m, triangles, pieces) -> None:
     cdt.build_adjacency(m, np.ascontiguousarray(triangles, dtype=np.int32))
     if len(pieces[0]):
         if polytri.recover_pieces(m, pieces[0], pieces[1]) < 0:
-            raise RuntimeError("a segment piece is not an edge of the mesh (please report it)")
+            raise InternalError(f"a segment piece is not an edge of the mesh {PLEASE_REPORT}")
     else:
         cdt.legalize_all(m)
