@@ -369,3 +369,13 @@ def test_segment_nearly_along_another_is_refused_and_one_ending_beside_it_splits
     res = uniform2d.insert(P, 40)
     check_mesh(res.mesh_points, res.triangles, P, n_steiner=40)
     triangle_regions(P, res.mesh_points, res.triangles)
+
+
+def test_a_point_within_rounding_of_two_ring_edges_is_refused():
+    """(1 - ulp, ulp) is within 2 ulps of both edges at the corner (1, 0): it
+    cannot join the ring twice, and is refused naming both edges."""
+    with pytest.raises(InvalidConstraintError,
+                       match=r"lies on both the outer ring edge 0 and the outer ring edge 1"):
+        Polygon(SQUARE, points=[(1 - U, U)])
+    P = Polygon(SQUARE, points=[(1 - 8 * U, 8 * U)])  # clear of both: inside
+    assert P.n_ring_vertices == 4 and P.fixed.tolist() == [4]
