@@ -36,9 +36,10 @@ def piece_pairs(polygon: Polygon, on: dict, tol: float) -> list:
     """Consecutive vertex pairs along every segment piece s: its ends, the points
     ``on[s]`` ((parameter, vertex) pairs) and any polygon vertex within ``tol``
     (the boundary tolerance) of the piece between its ends, in order along it.  Such a
-    vertex (a fixed point a rounding off a segment, which the polygon does not
-    split there, deciding exactly) may lie exactly on the line between two
-    points placed on the piece, which then cannot be an edge: it joins the chain."""
+    vertex (a fixed point a few ulps off a segment, beyond the 2 that make it a
+    junction splitting the piece, ``constraints.NEAR_ULPS``) may lie exactly on
+    the line between two points placed on the piece, which then cannot be an
+    edge: it joins the chain."""
     V = polygon.vertices
     pairs = []
     for s, (a, b) in enumerate(polygon.segment_edges):
