@@ -148,8 +148,10 @@ def _area_rtol(P):
 # insert vertex", "piece is not a chain of mesh edges", "not locally Delaunay");
 # region areas off by the rounding of boundary points far from the origin; a
 # region thinner than the 1e-6 probe of its sides (no side found: ValueError);
-# and (c_tjunction, the last rows) segments ending a rounding across an edge,
-# refused as crossing it before they became T-junctions.
+# (c_tjunction, the last rows but one) segments ending a rounding across an edge,
+# refused as crossing it before they became T-junctions; and (seed 11) a fixed
+# point 10 ulps off a piece, on its chain for the library's final check but
+# beyond the region check's tolerance.
 FUZZ = [
     ("c_free_1000000006", "uniform_mesh", 129), ("c_free_1000000016", "uniform_mesh", 25),
     ("c_points_1000000047", "tplus", 362), ("c_closed_1000000049", "tplus", 227),
@@ -182,6 +184,7 @@ FUZZ = [
     ("c_tjunction_2000000058", "tplus", 5), ("c_tjunction_2000000058", "uniform_mesh", 8),
     ("c_tjunction_2000000081", "insert", 128), ("c_tjunction_3000000085", "insert", 12),
     ("c_tjunction_3000000085", "uniform_mesh", 134),
+    ("c_near_11000000120", "insert", 181), ("c_near_11000000120", "uniform_mesh", 48),
 ]  # fmt: skip
 
 
@@ -380,3 +383,16 @@ def test_a_point_within_rounding_of_two_ring_edges_is_refused():
         Polygon(SQUARE, points=[(1 - U, U)])
     P = Polygon(SQUARE, points=[(1 - 8 * U, 8 * U)])  # clear of both: inside
     assert P.n_ring_vertices == 4 and P.fixed.tolist() == [4]
+
+
+def test_region_chains_take_a_vertex_the_library_puts_on_the_piece():
+    """Fixed point 16 of c_near_11000000120 lies 10 ulps off piece 10-11 (not a
+    junction), within the boundary tolerance: the mesh's chain of the piece runs
+    through it, and the region check follows that chain."""
+    from uniform2d.regions import segment_chains as region_chains
+
+    P = domain("c_near_11000000120")
+    assert P.segment_edges[0].tolist() == [10, 11] and P.fixed.tolist() == [16]
+    res = uniform2d.insert(P, 181)
+    edges, ids = region_chains(P, res.mesh_points, res.triangles)
+    assert edges[ids == 0].tolist() == [[10, 16], [16, 11]]

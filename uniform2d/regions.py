@@ -238,13 +238,17 @@ def segment_chains(polygon, points, triangles) -> tuple[np.ndarray, np.ndarray]:
     pts, tri = _check_mesh_arrays(polygon, points, triangles)
     if not len(polygon.segment_edges):
         return np.empty((0, 2), np.int64), np.empty(0, np.int64)
+    from .triangulation import boundary_tol  # (it imports the polygon model, which imports this)
+
     indptr, nbrs = _neighbours(tri, len(pts))
     scale = float(np.abs(pts).max())
+    # at least the library's own: it puts a vertex that close to a piece on its chain
+    near = boundary_tol(polygon)
     used = np.zeros(len(pts), bool)
     edges, ids = [], []
     for (a, b), s in zip(polygon.segment_edges, polygon.segment_ids):
         L = float(np.hypot(*(pts[b] - pts[a])))
-        tol = 1e-9 * L + 8 * np.spacing(scale)
+        tol = max(1e-9 * L + 8 * np.spacing(scale), near)
         chain = _chain(pts, indptr, nbrs, used, len(polygon.vertices), int(a), int(b), tol)
         edges.extend(zip(chain[:-1], chain[1:]))
         ids.extend([int(s)] * (len(chain) - 1))
