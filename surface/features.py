@@ -23,7 +23,8 @@ import logging
 import numpy as np
 
 from uniform2d import Polygon
-from uniform2d.errors import InsufficientPointsError, InvalidArgumentError, InvalidConstraintError
+from uniform2d.errors import (
+    InsufficientPointsError, InternalError, InvalidArgumentError, InvalidConstraintError)
 
 from ._trimesh import dihedral_edges
 from .patch import Patch
@@ -217,7 +218,8 @@ def constrain(patch: Patch, uv, domain, chains, fixed, h: float, measure: str, m
             h *= 0.7
             continue
         if poly.n_ring_vertices != poly0.n_ring_vertices:
-            raise RuntimeError("a feature line met the boundary away from a ring vertex")
+            raise InternalError("a feature line met the boundary away from a ring vertex (a bug in "
+                                "uniform2d: please report it with the patch)")
         lines.anchors.update(zip(map(tuple, pts), patch.vertices[inner]))
         if attempt:
             log.warning("feature-line spacing refined to %.6g to keep the lines apart", h)

@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from uniform2d import insert
-from uniform2d.errors import InsufficientPointsError, InvalidArgumentError
+from uniform2d.errors import InsufficientPointsError, InternalError, InvalidArgumentError
 from uniform2d.geometry import boundary_edges, nearest_segment, segment_distance
 from uniform2d.optimize import improve, lattice_seed
 
@@ -122,8 +122,9 @@ def _mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
         desc = "uniform2d.insert" + graded
     K = len(polygon.vertices)
     if len(P) != K + n_interior or not np.array_equal(P[:K], polygon.vertices):
-        raise RuntimeError(
-            f"planar mesher broke its contract: {len(P)} points for {K} + {n_interior}"
+        raise InternalError(
+            f"planar mesher broke its contract: {len(P)} points for {K} + {n_interior} "
+            "(a bug in uniform2d: please report it with the patch)"
         )
     return P, T, desc
 

@@ -24,6 +24,7 @@ from invariants import check_mesh
 from reference_insert import reference_insert
 from uniform2d import Polygon
 from uniform2d._kernel.validity import mesh_problem
+from uniform2d.errors import InternalError
 
 SQ = [(0, 0), (4, 0), (4, 3), (0, 3)]
 HOLE = [(2.5, 0.5), (3.5, 0.5), (3.5, 1.2), (2.5, 1.2)]
@@ -300,8 +301,8 @@ def test_a_piece_through_a_vertex_is_refused_not_forced(monkeypatch):
     # (2, 2) lies on the segment from (1, 1) to (2.5, 2.5): no edge can join them
     assert polytri.recover_pieces(loaded.m, np.array([u]), np.array([v])) == -1
     tri = cdt.triangle_list(loaded.m)
-    with pytest.raises(RuntimeError, match="segment piece is not an edge"):
+    with pytest.raises(InternalError, match="segment piece is not an edge.*please report"):
         rebuild(loaded.m, tri, (np.array([u]), np.array([v])))
     monkeypatch.setattr(polytri, "recover_pieces", lambda m, us, vs: -1)
-    with pytest.raises(RuntimeError, match="could not recover the segment piece"):
+    with pytest.raises(InternalError, match="could not recover the segment piece.*please report"):
         triangulation.load(_polygon("free"))

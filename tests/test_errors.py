@@ -90,3 +90,21 @@ def test_surface_bad_arguments(kwargs, match):
     patch = surface.Patch(V, [[0, 1, 2], [0, 2, 3]])
     with pytest.raises(errors.InvalidArgumentError, match=match):
         surface.remesh(patch, **kwargs)
+
+
+def test_internal_failures_are_internal_errors(monkeypatch):
+    """A step that cannot fail on a valid polygon raises InternalError (a
+    RuntimeError, not a Uniform2dError) asking for a report: here the exact
+    triangulation given a repeated vertex, and the loader when the kernel
+    cannot insert a vertex."""
+    from uniform2d import triangulation
+    from uniform2d._kernel import polytri
+
+    xy = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 0.0), (0.0, 1.0)])
+    with pytest.raises(errors.InternalError, match="please report") as exc:
+        polytri.triangulate(xy, [[0, 1, 2, 3]])
+    assert isinstance(exc.value, RuntimeError) and not isinstance(exc.value, Uniform2dError)
+    monkeypatch.setattr(triangulation.cavity, "insert_sites", lambda m, idx: -1)
+    P = uniform2d.Polygon([(0, 0), (1, 0), (1, 1), (0, 1)], points=[(0.5, 0.5)])
+    with pytest.raises(errors.InternalError, match="could not insert vertex 4 .*please report"):
+        triangulation.load(P)

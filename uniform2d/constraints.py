@@ -2,14 +2,19 @@
 
 :func:`build` turns the caller's polylines and points into a planar straight-line
 graph on top of the polygon's rings, decided exactly (rational arithmetic on the
-floats as given, so no tolerance judges a junction):
+floats as given, so no floating-point error judges a junction):
 
 * every vertex that lies on a piece of a segment or a ring edge, other than its
   ends, splits it there: a segment ending on a ring edge (a T-junction) or a
   fixed point on it becomes a vertex of that ring, a fixed point or another
   segment's end on a segment splits that segment;
-* pieces that cross properly, or overlap along a line, are refused with the
-  two pieces and the place named; so is a piece outside P or in a hole.
+* "on" includes within :data:`NEAR_ULPS` units in the last place of the
+  coordinates (still decided exactly): a junction placed by computing
+  ``a + t (b - a)`` rounds a hair off its piece, and a vertex left that close
+  beside a piece would make a sliver no coordinate can hold a point in;
+* pieces that cross properly, or overlap along a line (or that close to one),
+  are refused with the two pieces and the place named; so is a piece outside
+  P or in a hole.
 
 Nothing is repaired silently: the only change to the input is the splitting
 above, which keeps every given point where it was given.
@@ -73,6 +78,29 @@ def _strictly_inside(p, a, b) -> bool:
     if _orient(a, b, p) != 0 or p == a or p == b:
         return False
     return min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= p[1] <= max(a[1], b[1])
+
+
+#: A vertex this many units in the last place (of the largest coordinate of it
+#: and the piece) or nearer to a piece, beside its inside, is a junction on it.
+NEAR_ULPS = 2
+
+
+def _near_tol(*pts) -> Fraction:
+    big = max(abs(float(c)) for p in pts for c in p)
+    return Fraction(NEAR_ULPS * float(np.spacing(big)))
+
+
+def _on_piece(p, a, b) -> bool:
+    """Is p a junction on piece a-b: its foot strictly between a and b, and p on
+    the line or within :data:`NEAR_ULPS` units in the last place of it?  (Exact,
+    rational points.)"""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    px, py = p[0] - a[0], p[1] - a[1]
+    L2 = dx * dx + dy * dy
+    if not 0 < px * dx + py * dy < L2:
+        return False
+    cross = dx * py - dy * px
+    return cross == 0 or cross * cross <= _near_tol(p, a, b) ** 2 * L2
 
 
 def polyline(coords, name: str) -> np.ndarray:
@@ -156,13 +184,18 @@ def _pieces(rings, lines) -> list[_Piece]:
 
 
 def _boxes(pieces) -> np.ndarray:
+    """(len(pieces), 4) bounding boxes, grown by twice the junction tolerance
+    (:func:`_on_piece`), so that a vertex near a piece is in its box."""
     a = np.array([[float(p.a[0]), float(p.a[1])] for p in pieces])
     b = np.array([[float(p.b[0]), float(p.b[1])] for p in pieces])
-    return np.hstack([np.minimum(a, b), np.maximum(a, b)])
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    grow = 2 * NEAR_ULPS * np.spacing(np.maximum(np.abs(lo), np.abs(hi)).max(axis=1))
+    return np.hstack([lo - grow[:, None], hi + grow[:, None]])
 
 
 def _candidate_pairs(pieces) -> np.ndarray:
-    """Index pairs (i < j, j a segment piece) whose bounding boxes meet (exact)."""
+    """Index pairs (i < j, j a segment piece) whose bounding boxes (grown by the
+    junction tolerance) meet."""
     box = _boxes(pieces)
     tree = shapely.STRtree(shapely.box(*box.T))
     seg = np.array([i for i, p in enumerate(pieces) if p.ring < 0], dtype=np.int64)
@@ -197,19 +230,20 @@ def _check_fold(p: _Piece, q: _Piece) -> None:
 
 
 def _check_pair(p: _Piece, q: _Piece) -> None:
+    """Refuse two pieces that overlap (two distinct points on both: shared ends or
+    junctions, :func:`_on_piece`) or cross properly away from a junction."""
+    inner = [x for x in (q.a, q.b) if _on_piece(x, p.a, p.b)]
+    inner += [x for x in (p.a, p.b) if _on_piece(x, q.a, q.b)]
+    if len(set(inner) | ({p.a, p.b} & {q.a, q.b})) >= 2:
+        where = _fmt(inner[0] if inner else p.a)
+        raise InvalidConstraintError(
+            f"{q.what} runs along {p.what} (they overlap near {where}); a segment may not "
+            "overlap a ring or another segment: remove the repeated part"
+        )
+    if inner:  # a junction (one end on the other piece, maybe a hair across it)
+        return
     o1, o2 = _orient(p.a, p.b, q.a), _orient(p.a, p.b, q.b)
     o3, o4 = _orient(q.a, q.b, p.a), _orient(q.a, q.b, p.b)
-    if o1 == o2 == 0:
-        ends = {p.a, p.b} & {q.a, q.b}
-        inner = [x for x in (q.a, q.b) if _strictly_inside(x, p.a, p.b)]
-        inner += [x for x in (p.a, p.b) if _strictly_inside(x, q.a, q.b)]
-        if inner or len(ends) == 2:
-            where = _fmt(inner[0] if inner else p.a)
-            raise InvalidConstraintError(
-                f"{q.what} runs along {p.what} (they overlap near {where}); a segment may not "
-                "overlap a ring or another segment: remove the repeated part"
-            )
-        return
     if o1 * o2 < 0 and o3 * o4 < 0:
         x = _crossing(p, q)
         other = "itself" if p.what == q.what else p.what
@@ -264,8 +298,10 @@ class _Rings:
         return f"{what} at {_fmt(xy)} lies outside the polygon; move it inside the outer ring"
 
 
-def _check_inside(pieces, inner, points, rings) -> None:
-    """Every segment piece (split at the vertices on it) and point lies in closed P."""
+def _check_inside(pieces, inner, points, rings, on_rings) -> None:
+    """Every segment piece (split at the vertices on it) and point lies in closed P
+    (a point in ``on_rings``, a junction on a ring edge, is on the boundary even
+    where it lies a rounding outside the edge)."""
     loc = _Rings(rings)
     for p, split in zip(pieces, inner):
         if p.ring >= 0:
@@ -276,12 +312,13 @@ def _check_inside(pieces, inner, points, rings) -> None:
             if loc.where(mid) < 0:
                 raise InvalidConstraintError(loc.outside_message(f"{p.what} (piece {p.local})", mid))
     for i, pt in enumerate(points):
-        if loc.where(_q(pt)) < 0:
+        if _q(pt) not in on_rings and loc.where(_q(pt)) < 0:
             raise InvalidConstraintError(loc.outside_message(f"point {i}", _q(pt)))
 
 
 def _splits(pieces, verts, n_ring: int) -> list[list]:
-    """For every piece, the vertices strictly inside it, ordered from a to b.
+    """For every piece, the vertices that are junctions on it (:func:`_on_piece`),
+    ordered from a to b.
 
     ``verts[:n_ring]`` are ring vertices: they cannot lie inside a ring edge (the
     rings are simple), so ring pieces are only matched with the others.
@@ -293,11 +330,26 @@ def _splits(pieces, verts, n_ring: int) -> list[list]:
         lo = n_ring if p.ring >= 0 else 0
         near = lo + np.flatnonzero((vf[lo:, 0] >= box[k, 0]) & (vf[lo:, 0] <= box[k, 2])
                                    & (vf[lo:, 1] >= box[k, 1]) & (vf[lo:, 1] <= box[k, 3]))  # fmt: skip
-        inner = [verts[i] for i in near if _strictly_inside(verts[i], p.a, p.b)]
+        inner = [verts[i] for i in near if _on_piece(verts[i], p.a, p.b)]
         dx, dy = p.b[0] - p.a[0], p.b[1] - p.a[1]
         inner.sort(key=lambda v: (v[0] - p.a[0]) * dx + (v[1] - p.a[1]) * dy)
         out.append(inner)
     return out
+
+
+def _check_ring_junctions(ring_pieces, inner) -> None:
+    """A vertex may join one ring edge only: one within rounding of two (beside
+    the vertex they share) would enter the ring twice."""
+    seen = {}
+    for p, split in zip(ring_pieces, inner):
+        for v in split:
+            if v in seen:
+                raise InvalidConstraintError(
+                    f"a segment or fixed point vertex at {_fmt(v)} lies on both {seen[v].what} "
+                    f"edge {seen[v].owner} and {p.what} edge {p.owner} (within rounding of the "
+                    "vertex they share); move it onto that vertex or clearly off it"
+                )
+            seen[v] = p
 
 
 def build(rings, lines, points) -> Constraints:
@@ -315,7 +367,8 @@ def build(rings, lines, points) -> Constraints:
     on_rings = set(ring_verts)
     verts = ring_verts + [v for v in dict.fromkeys(more) if v not in on_rings]
     inner = _splits(pieces, verts, n_ring)
-    _check_inside(pieces, inner, points, rings)
+    _check_ring_junctions(pieces[:n_ring], inner[:n_ring])
+    _check_inside(pieces, inner, points, rings, {v for split in inner[:n_ring] for v in split})
     new_rings = []
     k = 0
     for ring in rings:

@@ -70,11 +70,17 @@ class ArgumentTypeError(InvalidArgumentError, TypeError):
     """A function argument has the wrong type (also a ``TypeError``)."""
 
 
-class InternalError(RuntimeError):
-    """uniform2d made a mesh that fails its own validity check.
+#: The end of every :class:`InternalError` message that names no mesh.
+PLEASE_REPORT = (
+    "(a bug in uniform2d, not a problem with the input: please report it with the polygon and n)")
 
-    Not a :class:`Uniform2dError`: the input is fine, the library is wrong.  The
-    mesh is not returned; the message asks for the polygon and n to be reported.
+
+class InternalError(RuntimeError):
+    """uniform2d failed on valid input: a mesh that fails its own validity check,
+    or a step that cannot fail on a valid polygon did.
+
+    Not a :class:`Uniform2dError`: the input is fine, the library is wrong.  No
+    mesh is returned; the message asks for the polygon and n to be reported.
     """
 
 

@@ -42,7 +42,7 @@ from scipy.spatial import cKDTree
 from ._kernel import heap
 from ._kernel import insert as kinsert
 from ._kernel.outcomes import ERR_PRECISION, RUN_STRIDE, run_failure
-from .errors import CoordinatePrecisionError, InsufficientPointsError
+from .errors import CoordinatePrecisionError, InsufficientPointsError, InternalError, PLEASE_REPORT
 from .polygon import Polygon
 from .triangulation import _extent, _rounding, ensure_valid, load, site_edges, unload
 
@@ -149,8 +149,9 @@ def insert_on_edges(polygon: Polygon, n: int, sites, edges, size=None) -> Insert
     Nothing is classified by distance, so no tolerance can misjudge a site: the
     library's own callers (T+'s boundary points) come here, and a site near a
     polygon vertex is simply a boundary site.  A site that cannot be placed
-    where it says it is raises ``RuntimeError``.  Every mesh made here passes
-    :func:`~uniform2d.triangulation.ensure_valid` before it is returned.
+    where it says it is raises :class:`~uniform2d.errors.InternalError`.  Every
+    mesh made here passes :func:`~uniform2d.triangulation.ensure_valid` before
+    it is returned.
     """
     loaded = load(polygon, sites, size=size, room=n, edges=edges)
     m, centre, scale, sites = loaded.m, loaded.centre, loaded.scale, loaded.sites
@@ -195,7 +196,7 @@ def _fail(polygon: Polygon, status: int, n: int, out_xy, out_w, out_b):
             f"coarse to place point {j + 1} of {n}; translate the polygon nearer the origin "
             "(e.g. subtract its centre) or ask for fewer points"
         )
-    raise RuntimeError(
+    raise InternalError(
         f"INSERT kernel failed ({what}, status {status}) at step {j}, point {tuple(out_xy[j])}, "
-        f"weight {out_w[j]!r}, on boundary {bool(out_b[j])}"
+        f"weight {out_w[j]!r}, on boundary {bool(out_b[j])} {PLEASE_REPORT}"
     )

@@ -151,7 +151,10 @@ class Polygon:
     :attr:`vertices` are the ring vertices (``ring_offsets`` delimits the rings)
     followed by the constraint vertices not on a ring; :attr:`edges` are the ring
     edges only and :attr:`segment_edges` the segments' pieces, split at every
-    vertex on them.  Junctions are decided exactly on the coordinates as given.
+    vertex on them.  Junctions are decided exactly on the coordinates as given,
+    "on" a piece including within 2 units in the last place of it (a junction
+    computed onto a rotated edge rounds off its line; :mod:`uniform2d.constraints`).
+    :attr:`area` and :attr:`perimeter` are those of the rings with the junctions.
 
     Examples
     --------
@@ -207,11 +210,12 @@ class Polygon:
                     )
 
         rings = [outer_ring, *hole_rings]
-        self._area = signed_area(outer_ring) + sum(signed_area(h) for h in hole_rings)
+        extra = self._set_constraints(rings, segments, points)
+        # of the rings as spliced: a junction may lie a rounding off its edge
+        self._area = signed_area(rings[0]) + sum(signed_area(h) for h in rings[1:])
         self._perimeter = float(
             sum(np.linalg.norm(np.roll(r, -1, axis=0) - r, axis=1).sum() for r in rings)
         )
-        extra = self._set_constraints(rings, segments, points)
         for r in rings:
             r.setflags(write=False)
         self._rings = tuple(rings)

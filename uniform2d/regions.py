@@ -44,6 +44,7 @@ import shapely
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from ._kernel.validity import _piece_chain
 from .errors import InvalidArgumentError, InvalidConstraintError
 
 __all__ = ["Regions", "faces", "region_seeds", "triangle_regions", "segment_chains",
@@ -183,31 +184,23 @@ def _neighbours(triangles: np.ndarray, n_points: int):
     return indptr, both[:, 1]
 
 
-def _walk(points, indptr, nbrs, a: int, b: int, tol: float) -> list[int]:
-    """The mesh vertices from ``a`` to ``b`` along the straight piece a-b: at each
-    step the neighbour farther along the piece that lies nearest its line.  Mesh
-    vertices placed on a piece are on its line up to the rounding of their
-    coordinates (``tol``); any other neighbour is farther off."""
-    pa, d = points[a], points[b] - points[a]
-    L2 = float(d @ d)
-    chain, cur, t_cur = [a], a, 0.0
-    for _ in range(len(points)):
-        ws = nbrs[indptr[cur]:indptr[cur + 1]]
-        if b in ws:
-            return chain + [b]
-        q = points[ws] - pa
-        t = (q @ d) / L2
-        off = np.abs(d[0] * q[:, 1] - d[1] * q[:, 0]) / np.sqrt(L2)
-        ok = (t > t_cur) & (t < 1.0) & (off <= tol)
-        if not ok.any():
-            break
-        k = int(np.flatnonzero(ok)[np.argmin(off[ok])])
-        cur, t_cur = int(ws[k]), float(t[k])
-        chain.append(cur)
-    raise InvalidArgumentError(
-        f"the mesh does not contain the segment piece from vertex {a} {_fmt(*points[a])} to "
-        f"vertex {b} {_fmt(*points[b])} as a chain of edges; it does not conform to the "
-        "polygon's segments")
+def _chain(points, indptr, nbrs, used, n_vertices: int, a: int, b: int, tol: float) -> list[int]:
+    """The mesh vertices from ``a`` to ``b`` along the straight piece a-b, through
+    points within ``tol`` of it (mesh vertices placed on a piece are on its line
+    up to the rounding of their coordinates) not ``used`` by another chain.
+
+    A search (the final check's, :func:`uniform2d._kernel.validity._piece_chain`),
+    not a walk to the nearest point: where two pieces leave a vertex at a tiny
+    angle, or one runs a rounding off a ring edge, the other's points are within
+    ``tol`` too, and a walk that took one of them would miss the chain."""
+    inner = _piece_chain(points, nbrs, indptr, used, points[:n_vertices], a, b, tol)
+    if inner is None:
+        raise InvalidArgumentError(
+            f"the mesh does not contain the segment piece from vertex {a} {_fmt(*points[a])} to "
+            f"vertex {b} {_fmt(*points[b])} as a chain of edges; it does not conform to the "
+            "polygon's segments")
+    used[inner] = True
+    return [a, *inner, b]
 
 
 def _check_mesh_arrays(polygon, points, triangles):
@@ -245,15 +238,32 @@ def segment_chains(polygon, points, triangles) -> tuple[np.ndarray, np.ndarray]:
     pts, tri = _check_mesh_arrays(polygon, points, triangles)
     if not len(polygon.segment_edges):
         return np.empty((0, 2), np.int64), np.empty(0, np.int64)
+    from .triangulation import boundary_tol  # (it imports the polygon model, which imports this)
+
     indptr, nbrs = _neighbours(tri, len(pts))
     scale = float(np.abs(pts).max())
+    # at least the library's own: it puts a vertex that close to a piece on its chain
+    near = boundary_tol(polygon)
+    used = np.zeros(len(pts), bool)
     edges, ids = [], []
     for (a, b), s in zip(polygon.segment_edges, polygon.segment_ids):
         L = float(np.hypot(*(pts[b] - pts[a])))
-        chain = _walk(pts, indptr, nbrs, int(a), int(b), 1e-9 * L + 8 * np.spacing(scale))
+        tol = max(1e-9 * L + 8 * np.spacing(scale), near)
+        chain = _chain(pts, indptr, nbrs, used, len(polygon.vertices), int(a), int(b), tol)
         edges.extend(zip(chain[:-1], chain[1:]))
         ids.extend([int(s)] * (len(chain) - 1))
     return np.array(edges, np.int64).reshape(-1, 2), np.array(ids, np.int64)
+
+
+def _area_slack(polygon, regions: Regions) -> np.ndarray:
+    """(R,) how far a conforming mesh's area in each region may be off its area:
+    1e-9 of P's, or, where the coordinates are coarse for the region (far from
+    the origin), the rounding of the points on its rotated boundary pieces --
+    each up to an ulp off its piece's line, shifting the area by that times the
+    length along it."""
+    ulp = float(np.spacing(np.abs(polygon.vertices).max()))
+    perimeter = np.array([f.length for f in regions.faces])
+    return np.maximum(1e-9 * polygon.area, 2 * ulp * perimeter)
 
 
 def triangle_regions(polygon, points, triangles, regions: Regions | None = None) -> np.ndarray:
@@ -302,7 +312,7 @@ def triangle_regions(polygon, points, triangles, regions: Regions | None = None)
                 "does not tile it")
         out[members] = r
     sums = np.bincount(out, weights=area, minlength=len(regions))
-    bad = np.flatnonzero(np.abs(sums - regions.areas) > 1e-9 * polygon.area)
+    bad = np.flatnonzero(np.abs(sums - regions.areas) > _area_slack(polygon, regions))
     if len(bad):
         r = int(bad[0])
         raise InvalidArgumentError(

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernel import cdt, polytri
+from .errors import InternalError, PLEASE_REPORT
 from .polygon import Polygon
 
 __all__ = ["piece_pairs", "piece_chains", "rebuild"]
@@ -35,9 +36,10 @@ def piece_pairs(polygon: Polygon, on: dict, tol: float) -> list:
     """Consecutive vertex pairs along every segment piece s: its ends, the points
     ``on[s]`` ((parameter, vertex) pairs) and any polygon vertex within ``tol``
     (the boundary tolerance) of the piece between its ends, in order along it.  Such a
-    vertex (a fixed point a rounding off a segment, which the polygon does not
-    split there, deciding exactly) may lie exactly on the line between two
-    points placed on the piece, which then cannot be an edge: it joins the chain."""
+    vertex (a fixed point a few ulps off a segment, beyond the 2 that make it a
+    junction splitting the piece, ``constraints.NEAR_ULPS``) may lie exactly on
+    the line between two points placed on the piece, which then cannot be an
+    edge: it joins the chain."""
     V = polygon.vertices
     pairs = []
     for s, (a, b) in enumerate(polygon.segment_edges):
@@ -60,6 +62,6 @@ def rebuild(m, triangles, pieces) -> None:
     cdt.build_adjacency(m, np.ascontiguousarray(triangles, dtype=np.int32))
     if len(pieces[0]):
         if polytri.recover_pieces(m, pieces[0], pieces[1]) < 0:
-            raise RuntimeError("a segment piece is not an edge of the mesh (please report it)")
+            raise InternalError(f"a segment piece is not an edge of the mesh {PLEASE_REPORT}")
     else:
         cdt.legalize_all(m)

@@ -140,8 +140,9 @@ def _phase1(polygon, n, hi):
     pts, m = boundary_points(polygon, hi * d_n, rtol)
     on = edge_of(m)
     if polygon.has_constraints:
-        # a fixed point may lie within rounding of a segment without splitting it
-        # (decided exactly); a point placed on that piece can land on it
+        # a fixed point a few ulps off a segment (beyond the 2 that make it a
+        # junction, constraints.NEAR_ULPS) does not split it; a point placed on
+        # that piece can round onto it
         keep = ~is_vertex(polygon, pts)
         pts, on = pts[keep], on[keep]
     return res, d_n, pts, on, m

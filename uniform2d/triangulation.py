@@ -24,7 +24,8 @@ from ._kernel import cavity, cdt, polytri
 from ._kernel.distance import to_segments
 from ._kernel.outcomes import failed_site
 from ._kernel.validity import mesh_problem
-from .errors import ArgumentTypeError, InternalError, InvalidArgumentError, InvalidSitesError
+from .errors import (
+    PLEASE_REPORT, ArgumentTypeError, InternalError, InvalidArgumentError, InvalidSitesError)
 from .polygon import Polygon
 from .segment_chains import piece_chains, piece_pairs, rebuild
 from .sizefield import SizeField
@@ -231,7 +232,7 @@ def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
     want = _complex_key(corners.reshape(-1, 2))
     pos = np.minimum(np.searchsorted(key[order], want), len(key) - 1)
     if not np.array_equal(key[order][pos], want):
-        raise RuntimeError("GEOS returned a vertex that is not a polygon vertex")
+        raise InternalError(f"GEOS returned a vertex that is not a polygon vertex {PLEASE_REPORT}")
     tris = idx[order[pos]].astype(np.int32).reshape(-1, 3)
     p = xy[tris]
     cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
@@ -340,14 +341,15 @@ def _initial(allxy, rings, chains, nR, nmax, tmax, grid, normal):
         own = [[v for v in r if v < nR] for r in rings]
         tris = polytri.triangulate(allxy[:nR], own)
         if cdt.build_adjacency(m, tris) != nR or not _valid(m, allxy, own):
-            raise RuntimeError("could not triangulate the polygon exactly (please report it)")
+            raise InternalError(f"could not triangulate the polygon exactly {PLEASE_REPORT}")
         if chains:
             idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
             first = np.array([([e] + c)[j] for e, c in chains for j in range(len(c))], np.int64)
             status = cavity.split_sites(m, idx, first)
             if status < 0:
                 k = int(idx[-status - 1])
-                raise RuntimeError(f"could not put boundary vertex {k} on its edge")
+                raise InternalError(
+                    f"could not put boundary vertex {k} on its edge {PLEASE_REPORT}")
     cdt.legalize_all(m)
     return m, xy
 
@@ -427,13 +429,15 @@ def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) 
         idx = idx[hilbert_order(allxy[idx])]
         status = cavity.insert_sites(m, idx)
         if status < 0:
-            raise RuntimeError(f"could not insert vertex {int(idx[failed_site(status)])}")
+            k = int(idx[failed_site(status)])
+            raise InternalError(f"could not insert vertex {k} {PLEASE_REPORT}")
     if pieces:
         us, vs = np.array(pieces, dtype=np.int64).T.copy()
         status = polytri.recover_pieces(m, us, vs)
         if status < 0:
             u, v = pieces[-status - 1]
-            raise RuntimeError(f"could not recover the segment piece {u}-{v} as an edge")
+            raise InternalError(
+                f"could not recover the segment piece {u}-{v} as an edge {PLEASE_REPORT}")
     return Loaded(m, xy, sites, edges, centre, scale, grain, tmax)
 
 

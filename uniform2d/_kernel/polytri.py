@@ -23,6 +23,7 @@ GEOS's result fails the exact check.
 import numpy as np
 from ._jit import njit
 
+from ..errors import InternalError, PLEASE_REPORT
 from .cavity import insert_sites
 from .cdt import allocate, build_adjacency, flip, legalize_all, nxt, prv, set_nv, triangle_list
 from .predicates import orient2d
@@ -221,7 +222,8 @@ def triangulate(xy: np.ndarray, rings) -> np.ndarray:
     """(T, 3) counter-clockwise triangles of the polygon whose vertices ``xy``
     (N, 2) are joined by ``rings`` (lists of indices; outer ring counter-clockwise,
     holes clockwise), decided exactly; every ring vertex is a corner.  Raises
-    RuntimeError if the rings are not a simple polygon with holes."""
+    InternalError if the rings are not a simple polygon with holes (P's rings
+    are checked on construction: a bug)."""
     nV = len(xy)
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     c = 0.5 * (lo + hi)
@@ -233,12 +235,13 @@ def triangulate(xy: np.ndarray, rings) -> np.ndarray:
     set_nv(m, nV + 3)
     build_adjacency(m, np.array([[nV, nV + 1, nV + 2]], np.int32))
     if insert_sites(m, np.lexsort((xy[:, 1], xy[:, 0])).astype(np.int64)) < 0:
-        raise RuntimeError("exact triangulation: a vertex could not be inserted")
+        raise InternalError(f"exact triangulation: a vertex could not be inserted {PLEASE_REPORT}")
     ring_next = np.full(nV, -1, np.int64)
     for ring in rings:
         ring = np.asarray(ring, dtype=np.int64)
         ring_next[ring] = np.roll(ring, -1)
     if not _edges_ok(m, ring_next, nV):
-        raise RuntimeError("exact triangulation: a ring edge could not be recovered")
+        raise InternalError(
+            f"exact triangulation: a ring edge could not be recovered {PLEASE_REPORT}")
     tris = triangle_list(m)
     return np.ascontiguousarray(tris[_inside(m, ring_next, nV)], dtype=np.int32)

@@ -9,7 +9,7 @@ import numbers
 import numpy as np
 
 from .._kernel.distance import to_segments
-from ..errors import InsufficientPointsError
+from ..errors import InsufficientPointsError, InternalError, PLEASE_REPORT
 from ..geometry import is_vertex, polygon_edges
 from ..insert import insert
 from ..mesh import Mesh
@@ -221,7 +221,8 @@ def optimize_mesh(
     }
     if not (v_new <= v_tp) or len(pts) != nV + n:  # v_tp is inf without a T+
         if tp is None:
-            raise RuntimeError(f"uniform: {len(pts) - nV} Steiner points instead of {n} (a bug)")
+            raise InternalError(
+                f"uniform: {len(pts) - nV} Steiner points instead of {n} {PLEASE_REPORT}")
         info["fallback"] = "tplus"
         info["after"] = _summary(q_tp)
         info["objective_value"] = v_tp

@@ -383,14 +383,30 @@ def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> n
 
 def _sides(polygon: Polygon, faces) -> np.ndarray:
     """(E + S, 2): the region on the left and on the right of every constraint
-    edge (-1 for none: outside P), probed a millionth of its length away from
-    its middle."""
-    a, d, L = polygon_edges(polygon, constraints=True)
-    off = 1e-6 * np.stack([-d[:, 1], d[:, 0]], axis=1)
-    out = np.full((len(L), 2), -1, np.int64)
-    for k, probe in enumerate((a + 0.5 * d + off, a + 0.5 * d - off)):
-        for r, f in enumerate(faces):
-            out[shapely.contains_xy(f, probe[:, 0], probe[:, 1]), k] = r
+    edge (-1 for none: outside P).
+
+    Matched exactly: the faces are closed from the constraint edges themselves,
+    so an edge on a face's boundary is a pair of consecutive vertices of one of
+    its rings, which has the face on its left where it runs counter-clockwise
+    round the face (a probe a small step off the edge can land in the wrong
+    region where the region is thinner than the step).  An edge on no face's
+    boundary (a free piece, a bridge) lies inside one face, on both sides."""
+    left = {}
+    for r, f in enumerate(faces):
+        for k, ring in enumerate((f.exterior, *f.interiors)):
+            xy = [tuple(c) for c in np.asarray(ring.coords)]
+            if ring.is_ccw != (k == 0):  # the face's side first
+                xy.reverse()
+            left.update({(p, q): r for p, q in zip(xy[:-1], xy[1:])})
+    V = [tuple(v) for v in polygon.vertices.tolist()]
+    E = polygon.constraint_edges
+    out = np.array([[left.get((V[u], V[v]), -1), left.get((V[v], V[u]), -1)] for u, v in E],
+                   dtype=np.int64).reshape(-1, 2)
+    a, d, _ = polygon_edges(polygon, constraints=True)
+    for e in np.flatnonzero((out == -1).all(axis=1) & (np.arange(len(E)) >= len(polygon.edges))):
+        mid = a[e] + 0.5 * d[e]
+        inside = [r for r, f in enumerate(faces) if shapely.contains_xy(f, *mid)]
+        out[e] = inside[0] if inside else -1
     return out
 
 
