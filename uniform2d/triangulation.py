@@ -476,6 +476,7 @@ def triangulate(polygon: Polygon, sites=None, edges=None) -> tuple[np.ndarray, n
     loaded = load(polygon, sites, edges=edges)
     points = np.concatenate([polygon.vertices, loaded.sites], axis=0)
     triangles = unload(loaded)
+    del loaded  # the kernel's arrays go before the check's own
     ensure_valid(points, triangles, polygon, len(points) - len(polygon.vertices), "triangulate")
     return points, triangles
 
