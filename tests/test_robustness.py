@@ -260,3 +260,19 @@ def test_area2_is_twice_the_exact_signed_area(case):
     )
     got = _area2(pts, tri)
     assert abs(Fraction(got) - exact) <= 8 * np.finfo(float).eps * float(exact)
+
+
+def test_hilbert_order_walks_a_full_grid_cell_by_cell():
+    """On every cell of a 2**b x 2**b grid the Hilbert order visits each cell once,
+    each step to an edge-neighbour, from one corner cell to an adjacent corner."""
+    from uniform2d.triangulation import hilbert_order
+
+    side = 8
+    g = np.array([(i, j) for j in range(side) for i in range(side)], dtype=np.float64)
+    rng = np.random.default_rng(2)
+    g = g[rng.permutation(len(g))]
+    order = hilbert_order(g, bits=3)
+    assert sorted(order.tolist()) == list(range(side * side))
+    walk = g[order]
+    assert (np.abs(np.diff(walk, axis=0)).sum(axis=1) == 1).all()
+    assert walk[0].tolist() == [0, 0] and walk[-1].tolist() in ([side - 1, 0], [0, side - 1])
