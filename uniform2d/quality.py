@@ -172,8 +172,10 @@ def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
     """Every field of :class:`Quality` that does not need the polygon."""
     # Edges.
     edges, counts = _unique_edges(tri, len(pts))
+    n_edges, n_boundary = len(edges), int((counts == 1).sum())
     d = pts[edges[:, 1]] - pts[edges[:, 0]]
     lengths = np.hypot(d[:, 0], d[:, 1])
+    del edges, counts, d  # only the lengths are used from here on
     shortest = float(lengths.min())
     longest = float(lengths.max())
     ratio = longest / shortest if shortest > 0 else math.inf
@@ -198,8 +200,8 @@ def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
     return dict(
         n_vertices=len(pts),
         n_triangles=len(tri),
-        n_edges=len(edges),
-        n_boundary_edges=int((counts == 1).sum()),
+        n_edges=n_edges,
+        n_boundary_edges=n_boundary,
         area=area,
         shortest_edge=shortest,
         longest_edge=longest,

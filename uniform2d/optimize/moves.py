@@ -109,7 +109,9 @@ def improve(
     )
     rounds, done, value = _run(st, sched, obj)
     edges = st.eid[nV:].copy()
-    points, triangles = triangulate(polygon, _unload(polygon, st)[nV:], edges)
+    sites = _unload(polygon, st)[nV:]
+    del st  # the kernel's arrays go before the final triangulation builds its own
+    points, triangles = triangulate(polygon, sites, edges)
     info = {
         "spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value, "edges": edges,
     }
