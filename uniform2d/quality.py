@@ -173,9 +173,10 @@ def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
     # Edges.
     edges, counts = _unique_edges(tri, len(pts))
     n_edges, n_boundary = len(edges), int((counts == 1).sum())
-    d = pts[edges[:, 1]] - pts[edges[:, 0]]
-    lengths = np.hypot(d[:, 0], d[:, 1])
-    del edges, counts, d  # only the lengths are used from here on
+    # a coordinate at a time: no (E, 2) gathers
+    i, j = edges[:, 0], edges[:, 1]
+    lengths = np.hypot(pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1])
+    del edges, counts, i, j  # only the lengths are used from here on
     shortest = float(lengths.min())
     longest = float(lengths.max())
     ratio = longest / shortest if shortest > 0 else math.inf

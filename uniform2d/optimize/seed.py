@@ -312,18 +312,24 @@ def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None) -> np.n
     while len(P) < count:
         allp = np.concatenate([polygon.vertices, bpts, P])
         _, tri = triangulate(polygon, allp[len(polygon.vertices):])
-        q = allp[tri]
-        u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
-        area = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
-        if face is not None:
-            c = q.mean(axis=1)
-            area[~shapely.contains_xy(face, c[:, 0], c[:, 1])] = -1.0
+        area = np.empty(len(tri))
+        for lo in range(0, len(tri), GAP_BLOCK):  # (K, 3, 2) corners a block at a time
+            q = allp[tri[lo:lo + GAP_BLOCK]]
+            u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
+            area[lo:lo + len(q)] = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
+            if face is not None:
+                c = q.mean(axis=1)
+                area[lo:lo + len(q)][~shapely.contains_xy(face, c[:, 0], c[:, 1])] = -1.0
         need = min(count - len(P), int(np.count_nonzero(area >= 0)))
         if need == 0:
             break
         order = np.lexsort((np.arange(len(tri)), -area))[:need]
-        P = np.concatenate([P, q[order].mean(axis=1)])
+        P = np.concatenate([P, allp[tri[order]].mean(axis=1)])
     return P
+
+
+#: Triangles measured at a time by :func:`_fill_largest_gaps`.
+GAP_BLOCK = 1 << 16
 
 
 def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
