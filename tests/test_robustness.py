@@ -239,7 +239,6 @@ def test_unmatched_edges_are_the_edges_without_a_reverse(case):
     expect = sorted((a, b) for a, b in directed if (b, a) not in directed)
     assert count == len(expect) == len(bu) == len(bv)
     assert sorted(zip(bu.tolist(), bv.tolist())) == expect
-    assert (np.diff(bu) >= 0).all()  # ordered by the start vertex
     # a triangle given twice repeats its three directed edges
     count, bu, bv = _unmatched(np.concatenate([tri, tri[-1:]]), np.int64(len(pts)))
     assert count == -1 and len(bu) == len(bv) == 0
