@@ -306,9 +306,9 @@ def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
     nE = polygon.n_ring_vertices  # ring edge e starts at vertex e
     t = edge_parameters(polygon, sites, edges)
     by_edge: dict[int, list[int]] = {}
-    for i in np.lexsort((np.arange(len(sites)), t)):
-        if edges[i] >= 0:
-            by_edge.setdefault(int(edges[i]), []).append(nV + int(i))
+    order = np.lexsort((np.arange(len(sites)), t))
+    for i in order[edges[order] >= 0].tolist():  # the boundary sites only, in that order
+        by_edge.setdefault(int(edges[i]), []).append(nV + i)
     on = {}
     for i in np.flatnonzero(edges >= nE):
         on.setdefault(int(edges[i]) - nE, []).append((float(t[i]), nV + int(i)))
