@@ -112,13 +112,17 @@ def unique_edges(triangles, n_points: int | None = None, *, return_counts: bool 
     first = np.ones(len(key), bool)
     first[1:] = key[1:] != key[:-1]
     start = np.flatnonzero(first)
+    del first
     keys = key[start]
-    del key, first
+    del key
+    if return_counts:  # run lengths, without a copy of ``start`` with its end appended
+        counts = np.empty(len(start), np.int64)
+        np.subtract(start[1:], start[:-1], out=counts[:-1])
+        counts[-1:] = 3 * M - start[-1:]
+    del start
     edges = np.empty((len(keys), 2), np.int64)
     np.divmod(keys, N, out=(edges[:, 0], edges[:, 1]))
-    if not return_counts:
-        return edges
-    return edges, np.diff(np.append(start, 3 * M))
+    return (edges, counts) if return_counts else edges
 
 
 def boundary_edges(triangles, n_points: int) -> np.ndarray:

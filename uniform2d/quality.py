@@ -175,8 +175,12 @@ def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
     n_edges, n_boundary = len(edges), int((counts == 1).sum())
     # a coordinate at a time: no (E, 2) gathers
     i, j = edges[:, 0], edges[:, 1]
-    lengths = np.hypot(pts[j, 0] - pts[i, 0], pts[j, 1] - pts[i, 1])
+    dx, dy = pts[j, 0], pts[j, 1]
+    dx -= pts[i, 0]
+    dy -= pts[i, 1]
     del edges, counts, i, j  # only the lengths are used from here on
+    lengths = np.hypot(dx, dy)
+    del dx, dy
     shortest = float(lengths.min())
     longest = float(lengths.max())
     ratio = longest / shortest if shortest > 0 else math.inf
