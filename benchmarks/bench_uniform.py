@@ -2,8 +2,8 @@
 
 Usage::
 
-    python benchmarks/bench_uniform.py [--n 200 1000 10000] [--speed 100000] [--objective balanced]
-                                       [--per-objective] [--no-gmsh]
+    python benchmarks/bench_uniform.py [--n 200 1000 10000] [--speed 100000 1000000]
+                                       [--objective balanced] [--per-objective] [--no-gmsh]
 
 The certificate table of the guide (section 6) is made with::
 
@@ -27,14 +27,20 @@ made: where even that is far above 1, the bound (or every mesher) is loose;
 ``max_edge``, ``max_perimeter``), the best any of our meshes does per measure.
 On rectangles a ``latt`` row is a plain stretched lattice of rows with the nearest
 vertex count (its factors are against the bounds for its own n).
-It prints the geometric means per n and a speed comparison at ~1e5 vertices.
+It prints the geometric means per n and a speed comparison on the square for
+each ``--speed`` vertex count (default 1e5): each size runs in a fresh process
+(kernels loaded before the clock starts), with its time, its peak RSS (the whole
+process, in bytes per vertex) and Gmsh's time for the same vertex count.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import subprocess
 import sys
+import textwrap
 import time
 from pathlib import Path
 
@@ -164,7 +170,8 @@ def gmean(v):
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, nargs="*", default=[200, 1000, 10000], help="Steiner counts (none: speed test only)")
-    ap.add_argument("--speed", type=int, default=100000, help="vertex count for the speed test (0: skip)")
+    ap.add_argument("--speed", type=int, nargs="*", default=[100000],
+                    help="vertex counts for the speed test, each in a fresh process (0 or none: skip)")
     ap.add_argument("--objective", default="balanced")
     ap.add_argument("--no-gmsh", action="store_true")
     ap.add_argument("--per-objective", action="store_true",
@@ -223,24 +230,50 @@ def main(argv=None):
             print_row("", key, vals, times[key] if key != "best" else None)
         if gm_n:
             print(f"(gmsh Steiner counts: {gm_n})")
-    if args.speed:
-        p = polys["square"]
-        N = args.speed
-        n = N - len(p.vertices)
+    for N in args.speed:
+        if N:
+            speed(polys["square"], N, args.objective, not args.no_gmsh)
+
+
+def speed_run(N: int, objective: str) -> dict:
+    """T+ and ours on the square with N vertices, in a fresh process: times, the
+    process's peak RSS and our quality row."""
+    code = f"""
+        import json, resource, sys, time
+        sys.path[:0] = [{str(ROOT / "tests")!r}, {str(ROOT / "benchmarks")!r}]
+        import uniform2d
+        from bench_uniform import row
+        from uniform2d.optimize import optimize_mesh
+        from polygen import benchmark_polygons
+        p = benchmark_polygons()["square"]
+        uniform2d.uniform_mesh(p, 200)  # load the compiled kernels
+        n = {N} - len(p.vertices)
         t = time.perf_counter()
         tp = uniform2d.tplus(p, n)
         t_tp = time.perf_counter() - t
         t = time.perf_counter()
-        ours = optimize_mesh(p, n, objective=args.objective, start=tp)
+        ours = optimize_mesh(p, n, objective={objective!r}, start=tp)
         t_ours = time.perf_counter() - t
-        print(f"\n=== speed at {N} vertices (square) ===")
-        print(f"T+            {t_tp:8.2f}s")
-        print(f"ours (+T+)    {t_ours + t_tp:8.2f}s   (optimisation alone {t_ours:.2f}s)")
-        print("ours quality  " + "  ".join(
-            f"{c} {x:.3f}" for c, x in zip(COLS, row(ours.quality(d_n=tp.info["d_n"])))))
-        if not args.no_gmsh:
-            pts, tri, dt, size = gmsh_tuned(p, N)
-            print(f"gmsh          {dt:8.2f}s   ({len(pts)} vertices, generate() only)")
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+        q = ours.quality(d_n=tp.info["d_n"])
+        print(json.dumps(dict(t_tp=t_tp, t_ours=t_ours, peak=peak, d_n=tp.info["d_n"],
+                              row=row(q))))
+    """
+    out = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True,
+                         text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def speed(p, N: int, objective: str, with_gmsh: bool) -> None:
+    r = speed_run(N, objective)
+    print(f"\n=== speed at {N} vertices (square) ===")
+    print(f"T+            {r['t_tp']:8.2f}s")
+    print(f"ours (+T+)    {r['t_ours'] + r['t_tp']:8.2f}s   (optimisation alone {r['t_ours']:.2f}s)"
+          f"   peak RSS {r['peak'] / 2**20:.0f} MiB = {r['peak'] / N:.0f} B/vertex")
+    print("ours quality  " + "  ".join(f"{c} {x:.3f}" for c, x in zip(COLS, r["row"])))
+    if with_gmsh:
+        pts, tri, dt, size = gmsh_tuned(p, N)
+        print(f"gmsh          {dt:8.2f}s   ({len(pts)} vertices, generate() only)")
 
 
 if __name__ == "__main__":

@@ -111,7 +111,7 @@ def test_least_k_is_a_lower_bound(n):
         segments=[[(1, 1), (1, 4.0)], [(1, 4.0), (2.5, 4.2)]],
         points=[(1.05, 2.0)],
     )
-    _, d_n, pts, _, m = _phase1(P, n, 3.0)
+    d_n, pts, _, m = _phase1(P, n, 3.0)
     k = int(m.sum() - len(m)) if pts is None else len(pts)
     assert least_k(P) <= k
     assert d_n <= P.min_vertex_distance()

@@ -261,3 +261,19 @@ def test_mesh_is_a_ccw_triangulation_of_the_polygon(case_id):
     # present (split at the boundary points), area, and local Delaunay on every
     # unconstrained edge -- decided exactly (tests/invariants.py)
     check_mesh(X, T, c.polygon)
+
+
+@pytest.mark.parametrize("case_id", _params(DET_CASES))
+def test_min_distance_after_is_the_meshes_closest_pair(case_id):
+    """T+'s d_n without the mesh: bit for bit the distance of the full result, and
+    the closest pair of the reference's points and V by brute force."""
+    from scipy.spatial.distance import pdist
+
+    from uniform2d.insert import min_distance_after
+
+    c = BY_ID[case_id]
+    d = min_distance_after(c.polygon, c.n)
+    assert d == _kernel(case_id).min_distance()
+    ref = _reference(case_id)
+    brute = pdist(np.concatenate([c.polygon.vertices, ref.points])).min()
+    assert abs(d - brute) <= 2 * P_TOL * c.size

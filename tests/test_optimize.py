@@ -211,3 +211,25 @@ def test_balanced_ranks_the_starts_by_the_edge_cv_too(monkeypatch):
     va = O.objective_value("balanced", qa.longest_edge, qa.shortest_edge, qa.max_perimeter, h)
     vb = O.objective_value("balanced", qb.longest_edge, qb.shortest_edge, qb.max_perimeter, h)
     assert va < 1.05 * vb
+
+
+def test_hex_lattice_does_not_depend_on_its_row_blocks(monkeypatch):
+    """The lattice is made LATTICE_ROWS rows at a time: the same points, in the same
+    order, as rows one at a time or all at once; spacing and rotation as asked."""
+    from uniform2d.optimize import seed
+
+    args = ((0.0, 0.0, 3.0, 1.0), 0.05, 0.3, (3.0, 1.0))
+    got = seed._hex_lattice(*args)
+    monkeypatch.setattr(seed, "LATTICE_ROWS", 1)
+    one = seed._hex_lattice(*args)
+    monkeypatch.setattr(seed, "LATTICE_ROWS", 10**6)
+    whole = seed._hex_lattice(*args)
+    assert got.tobytes() == one.tobytes() == whole.tobytes()
+    # nearest neighbours at the spacing, one of them along the rotated rows
+    from scipy.spatial import cKDTree
+
+    d, j = cKDTree(got).query(got, k=2)
+    assert np.allclose(d[:, 1], 0.05)
+    step = got[j[:, 1]] - got
+    ang = np.degrees(np.arctan2(step[:, 1], step[:, 0])) - np.degrees(0.3)
+    assert np.allclose((ang + 30.0) % 60.0 - 30.0, 0.0, atol=1e-6)

@@ -544,3 +544,18 @@ def test_split_term_equals_enumeration_over_boundary_point_counts(ring, holes, n
         assert terms["split"] >= terms["area"] * (1 - 1e-15)
         assert terms["split"] >= terms["boundary"] * (1 - 1e-15)
         assert bound.term == "split"  # these cases are chosen so that it binds
+
+
+def test_unique_edges_against_a_counter_of_sorted_pairs():
+    from collections import Counter
+
+    from uniform2d.geometry import unique_edges
+
+    rng = np.random.default_rng(3)
+    tri = rng.integers(0, 300, (2000, 3)).astype(np.int32)
+    want = Counter(tuple(sorted((int(t[i]), int(t[(i + 1) % 3])))) for t in tri for i in range(3))
+    edges, counts = unique_edges(tri, 300, return_counts=True)
+    assert edges.dtype == np.int64 and edges.shape == (len(want), 2)
+    assert [tuple(e) for e in edges.tolist()] == sorted(want)
+    assert counts.tolist() == [want[k] for k in sorted(want)]
+    assert np.array_equal(unique_edges(tri), edges)

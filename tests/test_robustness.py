@@ -210,3 +210,68 @@ def test_too_coarse_coordinates_are_refused_with_advice():
     assert issubclass(uniform2d.CoordinatePrecisionError, uniform2d.InvalidPolygonError)
     res = uniform2d.insert(sq.transformed(1.0, (-1e7, -1e7)), 20)
     _check(sq.transformed(1.0, (-1e7, -1e7)), 20, res.mesh_points, res.triangles)
+
+
+# -- the final check's compiled parts against plain references -------------------------
+def _meshes():
+    """Triangle lists of a few meshes (square, a polygon with a hole), with holes
+    punched in them and triangles dropped at random: boundaries of every shape."""
+    rng = np.random.default_rng(5)
+    ring = Polygon([(0, 0), (3, 0), (3, 2), (0, 2)], holes=[[(1, 0.5), (1, 1.5), (2, 1.5), (2, 0.5)]])
+    out = []
+    for poly, n in ((SQ, 40), (ring, 120)):
+        res = uniform2d.insert(poly, n)
+        pts, tri = np.array(res.mesh_points), np.array(res.triangles)
+        out.append((pts, tri))
+        keep = rng.random(len(tri)) > 0.3
+        out.append((pts, tri[keep]))
+    return out
+
+
+@pytest.mark.parametrize("case", range(4))
+def test_unmatched_edges_are_the_edges_without_a_reverse(case):
+    from uniform2d._kernel.validity import _unmatched
+
+    pts, tri = _meshes()[case]
+    tri = np.ascontiguousarray(tri, dtype=np.int64)
+    count, bu, bv = _unmatched(tri, np.int64(len(pts)))
+    directed = {(int(a), int(b)) for t in tri for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+    expect = sorted((a, b) for a, b in directed if (b, a) not in directed)
+    assert count == len(expect) == len(bu) == len(bv)
+    assert sorted(zip(bu.tolist(), bv.tolist())) == expect
+    # a triangle given twice repeats its three directed edges
+    count, bu, bv = _unmatched(np.concatenate([tri, tri[-1:]]), np.int64(len(pts)))
+    assert count == -1 and len(bu) == len(bv) == 0
+
+
+@pytest.mark.parametrize("case", range(4))
+def test_area2_is_twice_the_exact_signed_area(case):
+    from fractions import Fraction
+
+    from uniform2d._kernel.validity import _area2
+
+    pts, tri = _meshes()[case]
+    tri = np.ascontiguousarray(tri, dtype=np.int64)
+    P = [(Fraction(x), Fraction(y)) for x, y in pts.tolist()]
+    exact = sum(
+        (P[b][0] - P[a][0]) * (P[c][1] - P[a][1]) - (P[b][1] - P[a][1]) * (P[c][0] - P[a][0])
+        for a, b, c in tri.tolist()
+    )
+    got = _area2(pts, tri)
+    assert abs(Fraction(got) - exact) <= 8 * np.finfo(float).eps * float(exact)
+
+
+def test_hilbert_order_walks_a_full_grid_cell_by_cell():
+    """On every cell of a 2**b x 2**b grid the Hilbert order visits each cell once,
+    each step to an edge-neighbour, from one corner cell to an adjacent corner."""
+    from uniform2d.triangulation import hilbert_order
+
+    side = 8
+    g = np.array([(i, j) for j in range(side) for i in range(side)], dtype=np.float64)
+    rng = np.random.default_rng(2)
+    g = g[rng.permutation(len(g))]
+    order = hilbert_order(g, bits=3)
+    assert sorted(order.tolist()) == list(range(side * side))
+    walk = g[order]
+    assert (np.abs(np.diff(walk, axis=0)).sum(axis=1) == 1).all()
+    assert walk[0].tolist() == [0, 0] and walk[-1].tolist() in ([side - 1, 0], [0, side - 1])

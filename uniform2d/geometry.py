@@ -94,14 +94,34 @@ def unique_edges(triangles, n_points: int | None = None, *, return_counts: bool 
     boundary, 2 inside).  ``n_points`` (default: the largest index + 1) only
     has to exceed every vertex index.
     """
-    tri = np.asarray(triangles, dtype=np.int64)
+    tri = np.asarray(triangles)
     if n_points is None:
         n_points = int(tri.max()) + 1 if tri.size else 1
-    e = tri[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    lo = np.minimum(e[:, 0], e[:, 1])
-    hi = np.maximum(e[:, 0], e[:, 1])
-    keys, counts = np.unique(lo * np.int64(n_points) + hi, return_counts=True)
-    edges = np.stack([keys // n_points, keys % n_points], axis=1)
+    N = np.int64(n_points)
+    M = len(tri)
+    # one key array, filled a corner pair at a time and sorted in place: no
+    # (3M, 2) copy of the edges, no separate min/max arrays
+    key = np.empty(3 * M, np.int64)
+    for k, (i, j) in enumerate(((0, 1), (1, 2), (2, 0))):
+        a, b = tri[:, i].astype(np.int64), tri[:, j].astype(np.int64)
+        part = key[k * M:(k + 1) * M]
+        np.minimum(a, b, out=part)
+        part *= N
+        part += np.maximum(a, b)
+    key.sort()
+    first = np.ones(len(key), bool)
+    first[1:] = key[1:] != key[:-1]
+    start = np.flatnonzero(first)
+    del first
+    keys = key[start]
+    del key
+    if return_counts:  # run lengths, without a copy of ``start`` with its end appended
+        counts = np.empty(len(start), np.int64)
+        np.subtract(start[1:], start[:-1], out=counts[:-1])
+        counts[-1:] = 3 * M - start[-1:]
+    del start
+    edges = np.empty((len(keys), 2), np.int64)
+    np.divmod(keys, N, out=(edges[:, 0], edges[:, 1]))
     return (edges, counts) if return_counts else edges
 
 

@@ -46,7 +46,7 @@ from .errors import CoordinatePrecisionError, InsufficientPointsError, InternalE
 from .polygon import Polygon
 from .triangulation import _extent, _rounding, ensure_valid, load, site_edges, unload
 
-__all__ = ["insert", "insert_on_edges", "InsertResult"]
+__all__ = ["insert", "insert_on_edges", "min_distance_after", "InsertResult"]
 
 log = logging.getLogger(__name__)
 
@@ -153,8 +153,34 @@ def insert_on_edges(polygon: Polygon, n: int, sites, edges, size=None) -> Insert
     mesh made here passes :func:`~uniform2d.triangulation.ensure_valid` before
     it is returned.
     """
+    loaded, points, weights, out_b = _run(polygon, n, sites, edges, size)
+    mesh_points = np.concatenate([polygon.vertices, loaded.sites, points], axis=0)
+    triangles = unload(loaded)
+    sites = loaded.sites
+    del loaded
+    ensure_valid(mesh_points, triangles, polygon, len(mesh_points) - len(polygon.vertices), "insert")
+    for arr in (points, weights, out_b, mesh_points, triangles):
+        arr.setflags(write=False)
+    return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
+
+
+def min_distance_after(polygon: Polygon, n: int) -> float:
+    """d_n = l(S_n ∪ V, S_n ∪ V) of :func:`insert` ``(polygon, n)``: exactly
+    ``insert(polygon, n).min_distance()``, without building the mesh (T+'s phase 1
+    and the optimiser's certificates need only this distance)."""
+    loaded, points, _, _ = _run(polygon, int(n), *site_edges(polygon, None))
+    del loaded  # the kernel's arrays are not needed for the distance
+    mesh_points = np.concatenate([polygon.vertices, points], axis=0)
+    d, _ = cKDTree(mesh_points).query(mesh_points, k=2)
+    return float(d[:, 1].min())
+
+
+def _run(polygon: Polygon, n: int, sites, edges, size=None):
+    """INSERT's kernel run: (the loaded kernel, holding the final triangulation;
+    the n points, their weights and whether each is on the boundary, in the
+    caller's coordinates)."""
     loaded = load(polygon, sites, size=size, room=n, edges=edges)
-    m, centre, scale, sites = loaded.m, loaded.centre, loaded.scale, loaded.sites
+    m, centre, scale = loaded.m, loaded.centre, loaded.scale
     extent = _extent(polygon)
     tmax = loaded.max_triangles
 
@@ -174,15 +200,7 @@ def insert_on_edges(polygon: Polygon, n: int, sites, edges, size=None) -> Insert
 
     del M, P  # the queues are done: release them before the outputs are built
     # exact: the kernel rounded every point to what these coordinates hold (cdt.snap)
-    points = out_xy * scale + centre
-    weights = out_w * scale
-    mesh_points = np.concatenate([polygon.vertices, sites, points], axis=0)
-    triangles = unload(loaded)
-    del m, loaded
-    ensure_valid(mesh_points, triangles, polygon, len(mesh_points) - len(polygon.vertices), "insert")
-    for arr in (points, weights, out_b, mesh_points, triangles):
-        arr.setflags(write=False)
-    return InsertResult(points, weights, out_b, mesh_points, triangles, polygon, sites)
+    return loaded, out_xy * scale + centre, out_w * scale, out_b
 
 
 def _fail(polygon: Polygon, status: int, n: int, out_xy, out_w, out_b):

@@ -144,12 +144,43 @@ def _checked_d_n(d_n, poly: Polygon, n: int, convex: bool) -> float | None:
     return dn
 
 
+#: Triangles measured at a time by :func:`_measures`.
+TRIANGLE_BLOCK = 1 << 16
+
+
+def _triangle_measures(pts: np.ndarray, tri: np.ndarray):
+    """(largest perimeter, smallest and largest angle in degrees, |twice the area|
+    of each triangle) of the triangles ``tri`` (K, 3)."""
+    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    sides = np.stack(
+        [np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1)],
+        axis=1,
+    )
+
+    def _angle(p, q, r):  # angle at p of triangle p, q, r
+        u, v = q - p, r - p
+        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        return np.arctan2(np.abs(cross), (u * v).sum(axis=1))
+
+    angles = np.degrees(np.stack([_angle(a, b, c), _angle(b, c, a), _angle(c, a, b)], axis=1))
+    ab, ac = b - a, c - a
+    cross = np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
+    return float(sides.sum(axis=1).max()), float(angles.min()), float(angles.max()), cross
+
+
 def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
     """Every field of :class:`Quality` that does not need the polygon."""
     # Edges.
     edges, counts = _unique_edges(tri, len(pts))
-    d = pts[edges[:, 1]] - pts[edges[:, 0]]
-    lengths = np.hypot(d[:, 0], d[:, 1])
+    n_edges, n_boundary = len(edges), int((counts == 1).sum())
+    # a coordinate at a time: no (E, 2) gathers
+    i, j = edges[:, 0], edges[:, 1]
+    dx, dy = pts[j, 0], pts[j, 1]
+    dx -= pts[i, 0]
+    dy -= pts[i, 1]
+    del edges, counts, i, j  # only the lengths are used from here on
+    lengths = np.hypot(dx, dy)
+    del dx, dy
     shortest = float(lengths.min())
     longest = float(lengths.max())
     ratio = longest / shortest if shortest > 0 else math.inf
@@ -159,28 +190,23 @@ def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
     rel = lengths / mean if mean > 0 else np.zeros_like(lengths)
     hist_counts, hist_edges = _histogram(rel, bins)
 
-    # Triangles: sides, angles, perimeters, areas.
-    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
-    sides = np.stack(
-        [np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1)],
-        axis=1,
-    )
-    max_perimeter = float(sides.sum(axis=1).max())
-
-    def _angle(p, q, r):  # angle at p of triangle p, q, r
-        u, v = q - p, r - p
-        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        return np.arctan2(np.abs(cross), (u * v).sum(axis=1))
-
-    angles = np.degrees(np.stack([_angle(a, b, c), _angle(b, c, a), _angle(c, a, b)], axis=1))
-    ab, ac = b - a, c - a
-    area = float(0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]).sum())
+    # Triangles: perimeters, angles, areas, in blocks (each needs a dozen (M, 2)
+    # temporaries, hundreds of MB at 1e6 points at once); the areas are summed in
+    # one go, so the total is the same to the bit
+    max_perimeter, min_angle, max_angle = -math.inf, math.inf, -math.inf
+    cross = np.empty(len(tri))
+    for lo in range(0, len(tri), TRIANGLE_BLOCK):
+        t = tri[lo:lo + TRIANGLE_BLOCK]
+        p, a_min, a_max, cross[lo:lo + len(t)] = _triangle_measures(pts, t)
+        max_perimeter = max(max_perimeter, p)
+        min_angle, max_angle = min(min_angle, a_min), max(max_angle, a_max)
+    area = float(0.5 * cross.sum())
 
     return dict(
         n_vertices=len(pts),
         n_triangles=len(tri),
-        n_edges=len(edges),
-        n_boundary_edges=int((counts == 1).sum()),
+        n_edges=n_edges,
+        n_boundary_edges=n_boundary,
         area=area,
         shortest_edge=shortest,
         longest_edge=longest,
@@ -188,8 +214,8 @@ def _measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
         mean_edge=mean,
         std_edge=std,
         cv_edge=cv,
-        min_angle=float(angles.min()),
-        max_angle=float(angles.max()),
+        min_angle=min_angle,
+        max_angle=max_angle,
         max_perimeter=max_perimeter,
         histogram_counts=tuple(int(x) for x in hist_counts),
         histogram_edges=tuple(float(x) for x in hist_edges),

@@ -70,7 +70,7 @@ import numpy as np
 from .errors import InsufficientPointsError, InvalidArgumentError
 from ._kernel.insert import REL_TIE
 from .geometry import is_vertex
-from .insert import insert, insert_on_edges
+from .insert import insert_on_edges, min_distance_after
 from .mesh import Mesh
 from .polygon import Polygon
 
@@ -128,15 +128,15 @@ def ratio_tolerance(polygon: Polygon, d_n: float) -> float:
 
 
 def _phase1(polygon, n, hi):
-    """(INSERT's result, d_n, the boundary points T+ keeps and their edges, the
-    piece counts); the points are None when there are more than n of them for
-    certain (they are then not made: a tiny d_n can ask for billions)."""
-    res = insert(polygon, n)
-    d_n = res.min_distance()
+    """(d_n, the boundary points T+ keeps and their edges, the piece counts); the
+    points are None when there are more than n of them for certain (they are
+    then not made: a tiny d_n can ask for billions).  Only d_n of INSERT's run is
+    used, so its mesh is not built."""
+    d_n = min_distance_after(polygon, n)
     rtol = ratio_tolerance(polygon, d_n)
     m = boundary_counts(polygon, hi * d_n, rtol)
     if int(m.sum() - len(m)) - len(polygon.vertices) > n:
-        return res, d_n, None, None, m
+        return d_n, None, None, m
     pts, m = boundary_points(polygon, hi * d_n, rtol)
     on = edge_of(m)
     if polygon.has_constraints:
@@ -145,12 +145,12 @@ def _phase1(polygon, n, hi):
         # that piece can round onto it
         keep = ~is_vertex(polygon, pts)
         pts, on = pts[keep], on[keep]
-    return res, d_n, pts, on, m
+    return d_n, pts, on, m
 
 
 def _k(polygon, n, hi):
     """T+'s k for n, or n + 1 when it is certainly more than n."""
-    pts = _phase1(polygon, n, hi)[2]
+    pts = _phase1(polygon, n, hi)[1]
     return n + 1 if pts is None else len(pts)
 
 
@@ -258,7 +258,7 @@ def tplus_if_feasible(polygon: Polygon, n: int):
 
 
 def _tplus(polygon: Polygon, n: int, lo: float, hi: float, *, name_smallest: bool) -> Mesh:
-    _, d_n, bpts, on, m = _phase1(polygon, n, hi)
+    d_n, bpts, on, m = _phase1(polygon, n, hi)
     k = int(m.sum() - len(m)) if bpts is None else len(bpts)
     if k > n:
         if not name_smallest:

@@ -21,6 +21,7 @@ import numpy as np
 import shapely
 
 from ._kernel import cavity, cdt, polytri
+from ._kernel._jit import njit
 from ._kernel.distance import to_segments
 from ._kernel.outcomes import failed_site
 from ._kernel.validity import mesh_problem
@@ -190,20 +191,28 @@ def hilbert_order(points: np.ndarray, bits: int = 16) -> np.ndarray:
     span = max(float((points.max(axis=0) - lo).max()), 1e-300)
     side = 1 << bits
     q = np.minimum(((points - lo) / span * (side - 1)).astype(np.int64), side - 1)
-    x, y = q[:, 0].copy(), q[:, 1].copy()
-    d = np.zeros(len(points), np.int64)
-    s = side >> 1
-    while s > 0:
-        rx = (x & s) > 0
-        ry = (y & s) > 0
-        d += s * s * ((3 * rx) ^ ry)
-        # rotate the quadrant
-        flip = ~ry
-        swap_x = np.where(flip & rx, s - 1 - x, x)
-        swap_y = np.where(flip & rx, s - 1 - y, y)
-        x, y = np.where(flip, swap_y, swap_x), np.where(flip, swap_x, swap_y)
-        s >>= 1
-    return np.argsort(d, kind="stable")
+    return np.argsort(_hilbert_index(q, np.int64(side)), kind="stable")
+
+
+@njit(cache=True)
+def _hilbert_index(q, side):
+    """The distance along the Hilbert curve of each cell ``q`` (K, 2) of a
+    ``side`` x ``side`` grid (one pass per point: vectorised, each of the
+    log2(side) levels made a dozen K-sized temporaries)."""
+    d = np.zeros(q.shape[0], np.int64)
+    for k in range(q.shape[0]):
+        x, y = q[k, 0], q[k, 1]
+        s = side >> 1
+        while s > 0:
+            rx = 1 if (x & s) > 0 else 0
+            ry = 1 if (y & s) > 0 else 0
+            d[k] += s * s * ((3 * rx) ^ ry)
+            if ry == 0:  # rotate the quadrant
+                if rx == 1:
+                    x, y = s - 1 - x, s - 1 - y
+                x, y = y, x
+            s >>= 1
+    return d
 
 
 def _complex_key(p: np.ndarray) -> np.ndarray:
@@ -298,9 +307,9 @@ def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
     nE = polygon.n_ring_vertices  # ring edge e starts at vertex e
     t = edge_parameters(polygon, sites, edges)
     by_edge: dict[int, list[int]] = {}
-    for i in np.lexsort((np.arange(len(sites)), t)):
-        if edges[i] >= 0:
-            by_edge.setdefault(int(edges[i]), []).append(nV + int(i))
+    order = np.lexsort((np.arange(len(sites)), t))
+    for i in order[edges[order] >= 0].tolist():  # the boundary sites only, in that order
+        by_edge.setdefault(int(edges[i]), []).append(nV + i)
     on = {}
     for i in np.flatnonzero(edges >= nE):
         on.setdefault(int(edges[i]) - nE, []).append((float(t[i]), nV + int(i)))
@@ -480,6 +489,7 @@ def triangulate(polygon: Polygon, sites=None, edges=None) -> tuple[np.ndarray, n
     loaded = load(polygon, sites, edges=edges)
     points = np.concatenate([polygon.vertices, loaded.sites], axis=0)
     triangles = unload(loaded)
+    del loaded  # the kernel's arrays go before the check's own
     ensure_valid(points, triangles, polygon, len(points) - len(polygon.vertices), "triangulate")
     return points, triangles
 

@@ -9,7 +9,7 @@ from ._jit import njit
 
 from .cdt import nxt, snap
 from .predicates import orient2d
-from .star import FIXED, FREE, SLIDE, edge_halves, legalize_moved, refresh_sizes
+from .star import FIXED, FREE, SLIDE, legalize_moved, refresh_sizes
 from .star import ring_neighbours, t_of
 
 __all__ = ["spring"]
@@ -27,7 +27,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
     move is below ``tol * href``.
     """
     n = m.nv
-    xy, tv = m.xy, m.tv
+    xy, tv, tw = m.xy, m.tv, m.tw
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
     F = np.zeros((n, 2))
     new = np.empty((n, 2))
@@ -41,8 +41,9 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
         # rest-length scale c: sum (c * target)^2 = pressure^2 * sum L^2
         sL = 0.0
         sT = 0.0
-        halves = edge_halves(m)
-        for h in halves:
+        for h in range(3 * m.nt):  # each edge once (of two twins, the smaller)
+            if 0 <= tw[h] < h:
+                continue
             a = tv[h]
             b = tv[nxt(h)]
             L2 = (xy[b, 0] - xy[a, 0]) ** 2 + (xy[b, 1] - xy[a, 1]) ** 2
@@ -51,9 +52,13 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
             sT += s * s
         c = pressure * np.sqrt(sL / sT)
         F[:, :] = 0.0
-        for h in halves:
+        for h in range(3 * m.nt):
+            if 0 <= tw[h] < h:
+                continue
             a = tv[h]
             b = tv[nxt(h)]
+            if role[a] == FIXED and role[b] == FIXED:
+                continue  # no force of a fixed vertex is read (most, deep in a large mesh)
             dx = xy[b, 0] - xy[a, 0]
             dy = xy[b, 1] - xy[a, 1]
             L = np.sqrt(dx * dx + dy * dy)

@@ -102,13 +102,16 @@ def improve(
     if len(P0) == nV:
         return P0, T0, {"spring_rounds": 0, "sweeps": 0, "edges": np.empty(0, np.int64)}
     st = _load(polygon, P0, T0, size, href, frozen, edges)
+    del P0, T0  # loaded: the kernel holds the mesh now
     sched = S.schedule_for(len(st.xy), size is not None)._replace(
         **{k: v for k, v in dict(spring_rounds=spring_rounds, sweeps=sweeps, exponents=exponents,
                                  spread_sweeps=spread_sweeps).items() if v is not None}
     )
     rounds, done, value = _run(st, sched, obj)
     edges = st.eid[nV:].copy()
-    points, triangles = triangulate(polygon, _unload(polygon, st)[nV:], edges)
+    sites = _unload(polygon, st)[nV:]
+    del st  # the kernel's arrays go before the final triangulation builds its own
+    points, triangles = triangulate(polygon, sites, edges)
     info = {
         "spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value, "edges": edges,
     }

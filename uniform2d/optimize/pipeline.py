@@ -11,7 +11,7 @@ import numpy as np
 from .._kernel.distance import to_segments
 from ..errors import InsufficientPointsError, InternalError, PLEASE_REPORT
 from ..geometry import is_vertex, polygon_edges
-from ..insert import insert
+from ..insert import min_distance_after
 from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import edge_lengths, quality
@@ -128,7 +128,7 @@ def _reference(polygon: Polygon, n: int, start):
         if tp is None:  # too few points for T+, not for this method
             log.info("uniform: n = %d is too small for T+; nothing to compare with", n)
     if tp is None:  # d_n for the certificates comes from INSERT alone
-        return None, None, insert(polygon, n).min_distance()
+        return None, None, min_distance_after(polygon, n)
     d_n = tp.info.get("d_n")
     return tp, tp.quality(d_n=d_n if d_n is not None else False), d_n
 

@@ -55,6 +55,12 @@ def boundary_points(a, d, m):
     return np.concatenate(pts), np.concatenate(eid), np.concatenate(t)
 
 
+#: Rows of :func:`_hex_lattice` made at a time: its bounding square holds about
+#: twice the points kept, and a dozen full-size temporaries of it cost ~400 MB at
+#: 1e6 points; row blocks keep those to a few MB, the result unchanged.
+LATTICE_ROWS = 64
+
+
 def _hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
     xmin, ymin, xmax, ymax = bounds
     cx, cy = (xmin + xmax) / 2, (ymin + ymax) / 2
@@ -63,15 +69,19 @@ def _hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
     dy = spacing * math.sqrt(3.0) / 2
     nr = int(math.ceil(R / dy)) + 1
     nc = int(math.ceil(R / spacing)) + 2
-    j, i = np.meshgrid(np.arange(-nr, nr + 1), np.arange(-nc, nc + 1), indexing="ij")
-    u = (i + 0.5 * (j & 1)) * spacing
-    v = j * dy
     c, s = math.cos(angle), math.sin(angle)
-    # lattice anchored at ``origin`` (a polygon vertex), rotated by ``angle``
-    x = origin[0] + c * u - s * v
-    y = origin[1] + s * u + c * v
-    keep = (np.abs(x - cx) <= R0) & (np.abs(y - cy) <= R0)
-    return np.stack([x[keep], y[keep]], axis=1)
+    out = []
+    for j0 in range(-nr, nr + 1, LATTICE_ROWS):
+        j, i = np.meshgrid(np.arange(j0, min(j0 + LATTICE_ROWS, nr + 1)), np.arange(-nc, nc + 1),
+                           indexing="ij")
+        u = (i + 0.5 * (j & 1)) * spacing
+        v = j * dy
+        # lattice anchored at ``origin`` (a polygon vertex), rotated by ``angle``
+        x = origin[0] + c * u - s * v
+        y = origin[1] + s * u + c * v
+        keep = (np.abs(x - cx) <= R0) & (np.abs(y - cy) <= R0)
+        out.append(np.stack([x[keep], y[keep]], axis=1))
+    return np.concatenate(out, axis=0)
 
 
 def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarray:
@@ -302,18 +312,24 @@ def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None) -> np.n
     while len(P) < count:
         allp = np.concatenate([polygon.vertices, bpts, P])
         _, tri = triangulate(polygon, allp[len(polygon.vertices):])
-        q = allp[tri]
-        u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
-        area = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
-        if face is not None:
-            c = q.mean(axis=1)
-            area[~shapely.contains_xy(face, c[:, 0], c[:, 1])] = -1.0
+        area = np.empty(len(tri))
+        for lo in range(0, len(tri), GAP_BLOCK):  # (K, 3, 2) corners a block at a time
+            q = allp[tri[lo:lo + GAP_BLOCK]]
+            u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
+            area[lo:lo + len(q)] = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
+            if face is not None:
+                c = q.mean(axis=1)
+                area[lo:lo + len(q)][~shapely.contains_xy(face, c[:, 0], c[:, 1])] = -1.0
         need = min(count - len(P), int(np.count_nonzero(area >= 0)))
         if need == 0:
             break
         order = np.lexsort((np.arange(len(tri)), -area))[:need]
-        P = np.concatenate([P, q[order].mean(axis=1)])
+        P = np.concatenate([P, allp[tri[order]].mean(axis=1)])
     return P
+
+
+#: Triangles measured at a time by :func:`_fill_largest_gaps`.
+GAP_BLOCK = 1 << 16
 
 
 def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
