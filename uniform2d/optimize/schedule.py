@@ -31,7 +31,8 @@ SCHEDULE_LARGE = Schedule(30, 25, (4, 5), 5)
 #: a longer spread stage buy the same CV for less time.
 SCHEDULE_GRADED = Schedule(60, 25, (2, 3, 4, 5, 6), 30)
 #: Point counts (|V| + n) above which fewer starts are tried
-#: (:func:`uniform2d.optimize.seed.variants`) and SCHEDULE_LARGE is used.
+#: (:func:`uniform2d.optimize.seed.variants`: above SMALL fewer, above LARGE
+#: one) and, above LARGE, SCHEDULE_LARGE is used.
 LARGE = 20000
 SMALL = 5000
 
@@ -57,8 +58,18 @@ SPACINGS_MEDIUM = (1.0, 1.05)
 LAYERED = (False, True)
 LAYERED_MEDIUM = (True,)
 LAYERED_LARGE = True
-#: The short schedule that ranks the starts (the best one then gets the full one).
-TRIAL = {"spring_rounds": 40, "sweeps": 10, "exponents": (3, 5), "spread_sweeps": 0}
+#: Successive halving over the starts (:func:`uniform2d.optimize.moves.improve_best`):
+#: every start runs the first of these short schedules, the best KEEP of those
+#: the next, and so on; the winner goes on into the full schedule from stage
+#: AFTER_TRIALS (p = 2**5: the trials' p = 8 and 32 stages leave nothing for
+#: p = 16 to do).
+TRIALS = (
+    Schedule(40, 0, (), 0),
+    Schedule(0, 10, (3,), 0),
+    Schedule(0, 10, (5,), 0),
+)
+KEEP = 2.0 / 3.0
+AFTER_TRIALS = 5
 #: With ``"balanced"``, the short run ranks the starts by its objective value
 #: times the edge CV to this power: the start fixes the mesh's structure, and
 #: with it the CV the moves can reach (on a rectangle, a lattice aligned with a
