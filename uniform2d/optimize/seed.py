@@ -56,21 +56,25 @@ def boundary_points(a, d, m):
 
 
 def _hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
+    """The points of a hexagonal lattice (anchored at ``origin``, rows at ``angle``)
+    within ``bounds`` = (xmin, ymin, xmax, ymax): the only ones that can lie inside
+    a shape with those bounds.  Row by row, in a fixed order."""
     xmin, ymin, xmax, ymax = bounds
-    cx, cy = (xmin + xmax) / 2, (ymin + ymax) / 2
-    R0 = math.hypot(xmax - xmin, ymax - ymin) / 2 + 2 * spacing
-    R = R0 + math.hypot(origin[0] - cx, origin[1] - cy)
     dy = spacing * math.sqrt(3.0) / 2
-    nr = int(math.ceil(R / dy)) + 1
-    nc = int(math.ceil(R / spacing)) + 2
-    j, i = np.meshgrid(np.arange(-nr, nr + 1), np.arange(-nc, nc + 1), indexing="ij")
+    c, s = math.cos(angle), math.sin(angle)
+    # the rows and columns that can reach the box (a margin of two steps for
+    # the half-step shift of odd rows and for rounding), in lattice coordinates
+    X = np.array([xmin, xmax, xmax, xmin]) - origin[0]
+    Y = np.array([ymin, ymin, ymax, ymax]) - origin[1]
+    U, V = c * X + s * Y, -s * X + c * Y
+    j0, j1 = math.floor(V.min() / dy) - 2, math.ceil(V.max() / dy) + 2
+    i0, i1 = math.floor(U.min() / spacing) - 2, math.ceil(U.max() / spacing) + 2
+    j, i = np.meshgrid(np.arange(j0, j1 + 1), np.arange(i0, i1 + 1), indexing="ij")
     u = (i + 0.5 * (j & 1)) * spacing
     v = j * dy
-    c, s = math.cos(angle), math.sin(angle)
-    # lattice anchored at ``origin`` (a polygon vertex), rotated by ``angle``
     x = origin[0] + c * u - s * v
     y = origin[1] + s * u + c * v
-    keep = (np.abs(x - cx) <= R0) & (np.abs(y - cy) <= R0)
+    keep = (x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax)
     return np.stack([x[keep], y[keep]], axis=1)
 
 
