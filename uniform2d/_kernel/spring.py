@@ -54,6 +54,8 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
         for h in halves:
             a = tv[h]
             b = tv[nxt(h)]
+            if role[a] == FIXED and role[b] == FIXED:
+                continue  # no force is read at a fixed vertex (deep lattices are frozen)
             dx = xy[b, 0] - xy[a, 0]
             dy = xy[b, 1] - xy[a, 1]
             L = np.sqrt(dx * dx + dy * dy)
