@@ -10,7 +10,7 @@ from ._jit import njit
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
 from .star import FIXED, TRIES, accept, edge, gather, initial_steps, keep_state, legalize_moved
-from .star import measure, objective_of, outgoing, place_at, refresh_sizes, refuse
+from .star import objective_of, outgoing, place_at, refresh_sizes, refuse
 from .star import ring_neighbours, search, star_buffers, star_ok
 
 __all__ = ["descend"]
@@ -147,6 +147,46 @@ def _weights(m, hv, href, k, objective):
 
 
 @njit(cache=True)
+def _measure_weights(m, hv, href, k, objective):
+    """:func:`~.star.measure` and :func:`_weights` of the mesh in one pass over
+    its triangles (the same values, bit for bit): (lmax, lmin, pmax, w_len,
+    w_short, w_per).  A sweep's weights are those of the mesh the last sweep
+    left, which that sweep measured anyway."""
+    tv, tw, xy = m.tv, m.tw, m.xy
+    lmax = 0.0
+    lmin = np.inf
+    pmax = 0.0
+    s_len = 0.0
+    s_short = 0.0
+    s_per = 0.0
+    for t in range(m.nt):
+        per = 0.0
+        tgt = 0.0
+        for i in range(3):
+            h = 3 * t + i
+            L, s = edge(xy, tv, hv, href, h)
+            per += L
+            tgt += s
+            ell = L / s
+            lmax = max(lmax, ell)
+            lmin = min(lmin, ell)
+            g = tw[h]
+            if g < 0 or g > h:
+                q = _pw(L / s, k)
+                s_len += q
+                s_short += 1.0 / q if q > 0.0 else np.inf
+        pmax = max(pmax, per / tgt)
+        s_per += _pw(per / tgt, k)
+    if objective == MAX_EDGE:
+        return lmax, lmin, pmax, 1.0, 0.0, 0.0
+    if objective == MAX_PERIMETER:
+        return lmax, lmin, pmax, 0.0, 0.0, 1.0
+    if objective == RATIO:
+        return lmax, lmin, pmax, 1.0 / s_len, 1.0 / s_short, 0.0
+    return lmax, lmin, pmax, 2.0 / s_len, 1.0 / s_short, 1.0 / s_per
+
+
+@njit(cache=True)
 def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
                  w_len, w_short, w_per, g2, E0, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
@@ -223,7 +263,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     line search only recompute the distances to the moved vertex.
     """
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
-    lmax, lmin, pmax = measure(m, hv, href)
+    lmax, lmin, pmax, w_len, w_short, w_per = _measure_weights(m, hv, href, k, objective)
     best = objective_of(objective, lmax, lmin, pmax)
     step = initial_steps(m, hv, href, step0)
     active = np.ones(m.nv, np.bool_)
@@ -234,10 +274,10 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     mark = best  # the value PATIENCE sweeps must beat by GAIN
     emax = 0.0
     for sweep in range(sweeps):
-        if m.sized:
+        if m.sized:  # the sizes moved with the points: weights anew
             refresh_sizes(m, hv, moved)
+            w_len, w_short, w_per = _weights(m, hv, href, k, objective)
         moved[:] = False
-        w_len, w_short, w_per = _weights(m, hv, href, k, objective)
         # a vertex whose share is below RELEVANT times the largest share of the
         # previous sweep cannot change the objective's extremes: skip it
         moves, emax = _sweep(
@@ -246,7 +286,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
         )  # fmt: skip
         todo = legalize_moved(m, moved, todo)
         done = sweep + 1
-        lmax, lmin, pmax = measure(m, hv, href)
+        lmax, lmin, pmax, w_len, w_short, w_per = _measure_weights(m, hv, href, k, objective)
         val = objective_of(objective, lmax, lmin, pmax)
         if val < best:
             best = val
