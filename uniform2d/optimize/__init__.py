@@ -14,8 +14,8 @@ Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
    more.  Boundary counts, lattice orientation and the first row fix the mesh's
    structure, which moving points cannot change, and the best choice depends
    on the polygon: small meshes try several by successive halving (every start
-   a short run, the better two thirds a short descent, and so on) and the best
-   goes on into the full schedule
+   a short run, the better two thirds or half a short descent, and so on) and
+   the best goes on into the full schedule
    (:func:`~uniform2d.optimize.moves.improve_best`).  Lattice points deep inside P are uniform
    already and stay put.
 3. **Moving points** (:func:`improve`, in :mod:`~uniform2d.optimize.moves`;

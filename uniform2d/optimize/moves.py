@@ -203,10 +203,11 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
 
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
     arguments.  Every start is loaded once and runs the first schedule of
-    ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`) run
-    the next, and so on; the winner's kernel state goes on into the full schedule
-    (overridden as :func:`improve`'s) without being loaded again, from the
-    stage ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
+    ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`;
+    ``KEEP_LARGE`` above ``KEEP_MAX`` points) run the next, and so on; the
+    winner's kernel state goes on into the full schedule (overridden as
+    :func:`improve`'s) without being loaded again, from the stage
+    ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
     the long ones on the few that can win.  ``report(done, total)``, if given, is
     called before the first trial and after each.
@@ -214,7 +215,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     Returns (index of the winning start, points, triangles, info) as :func:`improve`.
     All starts are alive in the kernel at once until the first ranking: fine
     for what :func:`~uniform2d.optimize.seed.variants` gives (up to 12 starts
-    of at most ``schedule.SMALL`` points, 4 of at most ``schedule.LARGE``, a
+    of at most ``schedule.SMALL`` points, 2 of at most ``schedule.LARGE``, a
     few MB each), not for many starts of a huge mesh.
     """
     obj = objective_code(objective)
@@ -222,9 +223,11 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     for sites, edges, frozen in starts:
         st = load(polygon, sites, href=href, frozen=frozen, edges=edges)
         alive.append((len(alive), st, Progress()))
+    first = next((st for _, st, _ in alive if st is not None), None)
+    keep = S.KEEP if first is None or len(first.xy) <= S.KEEP_MAX else S.KEEP_LARGE
     sizes = [len(alive)]
     for _ in S.TRIALS[1:]:
-        sizes.append(max(1, math.ceil(S.KEEP * sizes[-1] - 1e-9)))
+        sizes.append(max(1, math.ceil(keep * sizes[-1])))
     total, done = sum(sizes), 0
     if report is not None:
         report(done, total)
