@@ -300,12 +300,14 @@ def _closest_count(cand: _Candidates, count: int, h: float):
     return best
 
 
-def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None) -> np.ndarray:
+def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None, bedges=None) -> np.ndarray:
     """Add the centroids of the largest triangles (of those inside ``face``, if
-    given) until there are ``count`` points."""
+    given) until there are ``count`` points.  ``bedges``: the polygon edge of
+    each of ``bpts``, known by construction (default: judged by distance)."""
     while len(P) < count:
         allp = np.concatenate([polygon.vertices, bpts, P])
-        _, tri = triangulate(polygon, allp[len(polygon.vertices):])
+        edges = None if bedges is None else np.concatenate([bedges, np.full(len(P), -1, np.int64)])
+        _, tri = triangulate(polygon, allp[len(polygon.vertices):], edges)
         q = allp[tri]
         u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
         area = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
@@ -333,20 +335,22 @@ def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
 
 def seed_interior(
     polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
-    rows: np.ndarray | None = None,
+    rows: np.ndarray | None = None, bedges: np.ndarray | None = None,
 ) -> np.ndarray:
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
     ``edge`` (default: the longest), deterministic.  With ``rows`` (from
     :func:`boundary_rows`) those come first and the lattice fills the rest,
     clear of them.  Where the segments split P into regions, each region gets
     its own share of the points (:func:`_region_shares`): points cannot cross
-    a segment afterwards, so a region seeded too densely stays so."""
+    a segment afterwards, so a region seeded too densely stays so.  ``bedges``
+    (optional): the polygon edge of each boundary point ``bpts``, as the caller
+    placed them, so that gaps are found without judging them by distance."""
     if count <= 0:
         return np.empty((0, 2))
     if rows is not None and len(rows) >= count:
         rows = None
     if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
-        return _seed_regions(polygon, count, h, bpts, edge, rows)
+        return _seed_regions(polygon, count, h, bpts, edge, rows, bedges)
     cand = _Candidates(polygon, h, edge, rows)
     total = count
     if rows is not None:
@@ -356,10 +360,12 @@ def seed_interior(
     if rows is not None:
         P = np.concatenate([rows, P])
         count = total
-    return _fill_largest_gaps(polygon, bpts, P, count)
+    return _fill_largest_gaps(polygon, bpts, P, count, bedges=bedges)
 
 
-def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> np.ndarray:
+def _seed_regions(
+    polygon: Polygon, count: int, h: float, bpts, edge, rows, bedges=None
+) -> np.ndarray:
     """:func:`seed_interior` region by region: the rows, then in each region a
     lattice (of its own spacing, see :func:`_anchor`) topped up to the region's
     share."""
@@ -376,13 +382,13 @@ def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> n
         cand = _Candidates(polygon, h, edge, rows, face, _anchor(polygon, sides, r, angle, h))
         Q, dist = _closest_count(cand, need, h)
         P = np.concatenate([P, _drop_nearest(cand, Q, dist, need)])
-        P = _fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face)
+        P = _fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face, bedges)
     if len(P) > count:  # rows beyond some region's share: drop lattice points instead
         first = 0 if rows is None else len(rows)
         dist = to_segments(P[first:], *_keep_clear(polygon), np.inf)
         order = np.lexsort((np.arange(len(dist)), dist))
         P = np.concatenate([P[:first], P[first:][np.sort(order[len(P) - count:])]])
-    return _fill_largest_gaps(polygon, bpts, P, count)[:count]
+    return _fill_largest_gaps(polygon, bpts, P, count, bedges=bedges)[:count]
 
 
 def _sides(polygon: Polygon, faces) -> np.ndarray:
