@@ -119,6 +119,65 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
         np.testing.assert_allclose(got, want, rtol=1e-9, atol=0)
 
 
+@pytest.mark.parametrize("graded", [False, True])
+def test_measure_weights_pass_gives_the_separate_measures_bit_for_bit(graded):
+    p = BENCH["star10"]
+    x0, y0, x1, y1 = p.to_shapely().bounds
+    x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
+    size = SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1))) if graded else None
+    res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
+    st = _load(p, res.mesh_points, res.triangles, size, None, None)
+    for obj in (kobj.BALANCED, kobj.RATIO, kobj.MAX_EDGE, kobj.MAX_PERIMETER):
+        for k in (3, 8):
+            got = descent._measure_weights(st.m, st.hv, st.href, k, obj)
+            want = relax.measure(st.m, st.hv, st.href)
+            want += descent._weights(st.m, st.hv, st.href, k, obj)
+            assert got == want
+
+
+@pytest.mark.parametrize("graded", [False, True])
+def test_edge_cv_is_the_cv_of_the_normalised_unique_edges(graded):
+    # independent reference: numpy over the unique edges of the kernel's triangles
+    p = BENCH["square2holes"]
+    x0, y0, x1, y1 = p.to_shapely().bounds
+    x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
+    size = SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1))) if graded else None
+    res = uniform2d.insert(p, 120)
+    st = _load(p, res.mesh_points, res.triangles, size, None, None)
+    tri = cdt.triangle_list(st.m)
+    E = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+    E = np.unique(np.sort(E, axis=1), axis=0)
+    L = np.linalg.norm(st.xy[E[:, 1]] - st.xy[E[:, 0]], axis=1)
+    ell = L / (0.5 * (st.hv[E[:, 0]] + st.hv[E[:, 1]]))
+    assert relax.edge_cv(st.m, st.hv, st.href) == pytest.approx(ell.std() / ell.mean(), rel=1e-9)
+
+
+def test_improve_best_finishes_the_start_its_ranking_prefers():
+    # INSERT's points, and the same points jittered by up to 0.3 target sizes:
+    # the ranking must keep the unjittered start (a reversed or broken ranking
+    # finishes the other), and the returned mesh is valid with every site kept
+    from uniform2d.optimize.moves import improve_best
+
+    p = BENCH["lshape"]
+    n = 150
+    h = target_size(p, n)
+    rng = np.random.default_rng(3)
+    ins = uniform2d.insert(p, n)
+    inner = ~ins.on_boundary
+    scattered = ins.points.copy()
+    jit = scattered[inner] + rng.uniform(-0.3, 0.3, (inner.sum(), 2)) * h
+    ok = shapely.contains_xy(p.to_shapely(), jit[:, 0], jit[:, 1])
+    scattered[np.flatnonzero(inner)[ok]] = jit[ok]
+    starts = [(scattered, None, None), (ins.points, None, None)]
+    won, pts, tri, info = improve_best(p, starts, href=h)
+    assert won == 1
+    check_mesh(pts, tri, p)
+    assert len(pts) == len(p.vertices) + n
+    other = improve(p, scattered, href=h)
+    q_won, q_other = uniform2d.quality(pts, tri, p), uniform2d.quality(other[0], other[1], p)
+    assert q_won.cv_edge < q_other.cv_edge
+
+
 @pytest.mark.parametrize("k", range(6))
 def test_boundary_points_slide_on_their_own_edge_in_order(k):
     p = _polygons()[k]

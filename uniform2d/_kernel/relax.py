@@ -65,6 +65,9 @@ triangle around the moved vertex may become flatter than ``flat * target**2``
 from .descent import descend
 from .spread import spread
 from .spring import spring
-from .star import FIXED, FREE, SLIDE, measure, refresh_sizes
+from .star import FIXED, FREE, SLIDE, edge_cv, measure, objective_of, refresh_sizes
 
-__all__ = ["FIXED", "FREE", "SLIDE", "spring", "descend", "spread", "measure", "refresh_sizes"]
+__all__ = [
+    "FIXED", "FREE", "SLIDE", "spring", "descend", "spread", "measure", "edge_cv", "objective_of",
+    "refresh_sizes",
+]

@@ -70,6 +70,27 @@ def measure(m, hv, href):
     return lmax, lmin, pmax
 
 
+@njit(cache=True)
+def edge_cv(m, hv, href):
+    """The coefficient of variation (std / mean) of the normalised edge lengths,
+    each edge once: the spread a start leaves, for ranking starts without
+    building a mesh outside the kernel."""
+    xy, tv, tw = m.xy, m.tv, m.tw
+    s1 = 0.0
+    s2 = 0.0
+    k = 0
+    for h in range(3 * m.nt):
+        if tw[h] > h:  # the twin's turn
+            continue
+        L, s = edge(xy, tv, hv, href, h)
+        ell = L / s
+        s1 += ell
+        s2 += ell * ell
+        k += 1
+    mean = s1 / k
+    return np.sqrt(max(s2 / k - mean * mean, 0.0)) / mean
+
+
 _combine = njit(cache=True)(combine)
 
 

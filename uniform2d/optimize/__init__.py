@@ -13,8 +13,10 @@ Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
    boundary piece, which begins with a fan at every corner of 90 degrees or
    more.  Boundary counts, lattice orientation and the first row fix the mesh's
    structure, which moving points cannot change, and the best choice depends
-   on the polygon: small meshes try several, rank them by a short run and give
-   the best the full schedule.  Lattice points deep inside P are uniform
+   on the polygon: small meshes try several by successive halving (every start
+   a short run, the better two thirds or half a short descent, and so on) and
+   the best goes on into the full schedule
+   (:func:`~uniform2d.optimize.moves.improve_best`).  Lattice points deep inside P are uniform
    already and stay put.
 3. **Moving points** (:func:`improve`, in :mod:`~uniform2d.optimize.moves`;
    kernel :mod:`uniform2d._kernel.relax`).  The constrained Delaunay

@@ -1,18 +1,23 @@
 """Moving the points of a mesh of P: the driver of the kernel :mod:`uniform2d._kernel.relax`.
 
-:func:`improve` loads a mesh into the kernel once (:func:`_load`), runs the
-stages of a :class:`~uniform2d.optimize.schedule.Schedule` on it and reads the
-points back (:func:`_unload`); the kernel keeps the triangulation valid and
-constrained Delaunay by exact predicates and flips while the points move.
+:func:`improve` loads a mesh into the kernel once (:func:`load`), runs the
+stages of a :class:`~uniform2d.optimize.schedule.Schedule` on it
+(:func:`advance`), reads the points back (:func:`unload`) and triangulates
+them (:func:`finish`); the kernel keeps
+the triangulation valid and constrained Delaunay by exact predicates and flips
+while the points move.  :func:`improve_best` does the same from the best of
+several starts.
 """
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 
 from .._kernel import cdt, relax
+from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon
 from ..segment_chains import piece_chains, rebuild
@@ -21,7 +26,7 @@ from . import schedule as S
 from .objective import objective_code
 from .seed import target_size
 
-__all__ = ["improve"]
+__all__ = ["improve", "improve_best"]
 
 
 def improve(
@@ -97,59 +102,181 @@ def improve(
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     obj = objective_code(objective)
-    P0, T0 = triangulate(polygon, sites, edges)
-    nV = len(polygon.vertices)
-    if len(P0) == nV:
-        return P0, T0, {"spring_rounds": 0, "sweeps": 0, "edges": np.empty(0, np.int64)}
-    st = _load(polygon, P0, T0, size, href, frozen, edges)
-    del P0, T0  # loaded: the kernel holds the mesh now
-    sched = S.schedule_for(len(st.xy), size is not None)._replace(
-        **{k: v for k, v in dict(spring_rounds=spring_rounds, sweeps=sweeps, exponents=exponents,
-                                 spread_sweeps=spread_sweeps).items() if v is not None}
+    st = load(polygon, sites, size=size, href=href, frozen=frozen, edges=edges)
+    if st is None:
+        return finish(polygon, None, Progress())
+    sched = default_schedule(len(st.xy), size is not None, spring_rounds=spring_rounds,
+                             sweeps=sweeps, exponents=exponents, spread_sweeps=spread_sweeps)
+    run = advance(st, sched, obj)
+    unloaded = unload(polygon, st)
+    del st
+    return finish(polygon, unloaded, run)
+
+
+class Progress(NamedTuple):
+    """What the stages run on one loaded mesh made: spring rounds, descent sweeps
+    and the objective value of the last descent stage (None before one)."""
+
+    spring_rounds: int = 0
+    sweeps: int = 0
+    value: float | None = None
+
+
+def default_schedule(n_points: int, graded: bool, **overrides) -> S.Schedule:
+    """:func:`~uniform2d.optimize.schedule.schedule_for` with the fields of
+    ``overrides`` that are not None put in."""
+    return S.schedule_for(n_points, graded)._replace(
+        **{k: v for k, v in overrides.items() if v is not None}
     )
-    rounds, done, value = _run(st, sched, obj)
-    edges = st.eid[nV:].copy()
-    sites = _unload(polygon, st)[nV:]
-    del st  # the kernel's arrays go before the final triangulation builds its own
-    points, triangles = triangulate(polygon, sites, edges)
-    info = {
-        "spring_rounds": int(rounds), "sweeps": int(done), "objective_value": value, "edges": edges,
-    }
-    return points, triangles, info
 
 
-def _run(st: "_Loaded", sched: S.Schedule, obj: int):
-    """The stages of ``sched`` on a loaded mesh: (spring rounds, sweeps, objective value)."""
+def load(polygon: Polygon, sites, *, size=None, href=None, frozen=None, edges=None):
+    """The constrained Delaunay triangulation of P with ``sites`` loaded into the
+    kernel (:func:`_load`; arguments as :func:`improve`'s), or None if there
+    are no sites."""
+    P0, T0 = triangulate(polygon, sites, edges)
+    if len(P0) == len(polygon.vertices):
+        return None
+    return _load(polygon, P0, T0, size, href, frozen, edges)
+
+
+def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
+    """Run the stages of ``sched`` on a loaded mesh, in place; returns ``before``
+    with this run's rounds and sweeps added.  The kernel's triangulation is the
+    constrained Delaunay one of its points again at the end, so a later call may
+    go on from here."""
     m, xy, t = st.m, st.xy, st.t
     args = (m, st.role, st.eid, t, st.ea, st.ed, st.hv, st.href)
-    rounds = relax.spring(
-        *args, iters=sched.spring_rounds, dt=S.SPRING_STEP, pressure=S.SPRING_PRESSURE,
-        tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT,
-    )
-    done = 0
-    value = None
+    rounds, done, value = before
+    if sched.spring_rounds:
+        rounds += relax.spring(
+            *args, iters=sched.spring_rounds, dt=S.SPRING_STEP, pressure=S.SPRING_PRESSURE,
+            tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT,
+        )
     for k in sched.exponents:
-        best_xy, best_t = xy.copy(), t.copy()
-        best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
+        best_xy, best_t, best_tv = _snapshot(st)
         made, value = relax.descend(
             *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
             best_xy=best_xy, best_t=best_t, best_tv=best_tv, flat=S.FLAT,
         )
         done += made
-        # continue from the best state of this stage
-        xy[:] = best_xy
-        t[:] = best_t
-        rebuild(m, best_tv.reshape(-1, 3), st.pieces)
+        _restore(st, best_xy, best_t, best_tv)  # continue from the best state of this stage
     if sched.spread_sweeps:
-        best_xy, best_t = xy.copy(), t.copy()
-        best_tv = cdt.triangle_list(m).astype(np.int32).ravel()
+        best_xy, best_t, best_tv = _snapshot(st)
         relax.spread(
             *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP,
             best_xy=best_xy, best_t=best_t, best_tv=best_tv, flat=S.FLAT,
         )
-        xy[:] = best_xy
-        t[:] = best_t
-    return rounds, done, value
+        _restore(st, best_xy, best_t, best_tv)
+    return Progress(rounds, done, value)
+
+
+def _snapshot(st: "_Loaded"):
+    """Copies of the points, edge parameters and flat triangle list of a loaded mesh."""
+    return st.xy.copy(), st.t.copy(), cdt.triangle_list(st.m).astype(np.int32).ravel()
+
+
+def _restore(st: "_Loaded", xy, t, tv) -> None:
+    """Put a :func:`_snapshot` back."""
+    st.xy[:] = xy
+    st.t[:] = t
+    rebuild(st.m, tv.reshape(-1, 3), st.pieces)
+
+
+def unload(polygon: Polygon, st: "_Loaded") -> tuple:
+    """(sites, edges) of a loaded mesh: its points after P's vertices, in the
+    caller's coordinates, and the polygon edge each slides along (-1: none)."""
+    nV = len(polygon.vertices)
+    return _unload(polygon, st)[nV:], st.eid[nV:].copy()
+
+
+def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
+    """:func:`improve`'s result from :func:`unload`'s (None: no sites): the points
+    in the caller's coordinates, their exact constrained Delaunay triangulation
+    and the info dict.  Callers drop the kernel state first: at 1e6 points its
+    arrays would otherwise stand beside the triangulation's own."""
+    if unloaded is None:
+        P0, T0 = triangulate(polygon, np.empty((0, 2)), None)
+        return P0, T0, {"spring_rounds": 0, "sweeps": 0, "edges": np.empty(0, np.int64)}
+    sites, edges = unloaded
+    points, triangles = triangulate(polygon, sites, edges)
+    info = {
+        "spring_rounds": int(run.spring_rounds), "sweeps": int(run.sweeps),
+        "objective_value": run.value, "edges": edges,
+    }
+    return points, triangles, info
+
+
+def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=None,
+                 report=None, spring_rounds=None, sweeps=None, exponents=None,
+                 spread_sweeps=None):
+    """:func:`improve` from the best of several starts, found by successive halving.
+
+    ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
+    arguments.  Every start is loaded once and runs the first schedule of
+    ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`;
+    ``KEEP_LARGE`` above ``KEEP_MAX`` points) run the next, and so on; the
+    winner's kernel state goes on into the full schedule (overridden as
+    :func:`improve`'s) without being loaded again, from the stage
+    ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
+    fixes the mesh's structure, which the short runs already show; halving spends
+    the long ones on the few that can win.  ``report(done, total)``, if given, is
+    called before the first trial and after each.
+
+    Returns (index of the winning start, points, triangles, info) as :func:`improve`.
+    All starts are alive in the kernel at once until the first ranking: fine
+    for what :func:`~uniform2d.optimize.seed.variants` gives (up to 12 starts
+    of at most ``schedule.SMALL`` points, 2 of at most ``schedule.LARGE``, a
+    few MB each), not for many starts of a huge mesh.
+    """
+    obj = objective_code(objective)
+    alive = []
+    for sites, edges, frozen in starts:
+        st = load(polygon, sites, href=href, frozen=frozen, edges=edges)
+        alive.append((len(alive), st, Progress()))
+    n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
+    keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
+    sizes = [len(alive)]
+    for _ in S.TRIALS[1:]:
+        sizes.append(max(1, math.ceil(keep * sizes[-1])))
+    total, done = sum(sizes), 0
+    if report is not None:
+        report(done, total)
+    for sched, size in zip(S.TRIALS, sizes):
+        scored = []
+        for i, st, run in alive[:size]:
+            run = advance(st, sched, obj, run) if st is not None else run
+            scored.append((rank(st, obj), i, st, run))
+            done += 1
+            if report is not None:
+                report(done, total)
+        scored.sort(key=lambda r: r[:2])
+        alive = [r[1:] for r in scored]
+    (i, st, run), = alive[:1]
+    del alive, scored  # the losers' kernel states go now
+    if st is None:
+        return i, *finish(polygon, None, run)
+    sched = default_schedule(len(st.xy), False, spring_rounds=spring_rounds, sweeps=sweeps,
+                             exponents=exponents, spread_sweeps=spread_sweeps)
+    if exponents is None:
+        sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
+    run = advance(st, sched, obj, run)
+    unloaded = unload(polygon, st)
+    del st
+    return i, *finish(polygon, unloaded, run)
+
+
+def rank(st: "_Loaded | None", obj: int) -> float:
+    """How good a loaded start is, lower better: its objective value, from the
+    kernel's own measures; with ``"balanced"``, times the edge CV to the power
+    ``schedule.CV_WEIGHT`` (the start fixes the structure, and with it the CV the
+    moves can reach, which the extremes alone do not see)."""
+    if st is None:
+        return 0.0
+    val = relax.objective_of(obj, *relax.measure(st.m, st.hv, st.href))
+    if obj == BALANCED and S.CV_WEIGHT:
+        val *= relax.edge_cv(st.m, st.hv, st.href) ** S.CV_WEIGHT
+    return float(val)
 
 
 class _Loaded(NamedTuple):

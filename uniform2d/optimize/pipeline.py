@@ -14,11 +14,11 @@ from ..geometry import is_vertex, polygon_edges
 from ..insert import min_distance_after
 from ..mesh import Mesh
 from ..polygon import Polygon
-from ..quality import edge_lengths, quality
+from ..quality import quality
 from ..tplus import tplus_if_feasible
 from . import schedule as S
-from .moves import improve
-from .objective import extremes, objective_code, objective_value, quality_objective
+from .moves import improve, improve_best
+from .objective import objective_code, quality_objective
 from .relocate import relocate
 from .seed import boundary_counts, boundary_points, boundary_rows, seed_interior, target_size, variants
 
@@ -39,7 +39,7 @@ def _start(polygon: Polygon, n: int, h: float, variant):
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
-    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows)
+    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays
     deep = to_segments(ipts, a, a + d, 2.0 * S.BAND * h) > S.BAND * h
     frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
@@ -47,59 +47,37 @@ def _start(polygon: Polygon, n: int, h: float, variant):
     return np.concatenate([bpts, ipts]), edges, frozen, len(bpts)
 
 
-def _trial_value(polygon: Polygon, sites, edges, frozen, objective: str, h: float, options):
-    """A short run from a start: (its sites after the run, their edges, its rank;
-    lower is better)."""
-    nV = len(polygon.vertices)
-    pts, tri, info = improve(
-        polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges,
-        **{**options, **S.TRIAL},
-    )
-    val = objective_value(objective, *extremes(pts, tri), h)
-    if objective == "balanced" and S.CV_WEIGHT:
-        _, Ls = edge_lengths(pts, tri)
-        val *= (Ls.std() / Ls.mean()) ** S.CV_WEIGHT
-    return pts[nV:], info["edges"], val
-
-
 def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, report):
-    """The best start of :func:`~uniform2d.optimize.seed.variants`, ranked by a short run
-    when there are several: (sites, edges, frozen, boundary points, variant).
-
-    The lattice edge and the boundary rows fix the mesh's structure; the boundary
-    spacing only tunes it.  Above ``schedule.SMALL`` points, where a trial costs
-    most, each (edge, rows) pair is ranked at the first spacing and the other
-    spacings are tried for the best pair only; smaller meshes try every start
-    (there the best spacing often belongs to another pair)."""
+    """The mesh moved from the best start of :func:`~uniform2d.optimize.seed.variants`
+    (successive halving when there are several, see
+    :func:`~uniform2d.optimize.moves.improve_best`): (points, triangles, improve's
+    info, frozen sites, boundary points, variant)."""
     tried = variants(polygon, n)
-    spacings = list(dict.fromkeys(c for c, _, _ in tried))
-    staged = n + len(polygon.vertices) > S.SMALL and len(spacings) > 1
-    first = [v for v in tried if v[0] == spacings[0]] if staged else tried
-    later = spacings[1:] if staged else []
-    total = len(first) + len(later)
-    best = None
-    done = 0
+    made = [_start(polygon, n, h, variant) for variant in tried]
+    if len(made) == 1:  # nothing to rank
+        report("seed", 0, 1)
+        report("seed", 1, 1)
+        sites, edges, frozen, _ = made[0]
+        report("relaxation", 0, 1)
+        pts, tri, run = improve(
+            polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **options
+        )
+        i = 0
+    else:
+        i, pts, tri, run = improve_best(
+            polygon, [(s, e, f) for s, e, f, _ in made], objective=objective, href=h,
+            report=lambda done, total: _seed_then_relax(report, done, total), **options,
+        )
+    report("relaxation", 1, 1)
+    return pts, tri, run, made[i][2], made[i][3], tried[i]
 
-    def run(variant):
-        nonlocal best, done
-        report("seed", done, total)
-        sites, edges, frozen, k = _start(polygon, n, h, variant)
-        val = 0.0
-        if len(tried) > 1:
-            sites, edges, val = _trial_value(polygon, sites, edges, frozen, objective, h, options)
-        if best is None or val < best[0]:
-            best = (val, sites, edges, frozen, k, variant)
-        done += 1
 
-    for variant in first:
-        run(variant)
-    if later:
-        _, e, layered = best[-1]
-        for c in later:
-            if (c, e, layered) in tried:
-                run((c, e, layered))
-    report("seed", total, total)
-    return best[1:]
+def _seed_then_relax(report, done: int, total: int) -> None:
+    """The trials' progress as the ``seed`` phase; after the last, the winner's
+    full schedule starts (the ``relaxation`` phase)."""
+    report("seed", done, total)
+    if done == total:
+        report("relaxation", 0, 1)
 
 
 #: The phases :func:`optimize_mesh` reports, in order (relocation only for
@@ -181,14 +159,9 @@ def optimize_mesh(
     report("T+", 1, 1)
 
     h = target_size(polygon, n)
-    sites, edges, frozen, k, (spacing, edge, layered) = _best_start(
+    pts, tri, run, frozen, k, (spacing, edge, layered) = _best_start(
         polygon, n, h, objective, options, report
     )
-    report("relaxation", 0, 1)
-    pts, tri, run = improve(
-        polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **options
-    )
-    report("relaxation", 1, 1)
     moved = 0
     if n + nV <= S.RELOCATE_MAX:
         report("relocation", 0, 1)

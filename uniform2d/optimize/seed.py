@@ -55,31 +55,35 @@ def boundary_points(a, d, m):
     return np.concatenate(pts), np.concatenate(eid), np.concatenate(t)
 
 
-#: Rows of :func:`_hex_lattice` made at a time: its bounding square holds about
-#: twice the points kept, and a dozen full-size temporaries of it cost ~400 MB at
-#: 1e6 points; row blocks keep those to a few MB, the result unchanged.
+#: Rows of :func:`_hex_lattice` made at a time: a dozen full-size temporaries of
+#: the lattice over the polygon's box cost hundreds of MB at 1e6 points; row
+#: blocks keep those to a few MB, the result unchanged.
 LATTICE_ROWS = 64
 
 
 def _hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
+    """The points of a hexagonal lattice (anchored at ``origin``, rows at ``angle``)
+    within ``bounds`` = (xmin, ymin, xmax, ymax): the only ones that can lie inside
+    a shape with those bounds.  Row by row, in a fixed order."""
     xmin, ymin, xmax, ymax = bounds
-    cx, cy = (xmin + xmax) / 2, (ymin + ymax) / 2
-    R0 = math.hypot(xmax - xmin, ymax - ymin) / 2 + 2 * spacing
-    R = R0 + math.hypot(origin[0] - cx, origin[1] - cy)
     dy = spacing * math.sqrt(3.0) / 2
-    nr = int(math.ceil(R / dy)) + 1
-    nc = int(math.ceil(R / spacing)) + 2
     c, s = math.cos(angle), math.sin(angle)
+    # the rows and columns that can reach the box (a margin of two steps for
+    # the half-step shift of odd rows and for rounding), in lattice coordinates
+    X = np.array([xmin, xmax, xmax, xmin]) - origin[0]
+    Y = np.array([ymin, ymin, ymax, ymax]) - origin[1]
+    U, V = c * X + s * Y, -s * X + c * Y
+    j0, j1 = math.floor(V.min() / dy) - 2, math.ceil(V.max() / dy) + 2
+    i0, i1 = math.floor(U.min() / spacing) - 2, math.ceil(U.max() / spacing) + 2
     out = []
-    for j0 in range(-nr, nr + 1, LATTICE_ROWS):
-        j, i = np.meshgrid(np.arange(j0, min(j0 + LATTICE_ROWS, nr + 1)), np.arange(-nc, nc + 1),
+    for jb in range(j0, j1 + 1, LATTICE_ROWS):
+        j, i = np.meshgrid(np.arange(jb, min(jb + LATTICE_ROWS, j1 + 1)), np.arange(i0, i1 + 1),
                            indexing="ij")
         u = (i + 0.5 * (j & 1)) * spacing
         v = j * dy
-        # lattice anchored at ``origin`` (a polygon vertex), rotated by ``angle``
         x = origin[0] + c * u - s * v
         y = origin[1] + s * u + c * v
-        keep = (np.abs(x - cx) <= R0) & (np.abs(y - cy) <= R0)
+        keep = (x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax)
         out.append(np.stack([x[keep], y[keep]], axis=1))
     return np.concatenate(out, axis=0)
 
@@ -306,12 +310,14 @@ def _closest_count(cand: _Candidates, count: int, h: float):
     return best
 
 
-def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None) -> np.ndarray:
+def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None, bedges=None) -> np.ndarray:
     """Add the centroids of the largest triangles (of those inside ``face``, if
-    given) until there are ``count`` points."""
+    given) until there are ``count`` points.  ``bedges``: the polygon edge of
+    each of ``bpts``, known by construction (default: judged by distance)."""
     while len(P) < count:
         allp = np.concatenate([polygon.vertices, bpts, P])
-        _, tri = triangulate(polygon, allp[len(polygon.vertices):])
+        edges = None if bedges is None else np.concatenate([bedges, np.full(len(P), -1, np.int64)])
+        _, tri = triangulate(polygon, allp[len(polygon.vertices):], edges)
         area = np.empty(len(tri))
         for lo in range(0, len(tri), GAP_BLOCK):  # (K, 3, 2) corners a block at a time
             q = allp[tri[lo:lo + GAP_BLOCK]]
@@ -345,20 +351,22 @@ def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
 
 def seed_interior(
     polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
-    rows: np.ndarray | None = None,
+    rows: np.ndarray | None = None, bedges: np.ndarray | None = None,
 ) -> np.ndarray:
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
     ``edge`` (default: the longest), deterministic.  With ``rows`` (from
     :func:`boundary_rows`) those come first and the lattice fills the rest,
     clear of them.  Where the segments split P into regions, each region gets
     its own share of the points (:func:`_region_shares`): points cannot cross
-    a segment afterwards, so a region seeded too densely stays so."""
+    a segment afterwards, so a region seeded too densely stays so.  ``bedges``
+    (optional): the polygon edge of each boundary point ``bpts``, as the caller
+    placed them, so that gaps are found without judging them by distance."""
     if count <= 0:
         return np.empty((0, 2))
     if rows is not None and len(rows) >= count:
         rows = None
     if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
-        return _seed_regions(polygon, count, h, bpts, edge, rows)
+        return _seed_regions(polygon, count, h, bpts, edge, rows, bedges)
     cand = _Candidates(polygon, h, edge, rows)
     total = count
     if rows is not None:
@@ -368,10 +376,12 @@ def seed_interior(
     if rows is not None:
         P = np.concatenate([rows, P])
         count = total
-    return _fill_largest_gaps(polygon, bpts, P, count)
+    return _fill_largest_gaps(polygon, bpts, P, count, bedges=bedges)
 
 
-def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> np.ndarray:
+def _seed_regions(
+    polygon: Polygon, count: int, h: float, bpts, edge, rows, bedges=None
+) -> np.ndarray:
     """:func:`seed_interior` region by region: the rows, then in each region a
     lattice (of its own spacing, see :func:`_anchor`) topped up to the region's
     share."""
@@ -388,13 +398,13 @@ def _seed_regions(polygon: Polygon, count: int, h: float, bpts, edge, rows) -> n
         cand = _Candidates(polygon, h, edge, rows, face, _anchor(polygon, sides, r, angle, h))
         Q, dist = _closest_count(cand, need, h)
         P = np.concatenate([P, _drop_nearest(cand, Q, dist, need)])
-        P = _fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face)
+        P = _fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face, bedges)
     if len(P) > count:  # rows beyond some region's share: drop lattice points instead
         first = 0 if rows is None else len(rows)
         dist = to_segments(P[first:], *_keep_clear(polygon), np.inf)
         order = np.lexsort((np.arange(len(dist)), dist))
         P = np.concatenate([P[:first], P[first:][np.sort(order[len(P) - count:])]])
-    return _fill_largest_gaps(polygon, bpts, P, count)[:count]
+    return _fill_largest_gaps(polygon, bpts, P, count, bedges=bedges)[:count]
 
 
 def _sides(polygon: Polygon, faces) -> np.ndarray:
