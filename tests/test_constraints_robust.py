@@ -39,7 +39,8 @@ from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidConstraintError
 from uniform2d.optimize.seed import _sides
 from uniform2d.regions import triangle_regions
-from uniform2d.tplus import _phase1, least_k
+from uniform2d import constraints
+from uniform2d.tplus import SEARCH_LIMIT, _phase1, least_k
 
 DATA = Path(__file__).parent / "data" / "constrained_near.json"
 
@@ -396,3 +397,102 @@ def test_region_chains_take_a_vertex_the_library_puts_on_the_piece():
     res = uniform2d.insert(P, 181)
     edges, ids = region_chains(P, res.mesh_points, res.triangles)
     assert edges[ids == 0].tolist() == [[10, 16], [16, 11]]
+
+
+# -- fuzz seeds 9 and 10: segments leaving one vertex at a tiny angle ----------------
+BOX = [(-1, -1), (2, -1), (2, 2), (-1, 2)]
+
+
+def _fan(offset):
+    return Polygon(BOX, segments=[[(0, 0), (1, 0.3)], [(0, 0), (1, 0.3 + offset)]])
+
+
+def test_segments_closer_than_insert_can_keep_apart_are_refused():
+    """Far ends 1e-10 apart in a polygon 3 across: INSERT's tie tolerance is
+    3e-9 there, the mesh lost one of the two pieces; now the polygon is refused,
+    naming both segments, the place and the distance to keep."""
+    tol = constraints.apart_tol([np.array(BOX)], [np.array([(0.0, 0.0), (1.0, 0.3)])])
+    assert tol == pytest.approx(3e-9, rel=1e-5)
+    with pytest.raises(InvalidConstraintError,
+                       match=r"segment 1 \(piece 0\) runs along segment 0") as exc:
+        _fan(1e-10)
+    assert "(0, 0)" in str(exc.value) and "(1, 0.2999" in str(exc.value)
+    assert f"more than {tol:.3g} apart" in str(exc.value)
+
+
+@pytest.mark.parametrize("factor", [1.5, 3.0, 100.0])
+def test_segments_just_farther_apart_mesh(factor):
+    """Just beyond that distance the fan is accepted and every mesh keeps both
+    pieces as chains of edges (check_mesh)."""
+    tol = constraints.apart_tol([np.array(BOX)], [np.array([(0.0, 0.0), (1.0, 0.3)])])
+    P = _fan(factor * tol)
+    for n in (200, 2000):
+        res = uniform2d.insert(P, n)
+        check_mesh(res.mesh_points, res.triangles, P, n_steiner=n)
+
+
+def test_apart_rule_is_exact_at_its_tolerance():
+    """The rule compares exact distances with the tolerance: an end at exactly
+    the tolerance from the other piece is near, one a rational hair beyond is not."""
+    a, b = (Fraction(0), Fraction(0)), (Fraction(1), Fraction(0))
+    tol = Fraction(1, 10**9)
+    assert constraints._dist2_to_piece((Fraction(1, 2), tol), a, b) == tol * tol
+    assert constraints._dist2_to_piece((Fraction(2), tol), a, b) == 1 + tol * tol
+
+
+NEAR_161 = {
+    "outer": [
+        [5165346.947666551, 141.480883381982],
+        [5165346.921437861, 141.53879698756748],
+        [5165346.782908432, 141.53067051981435],
+        [5165346.790254716, 141.46505506009586],
+    ],
+    "segments": [
+        [[5165346.852173149, 141.53473372470168], [5165346.853291465, 141.51567013244622]],
+        [[5165346.893731981, 141.53717160704917], [5165346.866026099, 141.5355462555201]],
+        [[5165346.853291465, 141.51567013244622], [5165346.854409784, 141.49660651132092]],
+        [[5165346.853291465, 141.51567013244622], [5165346.854409782, 141.4966065112015]],
+    ],
+    "points": [
+        [5165346.852732277, 141.52520194136798],
+    ],
+}  # fmt: skip
+
+
+def test_fuzz_crash_two_pieces_two_ulps_apart_refused():
+    """Seed 9 c_near 9000000161 (insert n = 388 lost a piece): the two segments
+    leave vertex (5165346.853..., 141.515...) at ~1e-7, far ends 2 ulps apart."""
+    with pytest.raises(InvalidConstraintError, match=r"segment 3 \(piece 0\) runs along segment 2"):
+        Polygon(NEAR_161["outer"], segments=NEAR_161["segments"], points=NEAR_161["points"])
+
+
+def test_tplus_refusal_states_a_true_lower_bound():
+    """Where d_n keeps falling (a thin wedge between two segments), the search
+    for the smallest n stops as soon as the d_n it found bounds k above the
+    search limit for every larger n; the bound is recomputed here from INSERT
+    (seed 9 c_near 9000000102, where T+ searched for minutes)."""
+    P = domain("c_near_9000000102")
+    t0 = time.perf_counter()
+    with pytest.raises(InsufficientPointsError, match="in vain") as exc:
+        uniform2d.tplus(P, 66)
+    assert time.perf_counter() - t0 < 10.0
+    msg = str(exc.value)
+    at = int(msg.split("every n from ")[1].split()[0])
+    least = int(msg.split("needs at least ")[1].split()[0])
+    d_at = uniform2d.insert(P, at).min_distance()
+    assert least == least_k(P, 3.0, d_at) > SEARCH_LIMIT
+    # d_n never grows with n: INSERT's first points are the same for a larger n
+    assert uniform2d.insert(P, at + 500).min_distance() <= d_at
+    _, _, pts, _, m = _phase1(P, at, 3.0)
+    assert (int(m.sum() - len(m)) if pts is None else len(pts)) >= least > at
+
+
+def test_tplus_refuses_in_reasonable_time_where_insert_slows():
+    """Seed 10 c_near 10000000151: INSERT slows down at n ~ 40000 here (a long
+    ring edge shadowed by a segment 0.002 from it keeps hundreds of sites in its
+    disk); the search stops after one run and says why."""
+    P = domain("c_near_10000000151")
+    t0 = time.perf_counter()
+    with pytest.raises(InsufficientPointsError, match="in vain"):
+        uniform2d.tplus(P, 5)
+    assert time.perf_counter() - t0 < 60.0
