@@ -179,9 +179,13 @@ def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1,
                         limit: int | None = None) -> int:
     """The smallest n for which T+ places no more boundary points than n (k <= n).
 
-    The search doubles n from ``start`` up to ``limit`` (default: no limit below
-    10^7), then bisects; it raises :class:`SearchLimitReached` (with the last n
-    tried and its k) when even the limit places more boundary points than n."""
+    From ``start``, a failed n moves on to the k it needed, or the lower bound
+    :func:`least_k` its d_n gives every larger n, if larger (where d_n stays
+    put, that n works at once), doubling instead after three such moves; then
+    bisects down to the last n known to fail.  It raises
+    :class:`SearchLimitReached` (the n tried, the last one's k and d_n) at
+    ``limit`` (default: no limit below 10^7), or as soon as that lower bound
+    exceeds it."""
     cap = 10_000_000 if limit is None else max(int(limit), start)
     start = max(start, least_k(polygon, hi))
     lo, n = max(0, start - 1), max(1, start)
@@ -195,7 +199,8 @@ def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1,
         least = least_k(polygon, hi, d_n)
         if n >= cap or least > cap:
             raise SearchLimitReached(n, k, d_n, least, tried)
-        lo, n = n, min(2 * n, cap)
+        lo = max(n, least - 1)  # fails: below least, k >= least > n
+        n = min(max(k, least) if len(tried) <= 3 else max(2 * n, least), cap)
     while lo + 1 < n:  # ok(n) holds, ok(lo) does not (or lo is the start)
         mid = (lo + n) // 2
         if _k(polygon, mid, hi)[0] <= mid:
