@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from numba import njit
 
 import uniform2d
 from invariants import check_mesh, edge_table, segment_chains
@@ -40,6 +41,7 @@ from uniform2d.errors import InsufficientPointsError, InvalidConstraintError
 from uniform2d.optimize.seed import _sides
 from uniform2d.regions import triangle_regions
 from uniform2d import constraints
+from uniform2d._kernel.segment import eval_segment
 from uniform2d.tplus import SEARCH_LIMIT, _phase1, least_k
 
 DATA = Path(__file__).parent / "data" / "constrained_near.json"
@@ -496,3 +498,63 @@ def test_tplus_refuses_in_reasonable_time_where_insert_slows():
     with pytest.raises(InsufficientPointsError, match="in vain"):
         uniform2d.tplus(P, 5)
     assert time.perf_counter() - t0 < 60.0
+
+
+# -- INSERT's subsegment evaluation gathers only the sites within its bound ----------
+@njit
+def _all_evaluations(m, tight):
+    """(value, x, y) of every constrained half-edge's evaluation: with no bound,
+    or (tight) with its own exact value as the bound."""
+    out = np.full((3 * m.nt, 3), np.nan)
+    for h in range(3 * m.nt):
+        if m.tw[h] < 0 or m.tc[h] != 0:
+            w, x, y = eval_segment(m, h, 1e-9, np.inf)
+            if tight:
+                w, x, y = eval_segment(m, h, 1e-9, w)
+            out[h, 0], out[h, 1], out[h, 2] = w, x, y
+    return out
+
+
+@pytest.mark.parametrize("seed,n", [(5000000098, 3000), (10000000151, 2000)])
+def test_subsegment_bound_changes_no_evaluation(seed, n):
+    """A bound as tight as the value itself gathers fewer sites and gives the
+    same (value, point), bit for bit, on every constrained subsegment of
+    domains where a segment runs close beside a ring edge."""
+    from fuzzgen import constrained
+
+    from uniform2d._kernel import heap
+    from uniform2d._kernel import insert as kinsert
+    from uniform2d.triangulation import load, site_edges
+
+    _, o, h, s, p = constrained(seed)
+    P = Polygon(o, h, segments=s, points=p)
+    sites, edges = site_edges(P, None)
+    loaded = load(P, sites, size=None, room=n, edges=edges)
+    m, tmax = loaded.m, loaded.max_triangles
+    M = heap.new_heap(tmax + tmax // 2 + 64)
+    kinsert.push_initial(m, M)
+    xy, w, b = np.empty((n, 2)), np.empty(n), np.zeros(n, np.bool_)
+    assert kinsert.run(m, M, kinsert.new_pool(64), n, xy, w, b, 1e-9, 1e-12) == n
+    loose, tight = _all_evaluations(m, False), _all_evaluations(m, True)
+    done = ~np.isnan(loose[:, 0])
+    assert done.sum() > 100
+    assert np.array_equal(loose[done], tight[done])
+
+
+def test_tplus_names_the_smallest_n_on_a_shadowed_ring_edge():
+    """Seed 5 c_near 5000000098 (T+ n = 216 searched for over 5 minutes, INSERT
+    slowing near n = 35000): the search jumps to the k a failed n needed and
+    names an n that works while the one below does not."""
+    from fuzzgen import constrained
+
+    from uniform2d.tplus import _k
+
+    _, o, h, s, p = constrained(5000000098)
+    P = Polygon(o, h, segments=s, points=p)
+    t0 = time.perf_counter()
+    with pytest.raises(InsufficientPointsError,
+                       match=r"smallest n that works for this polygon is (\d+)") as exc:
+        uniform2d.tplus(P, 216)
+    assert time.perf_counter() - t0 < 300.0
+    need = int(str(exc.value).rsplit(" ", 1)[1])
+    assert _k(P, need, 3.0)[0] <= need < _k(P, need - 1, 3.0)[0] + 1
