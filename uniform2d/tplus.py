@@ -182,7 +182,8 @@ def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1,
     From ``start``, a failed n moves on to the k it needed, or the lower bound
     :func:`least_k` its d_n gives every larger n, if larger (where d_n stays
     put, that n works at once), doubling instead after three such moves; then
-    bisects down to the last n known to fail.  It raises
+    bisects down to the last n known to fail (stopping where d_n is the same at
+    both ends: k, a function of d_n, is then the same in between).  It raises
     :class:`SearchLimitReached` (the n tried, the last one's k and d_n) at
     ``limit`` (default: no limit below 10^7), or as soon as that lower bound
     exceeds it."""
@@ -190,6 +191,7 @@ def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1,
     start = max(start, least_k(polygon, hi))
     lo, n = max(0, start - 1), max(1, start)
     tried = []
+    d_fail = None  # d_n of the last n run that failed (lo is at or above it)
     while True:
         k, d_n = _k(polygon, n, hi)
         tried.append(n)
@@ -199,14 +201,19 @@ def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1,
         least = least_k(polygon, hi, d_n)
         if n >= cap or least > cap:
             raise SearchLimitReached(n, k, d_n, least, tried)
-        lo = max(n, least - 1)  # fails: below least, k >= least > n
+        lo, d_fail = max(n, least - 1), d_n  # fails: below least, k >= least > n
         n = min(max(k, least) if len(tried) <= 3 else max(2 * n, least), cap)
     while lo + 1 < n:  # ok(n) holds, ok(lo) does not (or lo is the start)
+        if d_fail == d_n:
+            # d_n is the same from the failed run to n, so is k (a function of
+            # d_n): the first n from lo + 1 on that holds k works
+            return max(lo + 1, k)
         mid = (lo + n) // 2
-        if _k(polygon, mid, hi)[0] <= mid:
-            n = mid
+        k_mid, d_mid = _k(polygon, mid, hi)
+        if k_mid <= mid:
+            n, k, d_n = mid, k_mid, d_mid
         else:
-            lo = mid
+            lo, d_fail = mid, d_mid
     return n
 
 
