@@ -489,10 +489,11 @@ def test_tplus_refusal_states_a_true_lower_bound():
     assert (int(m.sum() - len(m)) if pts is None else len(pts)) >= least > at
 
 
-def test_tplus_refuses_in_reasonable_time_where_insert_slows():
-    """Seed 10 c_near 10000000151: INSERT slows down at n ~ 40000 here (a long
-    ring edge shadowed by a segment 0.002 from it keeps hundreds of sites in its
-    disk); the search stops after one run and says why."""
+def test_tplus_refuses_soon_on_a_thin_wedge_domain():
+    """Seed 10 c_near 10000000151 (T+ n = 5 searched for minutes: a long ring
+    edge shadowed by a segment 0.002 from it made INSERT slow near n = 40000,
+    and d_n falls there): one run past the lower bound, then a refusal saying
+    why."""
     P = domain("c_near_10000000151")
     t0 = time.perf_counter()
     with pytest.raises(InsufficientPointsError, match="in vain"):
