@@ -14,7 +14,13 @@ floats as given, so no floating-point error judges a junction):
   beside a piece would make a sliver no coordinate can hold a point in;
 * pieces that cross properly, or overlap along a line (or that close to one),
   are refused with the two pieces and the place named; so is a piece outside
-  P or in a hole.
+  P or in a hole;
+* so are two pieces that run along each other closer than INSERT can keep
+  apart (:func:`apart_tol`: its tie tolerance, or the rounding of the
+  coordinates, whichever is larger) at two distinct places -- e.g. two
+  segments leaving one vertex at an angle so small that their far ends are
+  that close: points INSERT puts on one would land within its tolerance of the
+  other, and the mesh could not keep both.
 
 Nothing is repaired silently: the only change to the input is the splitting
 above, which keeps every given point where it was given.
@@ -28,6 +34,7 @@ from fractions import Fraction
 import numpy as np
 import shapely
 
+from ._kernel.rank import REL_TIE
 from .errors import InvalidConstraintError
 
 __all__ = ["Constraints", "build"]
@@ -83,6 +90,61 @@ def _strictly_inside(p, a, b) -> bool:
 #: A vertex this many units in the last place (of the largest coordinate of it
 #: and the piece) or nearer to a piece, beside its inside, is a junction on it.
 NEAR_ULPS = 2
+
+
+def apart_tol(rings, lines, points=()) -> float:
+    """How far apart two constraint pieces must stay (beyond the place where they
+    meet): INSERT's tie tolerance on coordinates, ``REL_TIE`` of the polygon's
+    size (the larger side of its bounding box) plus 4 units in the last place of
+    its largest coordinate (the most its rounding of a point to the caller's
+    coordinates allows for, ``triangulation._grain``)."""
+    allv = np.concatenate([np.asarray(r, dtype=np.float64).reshape(-1, 2) for r in
+                           [*rings, *lines, np.asarray(points, dtype=np.float64).reshape(-1, 2)]])
+    outer = np.asarray(rings[0], dtype=np.float64)
+    extent = float(np.max(outer.max(axis=0) - outer.min(axis=0)))
+    return REL_TIE * extent + 4.0 * float(np.spacing(np.abs(allv).max()))
+
+
+def _dist2_to_piece(p, a, b) -> Fraction:
+    """Squared distance from p to the closed segment a-b (exact, rational points)."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    px, py = p[0] - a[0], p[1] - a[1]
+    L2 = dx * dx + dy * dy
+    t = min(max((px * dx + py * dy) / L2, Fraction(0)), Fraction(1))
+    ex, ey = px - t * dx, py - t * dy
+    return ex * ex + ey * ey
+
+
+def _check_apart(p: "_Piece", q: "_Piece", tol: Fraction) -> None:
+    """Refuse two segment pieces that run along each other within ``tol``: two
+    ends (of either; a shared end counts once) within ``tol`` of the other piece
+    and more than ``tol`` apart -- between them the pieces are that close, as
+    INSERT cannot keep apart (:func:`apart_tol`).  Ends that close to each other
+    are a meeting place, the junction rule's concern (:func:`_on_piece`).
+
+    A piece along a ring edge is not refused: such strips (a few ulps wide)
+    mesh correctly (the near-degenerate constraint tests); two interior pieces
+    that close made meshes that had lost one of them."""
+    if p.ring >= 0 or q.ring >= 0:
+        return
+    near = {x for x in (q.a, q.b) if _dist2_to_piece(x, p.a, p.b) <= tol * tol}
+    near |= {x for x in (p.a, p.b) if _dist2_to_piece(x, q.a, q.b) <= tol * tol}
+    near = sorted(near)
+    for i, u in enumerate(near):
+        for v in near[i + 1:]:
+            if (u[0] - v[0]) ** 2 + (u[1] - v[1]) ** 2 > tol * tol:
+                _refuse_along(p, q, u, v, tol)
+
+
+def _refuse_along(p: "_Piece", q: "_Piece", u, v, tol: Fraction) -> None:
+    other = f"piece {p.local} of itself" if p.what == q.what else p.what
+    raise InvalidConstraintError(
+        f"{q.what} (piece {q.local}) runs along {other} within {float(tol):.3g} of it "
+        f"between {_fmt(u)} and {_fmt(v)}, closer than the mesh can keep apart "
+        f"({REL_TIE:g} of the polygon's size plus the rounding of its coordinates); merge "
+        f"them into one, or move them more than {float(tol):.3g} apart there (e.g. widen "
+        "the angle where they meet)"
+    )
 
 
 def _near_tol(*pts) -> Fraction:
@@ -183,20 +245,22 @@ def _pieces(rings, lines) -> list[_Piece]:
     return out
 
 
-def _boxes(pieces) -> np.ndarray:
+def _boxes(pieces, tol: float = 0.0) -> np.ndarray:
     """(len(pieces), 4) bounding boxes, grown by twice the junction tolerance
-    (:func:`_on_piece`), so that a vertex near a piece is in its box."""
+    (:func:`_on_piece`), or ``tol`` if larger, so that a vertex near a piece is
+    in its box."""
     a = np.array([[float(p.a[0]), float(p.a[1])] for p in pieces])
     b = np.array([[float(p.b[0]), float(p.b[1])] for p in pieces])
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     grow = 2 * NEAR_ULPS * np.spacing(np.maximum(np.abs(lo), np.abs(hi)).max(axis=1))
+    grow = np.maximum(grow, 2 * tol)
     return np.hstack([lo - grow[:, None], hi + grow[:, None]])
 
 
-def _candidate_pairs(pieces) -> np.ndarray:
+def _candidate_pairs(pieces, tol: float) -> np.ndarray:
     """Index pairs (i < j, j a segment piece) whose bounding boxes (grown by the
-    junction tolerance) meet."""
-    box = _boxes(pieces)
+    junction tolerance, or ``tol`` if larger) meet."""
+    box = _boxes(pieces, tol)
     tree = shapely.STRtree(shapely.box(*box.T))
     seg = np.array([i for i, p in enumerate(pieces) if p.ring < 0], dtype=np.int64)
     if len(seg) == 0:
@@ -356,11 +420,13 @@ def build(rings, lines, points) -> Constraints:
     """The constraint graph of normalised ``rings`` with ``lines`` (checked by
     :func:`polyline`) and fixed ``points`` (checked by :func:`fixed_points`)."""
     pieces = _pieces(rings, lines)
-    for i, j in _candidate_pairs(pieces):
+    tol = apart_tol(rings, lines, points)
+    for i, j in _candidate_pairs(pieces, tol):
         if _adjacent(pieces[i], pieces[j]):
             _check_fold(pieces[i], pieces[j])
         else:
             _check_pair(pieces[i], pieces[j])
+        _check_apart(pieces[i], pieces[j], Fraction(tol))
     n_ring = sum(len(r) for r in rings)
     ring_verts = [p.a for p in pieces[:n_ring]]
     more = [p.a for p in pieces[n_ring:]] + [p.b for p in pieces[n_ring:]] + [_q(x) for x in points]

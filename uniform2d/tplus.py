@@ -105,11 +105,14 @@ def boundary_counts(polygon: Polygon, gap: float, rtol: float = 0.0) -> np.ndarr
     return np.maximum(1, np.ceil(r - rtol * r)).astype(np.int64)
 
 
-def least_k(polygon: Polygon, hi: float = 3.0) -> int:
-    """A lower bound on T+'s k for every n: d_n <= l(V, V), and a smaller d_n
-    only shortens the gap, so the edges take at least the points they take for
-    d_n = l(V, V) (less any that land on a polygon vertex and are dropped)."""
-    d = polygon.min_vertex_distance()
+def least_k(polygon: Polygon, hi: float = 3.0, d: float | None = None) -> int:
+    """A lower bound on T+'s k for every n whose d_n is at most ``d`` (default
+    l(V, V), which bounds every d_n): a smaller d_n only shortens the gap, so the
+    edges take at least the points they take for d_n = d (less any that land on
+    a polygon vertex and are dropped).  INSERT's points for n are the first n of
+    its points for any larger n, so d_n never grows with n: the d_n found for
+    one n bounds k for every larger n."""
+    d = polygon.min_vertex_distance() if d is None else d
     m = boundary_counts(polygon, hi * d, ratio_tolerance(polygon, d))
     dropped = len(polygon.vertices) if polygon.has_constraints else 0
     return max(0, int(m.sum() - len(m)) - dropped)
@@ -149,40 +152,83 @@ def _phase1(polygon, n, hi):
 
 
 def _k(polygon, n, hi):
-    """T+'s k for n, or n + 1 when it is certainly more than n."""
-    pts = _phase1(polygon, n, hi)[1]
-    return n + 1 if pts is None else len(pts)
+    """(T+'s k for n, or n + 1 when it is certainly more than n; d_n)."""
+    d_n, pts, _, _ = _phase1(polygon, n, hi)
+    return (n + 1 if pts is None else len(pts)), d_n
 
 
 #: Above this lower bound on k, T+ is refused without searching for the smallest
-#: n that works (each step of that search runs INSERT for about k points).
+#: n that works (each step of that search runs INSERT for about k points); the
+#: search itself stops at this n (or the caller's n, if larger): on
+#: near-degenerate domains d_n keeps shrinking as n grows (a point lands in a
+#: thin wedge), so k can stay above n up to millions of points.
 SEARCH_LIMIT = 100_000
 
 
-def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1) -> int:
-    """The smallest n for which T+ places no more boundary points than n (k <= n)."""
+class SearchLimitReached(InsufficientPointsError):
+    """:func:`smallest_feasible_n` stopped at its limit with k still above n:
+    at n (d_n there), and, if ``least`` > n, no n below ``least`` works either
+    (:func:`least_k` for that d_n)."""
 
-    def ok(n):
-        return _k(polygon, n, hi) <= n
+    def __init__(self, n: int, k: int, d_n: float, least: int, tried: list):
+        self.n, self.k, self.d_n, self.least, self.tried = n, k, d_n, least, tried
+        super().__init__(f"at n = {n} (d_n = {d_n:.6g}), T+ still needs more than n boundary points")
 
+
+def smallest_feasible_n(polygon: Polygon, hi: float = 3.0, start: int = 1,
+                        limit: int | None = None) -> int:
+    """The smallest n for which T+ places no more boundary points than n (k <= n).
+
+    From ``start``, a failed n moves on to the k it needed, or the lower bound
+    :func:`least_k` its d_n gives every larger n, if larger (where d_n stays
+    put, that n works at once), doubling instead after three such moves; then
+    bisects down to the last n known to fail (stopping where d_n is the same at
+    both ends: k, a function of d_n, is then the same in between).  It raises
+    :class:`SearchLimitReached` (the n tried, the last one's k and d_n) at
+    ``limit`` (default: no limit below 10^7), or as soon as that lower bound
+    exceeds it."""
+    cap = 10_000_000 if limit is None else max(int(limit), start)
     start = max(start, least_k(polygon, hi))
     lo, n = max(0, start - 1), max(1, start)
-    while not ok(n):
-        lo, n = n, 2 * n
-        if n > 10_000_000:
-            raise InsufficientPointsError("no feasible n below 10^7 for this polygon")
+    tried = []
+    d_fail = None  # d_n of the last n run that failed (lo is at or above it)
+    while True:
+        k, d_n = _k(polygon, n, hi)
+        tried.append(n)
+        if k <= n:
+            break
+        # every larger n has d_n no larger, so at least this many boundary points
+        least = least_k(polygon, hi, d_n)
+        if n >= cap or least > cap:
+            raise SearchLimitReached(n, k, d_n, least, tried)
+        lo, d_fail = max(n, least - 1), d_n  # fails: below least, k >= least > n
+        n = min(max(k, least) if len(tried) <= 3 else max(2 * n, least), cap)
     while lo + 1 < n:  # ok(n) holds, ok(lo) does not (or lo is the start)
+        if d_fail == d_n:
+            # d_n is the same from the failed run to n, so is k (a function of
+            # d_n): the first n from lo + 1 on that holds k works
+            return max(lo + 1, k)
         mid = (lo + n) // 2
-        if ok(mid):
-            n = mid
+        k_mid, d_mid = _k(polygon, mid, hi)
+        if k_mid <= mid:
+            n, k, d_n = mid, k_mid, d_mid
         else:
-            lo = mid
+            lo, d_fail = mid, d_mid
     return n
+
+
+_NARROW = (
+    "d_n, the distance of the closest two points INSERT places, is that small here (a "
+    "narrow part of the polygon, e.g. between two segments at a small angle, takes points "
+    "very close together); use uniform_mesh or insert for this polygon, or widen that part"
+)
 
 
 def _too_few(polygon, n, hi, d_n, k):
     """The error for k > n: naming the smallest n that works, or, where even a
-    lower bound on k is out of reach, the polygon's closest vertices."""
+    lower bound on k is out of reach, the polygon's closest vertices, or, where
+    the search reaches :data:`SEARCH_LIMIT` (or n, if larger) with k still above
+    it, the k found there."""
     least = least_k(polygon, hi)
     if least > SEARCH_LIMIT:
         return InsufficientPointsError(
@@ -191,7 +237,22 @@ def _too_few(polygon, n, hi, d_n, k):
             f"never larger, and T+ puts boundary points at most {hi:g} d_n apart; use "
             "uniform_mesh or insert for this polygon, or move those vertices apart"
         )
-    need = smallest_feasible_n(polygon, hi, start=n + 1)
+    try:
+        need = smallest_feasible_n(polygon, hi, start=n + 1, limit=max(SEARCH_LIMIT, n + 1))
+    except SearchLimitReached as stop:
+        if stop.least > stop.n:
+            return InsufficientPointsError(
+                f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n; "
+                f"the search for the smallest n that works tried n = "
+                f"{', '.join(map(str, stop.tried))} in vain, and every n from {stop.n} on "
+                f"needs at least {stop.least} (d_n = {stop.d_n:.6g} at n = {stop.n}, and d_n "
+                f"never grows with n), more than the search goes to ({SEARCH_LIMIT}); {_NARROW}"
+            )
+        return InsufficientPointsError(
+            f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n, and "
+            f"still more than n at n = {stop.n} (d_n = {stop.d_n:.6g}), where the search for "
+            f"the smallest n that works stops; {_NARROW}"
+        )
     return InsufficientPointsError(
         f"T+ needs {k} boundary points for n = {n} (d_n = {d_n:.6g}), more than n; "
         f"the smallest n that works for this polygon is {need}"

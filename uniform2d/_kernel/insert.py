@@ -168,8 +168,9 @@ def find_constrained(m, u, v):
 
 
 @njit(cache=True)
-def _current(m, a, b, xtol):
-    """(alive, weight, x, y) of candidate (a, b) now (a subsegment is re-evaluated)."""
+def _current(m, a, b, xtol, bound):
+    """(alive, weight, x, y) of candidate (a, b) now (a subsegment is re-evaluated;
+    ``bound``: a value it cannot exceed, its last key or value)."""
     if a >= 0:
         if m.tstamp[a] != b:
             return False, 0.0, 0.0, 0.0
@@ -178,7 +179,7 @@ def _current(m, a, b, xtol):
     h = find_constrained(m, -a - 1, b)
     if h < 0:
         return False, 0.0, 0.0, 0.0
-    w, x, y = eval_segment(m, h, xtol)
+    w, x, y = eval_segment(m, h, xtol, bound)
     return True, w, x, y
 
 
@@ -187,7 +188,7 @@ def _revalidate(m, M, P, s, thr, xtol):
     """Is member s current and unchanged?  If dead it is dropped; if changed it is
     re-filed with its fresh values (in the pool if still >= thr, else in M)."""
     a, b = P.pa[s], P.pb[s]
-    alive, w, x, y = _current(m, a, b, xtol)
+    alive, w, x, y = _current(m, a, b, xtol, P.pw[s])
     if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
         return True
     pool_kill(P, np.int64(s))
@@ -217,7 +218,7 @@ def _gather(m, M, P, xtol):
             break
     while M.size > 0 and (W < 0.0 or heap.top_key(M) >= tied_above(W, m.wg)):
         key, a, b = heap.pop(M)
-        alive, w, x, y = _current(m, a, b, xtol)
+        alive, w, x, y = _current(m, a, b, xtol, key)
         if not alive:
             continue
         if w < key and (W < 0.0 or w < tied_above(W, m.wg)):

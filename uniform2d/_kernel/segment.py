@@ -15,6 +15,9 @@ from .rank import better, size_at
 __all__ = ["eval_segment", "seg_dist2", "DISK_SLACK"]
 
 DISK_SLACK = 1e-12  # inclusive slack when collecting sites near a subsegment (harmless)
+# relative slack on the bound of eval_segment: values may rise by the tie
+# tolerance (1e-9) between evaluations, where rounding computes them differently
+NEAR_SLACK = 1e-6
 
 
 @njit(cache=True)
@@ -51,11 +54,12 @@ def _visible(m, ne, x, y, q):
 
 
 @njit(cache=True)
-def _collect(m, h, mx, my, r2):
+def _collect(m, h, mx, my, r2, near2):
     """Search from the triangle on h across unconstrained edges that meet the disk
     (centre (mx, my), squared radius r2): the sites strictly inside it on the
-    inner side of h go to ``m.vbuf``, the constrained edges met (h and its twin
-    excepted) to ``m.ebuf``.  Returns (sites, edges) collected."""
+    inner side of h and within squared distance ``near2`` of h go to
+    ``m.vbuf``, the constrained edges met (h and its twin excepted) to
+    ``m.ebuf``.  Returns (sites, edges) collected."""
     xy = m.xy
     a = m.tv[h]
     b = m.tv[nxt(h)]
@@ -82,7 +86,9 @@ def _collect(m, h, mx, my, r2):
                 # a site not strictly on the inner side of h's line is never seen
                 # from inside h (the segment would leave P at once), nor nearer
                 # than a or b if it lies on that line
-                if ddx * ddx + ddy * ddy < r2 and orient2d(ax, ay, bx, by, xy[w, 0], xy[w, 1]) > 0.0:
+                if (ddx * ddx + ddy * ddy < r2
+                        and seg_dist2(ax, ay, bx, by, xy[w, 0], xy[w, 1]) <= near2
+                        and orient2d(ax, ay, bx, by, xy[w, 0], xy[w, 1]) > 0.0):
                     m.vbuf[nv] = w
                     nv += 1
             g = m.tw[e]
@@ -155,9 +161,11 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
 
 
 @njit(cache=True)
-def eval_segment(m, h, xtol):
+def eval_segment(m, h, xtol, bound):
     """Largest visible distance on constrained subsegment h and where: (value, x, y),
     value = distance / size field (the distance itself without a field).
+    ``bound`` is a value h cannot exceed (an earlier value of it: values only
+    fall as sites are added), or inf.
 
     h is a boundary subsegment or one side of an interior piece.  A piece is a
     candidate once per side, valued by the sites on that side: approached from
@@ -173,6 +181,15 @@ def eval_segment(m, h, xtol):
     gathered constrained edges only, which is enough: x -> q enters P through the
     triangle on h and lies in the disk, so every triangle it crosses before its
     first constrained edge is reached by the search, and so is that edge.
+
+    Without a size field only the sites within ``bound`` (with a relative 1e-6
+    and the rounding grain to spare) of h are gathered: a site farther away is
+    farther than the value from every point of h, so it is nobody's nearest and
+    leaves every point's visible distance as it was, while the two sites that
+    make the maximum are at the value from it.  The maximum is found over every
+    pair of gathered sites (O(sites^3)), and a long subsegment shadowed by a
+    piece running close beside it keeps hundreds of sites in its disk as the
+    mesh around it fills up: gathering them all made each step cost ~1 s.
     """
     xy = m.xy
     a = m.tv[h]
@@ -185,7 +202,11 @@ def eval_segment(m, h, xtol):
     if dot2d(ax, ay, bx, by, xy[c, 0], xy[c, 1]) >= 0.0:
         return half / size_at(m, mx, my), mx, my
     # the subsegment is encroached
-    nv, ne = _collect(m, h, mx, my, half * half * (1.0 + DISK_SLACK))
+    near2 = np.inf
+    if not m.sized and bound < np.inf:
+        near = bound * (1.0 + NEAR_SLACK) + m.wg
+        near2 = near * near
+    nv, ne = _collect(m, h, mx, my, half * half * (1.0 + DISK_SLACK), near2)
     bv, bx_, by_ = _envelope_max(m, h, nv, ne, mx, my, xtol)
     if bv < 0.0:
         return half / size_at(m, mx, my), mx, my
