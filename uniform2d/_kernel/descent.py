@@ -117,33 +117,8 @@ def _weights(m, hv, href, k, objective):
     ``S_short`` infinite and its weight 0 for that sweep (typically a polygon
     edge far below the target size, which fixes the shortest edge anyway).
     """
-    if objective == MAX_EDGE:
-        return 1.0, 0.0, 0.0
-    if objective == MAX_PERIMETER:
-        return 0.0, 0.0, 1.0
-    tv, tw, xy = m.tv, m.tw, m.xy
-    s_len = 0.0
-    s_short = 0.0
-    s_per = 0.0
-    for t in range(m.nt):
-        per = 0.0
-        tgt = 0.0
-        for i in range(3):
-            h = 3 * t + i
-            L, s = edge(xy, tv, hv, href, h)
-            per += L
-            tgt += s
-            g = tw[h]
-            if g < 0 or g > h:  # each edge once
-                q = _pw(L / s, k)
-                s_len += q
-                # an underflowed q (a polygon edge far shorter than the target,
-                # such as a tiny hole's) leaves no room for the short-edge term
-                s_short += 1.0 / q if q > 0.0 else np.inf
-        s_per += _pw(per / tgt, k)
-    if objective == RATIO:
-        return 1.0 / s_len, 1.0 / s_short, 0.0
-    return 2.0 / s_len, 1.0 / s_short, 1.0 / s_per
+    _, _, _, w_len, w_short, w_per = _measure_weights(m, hv, href, k, objective)
+    return w_len, w_short, w_per
 
 
 @njit(cache=True)
@@ -153,8 +128,9 @@ def _measure_weights(m, hv, href, k, objective):
     same values.  (lmax, lmin, pmax, w_len, w_short, w_per)."""
     if objective == MAX_EDGE or objective == MAX_PERIMETER:  # weights without a pass
         lmax, lmin, pmax = measure(m, hv, href)
-        w_len, w_short, w_per = _weights(m, hv, href, k, objective)
-        return lmax, lmin, pmax, w_len, w_short, w_per
+        if objective == MAX_EDGE:
+            return lmax, lmin, pmax, 1.0, 0.0, 0.0
+        return lmax, lmin, pmax, 0.0, 0.0, 1.0
     tv, tw, xy = m.tv, m.tw, m.xy
     lmax = 0.0
     lmin = np.inf
@@ -177,6 +153,8 @@ def _measure_weights(m, hv, href, k, objective):
             if g < 0 or g > h:  # each edge once
                 q = _pw(ell, k)
                 s_len += q
+                # an underflowed q (a polygon edge far shorter than the target,
+                # such as a tiny hole's) leaves no room for the short-edge term
                 s_short += 1.0 / q if q > 0.0 else np.inf
         pmax = max(pmax, per / tgt)
         s_per += _pw(per / tgt, k)
