@@ -3,10 +3,9 @@
 :func:`improve` loads a mesh into the kernel once (:func:`load`), runs the
 stages of a :class:`~uniform2d.optimize.schedule.Schedule` on it
 (:func:`advance`), reads the points back (:func:`unload`) and triangulates
-them (:func:`finish`); the kernel keeps
-the triangulation valid and constrained Delaunay by exact predicates and flips
-while the points move.  :func:`improve_best` does the same from the best of
-several starts.
+them (:func:`finish`); the kernel keeps the triangulation valid and
+constrained Delaunay by exact predicates and flips while the points move.
+:func:`improve_best` does the same from the best of several starts.
 """
 
 from __future__ import annotations
