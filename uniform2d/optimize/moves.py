@@ -25,7 +25,7 @@ from . import schedule as S
 from .objective import objective_code
 from .seed import target_size
 
-__all__ = ["improve", "improve_best"]
+__all__ = ["improve", "improve_kept", "improve_best"]
 
 
 def improve(
@@ -98,6 +98,21 @@ def improve(
     >>> pts.shape, np.allclose(pts[5, 1], 0.0)   # the boundary site stayed on y = 0
     ((7, 2), True)
     """
+    return _improve(polygon, sites, size=size, objective=objective, href=href, frozen=frozen,
+                    spring_rounds=spring_rounds, sweeps=sweeps, exponents=exponents,
+                    spread_sweeps=spread_sweeps, edges=edges, fresh=True)
+
+
+def improve_kept(polygon: Polygon, sites, **options):
+    """:func:`improve`, returning the kernel's own triangulation of the moved points
+    (:func:`finish_kept`) instead of triangulating them again: the optimiser's
+    path, where the mesh is checked before it is returned."""
+    return _improve(polygon, sites, fresh=False, **options)
+
+
+def _improve(polygon, sites, *, size=None, objective="balanced", href=None, frozen=None,
+             spring_rounds=None, sweeps=None, exponents=None, spread_sweeps=None, edges=None,
+             fresh=True):
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     obj = objective_code(objective)
@@ -107,6 +122,8 @@ def improve(
     sched = default_schedule(len(st.xy), size is not None, spring_rounds=spring_rounds,
                              sweeps=sweeps, exponents=exponents, spread_sweeps=spread_sweeps)
     run = advance(st, sched, obj)
+    if not fresh:
+        return finish_kept(polygon, st, run)
     unloaded = unload(polygon, st)
     del st
     return finish(polygon, unloaded, run)
@@ -206,6 +223,24 @@ def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
     return points, triangles, info
 
 
+def finish_kept(polygon: Polygon, st: "_Loaded", run: Progress):
+    """:func:`finish`'s result from the kernel's own triangulation of its points.
+
+    The kernel keeps its mesh the exact constrained Delaunay triangulation of
+    its points after every round, and its points are exactly the ones returned
+    (:func:`_unload`), so this is a CDT of them without a second one built from
+    scratch (at 1e6 points that build costs seconds).  Where four points are
+    cocircular it may pick the other diagonal than a fresh build would."""
+    nV = len(polygon.vertices)
+    points = _unload(polygon, st)
+    triangles = cdt.triangle_list(st.m)
+    info = {
+        "spring_rounds": int(run.spring_rounds), "sweeps": int(run.sweeps),
+        "objective_value": run.value, "edges": st.eid[nV:].copy(),
+    }
+    return points, triangles, info
+
+
 def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=None,
                  report=None, spring_rounds=None, sweeps=None, exponents=None,
                  spread_sweeps=None):
@@ -222,7 +257,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     the long ones on the few that can win.  ``report(done, total)``, if given, is
     called before the first trial and after each.
 
-    Returns (index of the winning start, points, triangles, info) as :func:`improve`.
+    Returns (index of the winning start, points, triangles, info) as :func:`improve`,
+    the triangles the kernel's own (:func:`finish_kept`).
     All starts are alive in the kernel at once until the first ranking: fine
     for what :func:`~uniform2d.optimize.seed.variants` gives (up to 12 starts
     of at most ``schedule.SMALL`` points, 2 of at most ``schedule.LARGE``, a
@@ -260,9 +296,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     if exponents is None:
         sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
     run = advance(st, sched, obj, run)
-    unloaded = unload(polygon, st)
-    del st
-    return i, *finish(polygon, unloaded, run)
+    return i, *finish_kept(polygon, st, run)
 
 
 def rank(st: "_Loaded | None", obj: int) -> float:

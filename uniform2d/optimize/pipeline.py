@@ -16,8 +16,9 @@ from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
 from ..tplus import tplus_if_feasible
+from ..triangulation import ensure_valid
 from . import schedule as S
-from .moves import improve, improve_best
+from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
 from .seed import boundary_counts, boundary_points, boundary_rows, seed_interior, target_size, variants
@@ -59,7 +60,7 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
         report("seed", 1, 1)
         sites, edges, frozen, _ = made[0]
         report("relaxation", 0, 1)
-        pts, tri, run = improve(
+        pts, tri, run = improve_kept(
             polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **options
         )
         i = 0
@@ -167,6 +168,8 @@ def optimize_mesh(
         report("relocation", 0, 1)
         pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options, run["edges"])
         report("relocation", 1, 1)
+    # the kernel's own triangles (moves.finish_kept), checked here once
+    ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
     q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
