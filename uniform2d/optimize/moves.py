@@ -20,7 +20,8 @@ from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon
 from ..segment_chains import piece_chains, rebuild
-from ..triangulation import boundary_tol, load_mesh, triangulate
+from ..triangulation import boundary_tol, edge_parameters, load_mesh, triangulate
+from ..triangulation import load as build
 from . import schedule as S
 from .objective import objective_code
 from .seed import target_size
@@ -104,9 +105,10 @@ def improve(
 
 
 def improve_kept(polygon: Polygon, sites, **options):
-    """:func:`improve`, returning the kernel's own triangulation of the moved points
-    (:func:`finish_kept`) instead of triangulating them again: the optimiser's
-    path, where the mesh is checked before it is returned."""
+    """:func:`improve` for the optimiser's own sites: built in the kernel once
+    (:func:`load_built`, with ``edges`` and no size field) and returned as the
+    kernel's own triangulation of the moved points (:func:`finish_kept`) instead
+    of triangulating them again; the optimiser checks the mesh it returns."""
     return _improve(polygon, sites, fresh=False, **options)
 
 
@@ -116,7 +118,10 @@ def _improve(polygon, sites, *, size=None, objective="balanced", href=None, froz
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     obj = objective_code(objective)
-    st = load(polygon, sites, size=size, href=href, frozen=frozen, edges=edges)
+    if fresh or size is not None or edges is None:
+        st = load(polygon, sites, size=size, href=href, frozen=frozen, edges=edges)
+    else:
+        st = load_built(polygon, sites, href=href, frozen=frozen, edges=edges)
     if st is None:
         return finish(polygon, None, Progress())
     sched = default_schedule(len(st.xy), size is not None, spring_rounds=spring_rounds,
@@ -154,6 +159,22 @@ def load(polygon: Polygon, sites, *, size=None, href=None, frozen=None, edges=No
     if len(P0) == len(polygon.vertices):
         return None
     return _load(polygon, P0, T0, size, href, frozen, edges)
+
+
+def load_built(polygon: Polygon, sites, *, href=None, frozen=None, edges=None):
+    """:func:`load` of the optimiser's own sites (``edges`` given, no size field),
+    kept in the kernel the triangulation was built in: no triangle list read
+    out, checked and loaded into a second kernel (the mesh returned is checked
+    at the end).  The kernel's slots then come in the order the build made
+    them, not that of a triangle list, so the moves can take other (equally
+    valid) turns than after :func:`load`."""
+    if len(sites) == 0:
+        return None
+    built = build(polygon, sites, edges=edges)
+    edges = built.edges
+    tb = edge_parameters(polygon, built.sites, edges)
+    boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
+    return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href, frozen)
 
 
 def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
@@ -247,8 +268,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     """:func:`improve` from the best of several starts, found by successive halving.
 
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
-    arguments.  Every start is loaded once and runs the first schedule of
-    ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`;
+    arguments.  Every start is built in the kernel once (:func:`load_built`) and
+    runs the first schedule of ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`;
     ``KEEP_LARGE`` above ``KEEP_MAX`` points) run the next, and so on; the
     winner's kernel state goes on into the full schedule (overridden as
     :func:`improve`'s) without being loaded again, from the stage
@@ -267,7 +288,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     obj = objective_code(objective)
     alive = []
     for sites, edges, frozen in starts:
-        st = load(polygon, sites, href=href, frozen=frozen, edges=edges)
+        st = load_built(polygon, sites, href=href, frozen=frozen, edges=edges)
         alive.append((len(alive), st, Progress()))
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
     keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
@@ -334,9 +355,16 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
     the role of every point: polygon vertices and ``frozen`` sites fixed, sites
     on the boundary sliding along their edge, the others free; ``edges`` as
     :func:`improve`'s."""
-    nV = len(polygon.vertices)
     T0 = np.asarray(triangles, dtype=np.int32)
     m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
+    return _roles(polygon, m, xy, centre, scale, boundary, href, frozen, T0 if graded else None)
+
+
+def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -> _Loaded:
+    """:func:`_load` once the mesh is in kernel ``m`` (coordinates ``xy``): the
+    roles, edges and sizes of its points.  ``graded``: the mesh's triangles
+    where the kernel reads a size field (None without one)."""
+    nV = len(polygon.vertices)
     N = len(xy)
     a, d, _ = polygon_edges(polygon, constraints=True)
     role = np.full(N, relax.FREE, np.int8)
@@ -351,8 +379,8 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
         t[nV + i] = ti
     hv = np.ones(N)
     relax.refresh_sizes(m, hv, np.ones(N, np.bool_))
-    if graded:  # the field's shape, scaled to the edges present
-        E = np.concatenate([T0[:, [0, 1]], T0[:, [1, 2]], T0[:, [2, 0]]])
+    if graded is not None:  # the field's shape, scaled to the edges present
+        E = np.concatenate([graded[:, [0, 1]], graded[:, [1, 2]], graded[:, [2, 0]]])
         Ls = np.hypot(*(xy[E[:, 1]] - xy[E[:, 0]]).T)
         hs = 0.5 * (hv[E[:, 0]] + hv[E[:, 1]])
         href_n = float(np.sqrt((Ls**2).mean() / (hs**2).mean()))
