@@ -10,8 +10,8 @@ from ._jit import njit
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
 from .star import FIXED, TRIES, accept, edge, gather, initial_steps, keep_state, legalize_moved
-from .star import measure, objective_of, outgoing, place_at, refresh_sizes, refuse
-from .star import ring_neighbours, search, star_buffers, star_ok
+from .star import measure, objective_of, place_at, refresh_sizes, refuse
+from .star import ring_neighbours, search, stars, star_ok
 
 __all__ = ["descend"]
 
@@ -187,8 +187,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
     (moves made, the largest energy share met).  A vertex whose share is below
     ``floor`` rests; so does one whose line search fails, until a neighbour moves."""
     xy = m.xy
-    vh = outgoing(m)
-    SP, TR, L = star_buffers(m)
+    vh, SP, TR, L = stars(m)
     grad = np.zeros(2)
     g2 = np.zeros(2)
     emax = 0.0

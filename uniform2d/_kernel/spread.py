@@ -10,8 +10,8 @@ from ._jit import njit
 
 from .cdt import snap
 from .star import FIXED, TRIES, accept, edge, edge_halves, gather, initial_steps, keep_state
-from .star import legalize_moved, measure, objective_of, outgoing, place_at, refresh_sizes
-from .star import refuse, ring_neighbours, search, star_buffers, star_ok
+from .star import legalize_moved, measure, objective_of, place_at, refresh_sizes
+from .star import refuse, ring_neighbours, search, stars, star_ok
 
 __all__ = ["spread"]
 
@@ -88,8 +88,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, l
     """One sweep of :func:`spread` over the movable vertices, in order, each move
     keeping its star within the extremes (lmax, lmin, pmax); returns the moves made."""
     xy = m.xy
-    vh = outgoing(m)
-    SP, TR, L = star_buffers(m)
+    vh, SP, TR, L = stars(m)
     cbar = _mean_length(m, hv, href)
     grad = np.zeros(2)
     g2 = np.zeros(2)

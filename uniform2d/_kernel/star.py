@@ -139,29 +139,26 @@ def t_of(role, t, u, at_start):
 
 
 @njit(cache=True)
-def outgoing(m):
-    """One outgoing half-edge per vertex: the boundary one for boundary vertices."""
+def stars(m):
+    """One outgoing half-edge per vertex (the boundary one for boundary vertices;
+    -1 for none) and buffers for the largest star: spokes (S, 3), triangles
+    (S, 2), lengths (S,).  One pass over the half-edges for both: a sweep needs
+    both, and on a large mesh whose deep interior is frozen each pass costs about
+    as much as the moves of the few vertices that move.  (vh, SP, TR, L)."""
     vh = np.full(m.nv, -1, np.int64)
+    deg = np.zeros(m.nv, np.int32)
+    top = 0
     for h in range(3 * m.nt):
         v = m.tv[h]
         if vh[v] < 0:
             vh[v] = h
+        deg[v] += 1
+        top = max(top, deg[v])
     for v in range(m.nv):
         if m.vseg[v] >= 0:
             vh[v] = m.vseg[v]
-    return vh
-
-
-@njit(cache=True)
-def star_buffers(m):
-    """Buffers for the largest star: spokes (S, 3), triangles (S, 2), lengths (S,)."""
-    deg = np.zeros(m.nv, np.int64)
-    top = 0
-    for h in range(3 * m.nt):
-        deg[m.tv[h]] += 1
-        top = max(top, deg[m.tv[h]])
     s = top + 2
-    return np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
+    return vh, np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
 
 
 @njit(cache=True)
@@ -223,12 +220,18 @@ def suspects(m, moved, todo):
     """The unconstrained edges with a moved vertex in either triangle (each once),
     for the legalisation after a sweep.  Returns (todo, count)."""
     tv, tw = m.tv, m.tw
+    # first which triangles hold a moved vertex (one sequential pass), then each
+    # edge reads its twin's flag: a byte per triangle instead of the twin's
+    # vertex, scattered over the half-edge arrays
+    hot = np.empty(m.nt, np.bool_)
+    for t in range(m.nt):
+        hot[t] = moved[tv[3 * t]] or moved[tv[3 * t + 1]] or moved[tv[3 * t + 2]]
     sp = 0
     for h in range(3 * m.nt):
         g = tw[h]
         if g < h:  # boundary (-1), or the twin's turn
             continue
-        if moved[tv[h]] or moved[tv[nxt(h)]] or moved[tv[prv(h)]] or moved[tv[prv(g)]]:
+        if hot[h // 3] or hot[g // 3]:
             todo = grown(todo, sp + 1)
             todo[sp] = h
             sp += 1
