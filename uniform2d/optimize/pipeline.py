@@ -40,7 +40,7 @@ def _start(polygon: Polygon, n: int, h: float, variant):
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
-    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid)
+    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid, over=True)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays
     deep = to_segments(ipts, a, a + d, 2.0 * S.BAND * h) > S.BAND * h
     frozen = np.concatenate([np.zeros(len(bpts), bool), deep])

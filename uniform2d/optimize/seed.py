@@ -289,9 +289,15 @@ class _Candidates:
         return P[ok], dist[ok]
 
 
-def _closest_count(cand: _Candidates, count: int, h: float):
+def _closest_count(cand: _Candidates, count: int, h: float, over: bool = False):
     """Bisection on the lattice spacing for ``count`` candidates (the count
-    decreases with the spacing); the best (points, distances) found."""
+    decreases with the spacing); the best (points, distances) found.
+
+    It stops within ``count // 500`` of the count, or, with ``over``, only at
+    up to that many candidates too many (the fix-up, :func:`_drop_nearest`,
+    drops the extra ones nearest to the boundary), not too few: filling those
+    (:func:`_fill_largest_gaps`) triangulates the whole seed, which costs more
+    than the few lattices more that the bisection tries."""
     lo, hi = 0.5 * h, 1.5 * h
     best = None
     for _ in range(30):
@@ -301,7 +307,9 @@ def _closest_count(cand: _Candidates, count: int, h: float):
             abs(len(P) - count) == abs(len(best[0]) - count) and len(P) >= count
         ):
             best = (P, dist)
-        if abs(len(P) - count) <= count // 500:  # close: the fix-up after it is exact
+        if over and 0 <= len(P) - count <= count // 500:
+            return P, dist
+        if not over and abs(len(P) - count) <= count // 500:  # the fix-up after it is exact
             break
         if len(P) > count:
             lo = mid
@@ -351,7 +359,7 @@ def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
 
 def seed_interior(
     polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
-    rows: np.ndarray | None = None, bedges: np.ndarray | None = None,
+    rows: np.ndarray | None = None, bedges: np.ndarray | None = None, over: bool = False,
 ) -> np.ndarray:
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
     ``edge`` (default: the longest), deterministic.  With ``rows`` (from
@@ -360,18 +368,20 @@ def seed_interior(
     its own share of the points (:func:`_region_shares`): points cannot cross
     a segment afterwards, so a region seeded too densely stays so.  ``bedges``
     (optional): the polygon edge of each boundary point ``bpts``, as the caller
-    placed them, so that gaps are found without judging them by distance."""
+    placed them, so that gaps are found without judging them by distance.
+    ``over``: as :func:`_closest_count`'s (the optimiser's starts; the default
+    keeps :func:`lattice_seed`'s points as they were)."""
     if count <= 0:
         return np.empty((0, 2))
     if rows is not None and len(rows) >= count:
         rows = None
     if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
-        return _seed_regions(polygon, count, h, bpts, edge, rows, bedges)
+        return _seed_regions(polygon, count, h, bpts, edge, rows, bedges, over)
     cand = _Candidates(polygon, h, edge, rows)
     total = count
     if rows is not None:
         count = total - len(rows)
-    P, dist = _closest_count(cand, count, h)
+    P, dist = _closest_count(cand, count, h, over)
     P = _drop_nearest(cand, P, dist, count)
     if rows is not None:
         P = np.concatenate([rows, P])
@@ -380,7 +390,7 @@ def seed_interior(
 
 
 def _seed_regions(
-    polygon: Polygon, count: int, h: float, bpts, edge, rows, bedges=None
+    polygon: Polygon, count: int, h: float, bpts, edge, rows, bedges=None, over=False
 ) -> np.ndarray:
     """:func:`seed_interior` region by region: the rows, then in each region a
     lattice (of its own spacing, see :func:`_anchor`) topped up to the region's
@@ -396,7 +406,7 @@ def _seed_regions(
         if need <= 0:
             continue
         cand = _Candidates(polygon, h, edge, rows, face, _anchor(polygon, sides, r, angle, h))
-        Q, dist = _closest_count(cand, need, h)
+        Q, dist = _closest_count(cand, need, h, over)
         P = np.concatenate([P, _drop_nearest(cand, Q, dist, need)])
         P = _fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face, bedges)
     if len(P) > count:  # rows beyond some region's share: drop lattice points instead
