@@ -323,12 +323,52 @@ def refuse(step, v, href, hvv):
 
 @njit(cache=True)
 def keep_state(m, t, best_xy, best_t, best_tv):
-    """Copy the present points, edge parameters and triangles into ``best_*``."""
+    """Copy the present points, edge parameters and triangles into ``best_*``.
+
+    ``best_tv`` holds the triangles ``tv`` (3 nt entries) or, if it has
+    :func:`state_size` entries, the whole triangulation: then ``tw``, ``tc``,
+    ``vseg`` and ``vcs`` follow, and :func:`restore_state` puts it back by
+    copying (no adjacency rebuilt from a triangle list)."""
     # loops: slice copies compile numba's shape-error code
     for i in range(best_xy.shape[0]):
         best_xy[i, 0] = m.xy[i, 0]
         best_xy[i, 1] = m.xy[i, 1]
     for i in range(best_t.shape[0]):
         best_t[i] = t[i]
-    for i in range(best_tv.shape[0]):
+    n3 = 3 * m.nt
+    for i in range(min(best_tv.shape[0], n3)):
         best_tv[i] = m.tv[i]
+    if best_tv.shape[0] > n3:
+        for i in range(n3):
+            best_tv[n3 + i] = m.tw[i]
+            best_tv[2 * n3 + i] = m.tc[i]
+        for v in range(m.nv):
+            best_tv[3 * n3 + v] = m.vseg[v]
+            best_tv[3 * n3 + m.nv + v] = m.vcs[v]
+
+
+@njit(cache=True)
+def state_size(m):
+    """Entries of a ``best_tv`` that holds the whole triangulation (:func:`keep_state`)."""
+    return 9 * m.nt + 2 * m.nv
+
+
+@njit(cache=True)
+def restore_state(m, t, best_xy, best_t, best_tv):
+    """Put back what :func:`keep_state` kept in a ``best_tv`` of :func:`state_size`
+    entries.  The same triangulation a rebuild from its triangles gives (twins,
+    boundary half-edges and flags are fixed by the triangles; ``vcs`` is any
+    flagged half-edge, here the one kept), without the sort a rebuild makes."""
+    for i in range(best_xy.shape[0]):
+        m.xy[i, 0] = best_xy[i, 0]
+        m.xy[i, 1] = best_xy[i, 1]
+    for i in range(best_t.shape[0]):
+        t[i] = best_t[i]
+    n3 = 3 * m.nt
+    for i in range(n3):
+        m.tv[i] = best_tv[i]
+        m.tw[i] = best_tv[n3 + i]
+        m.tc[i] = best_tv[2 * n3 + i]
+    for v in range(m.nv):
+        m.vseg[v] = best_tv[3 * n3 + v]
+        m.vcs[v] = best_tv[3 * n3 + m.nv + v]
