@@ -108,8 +108,8 @@ def _reference(polygon: Polygon, n: int, start):
             log.info("uniform: n = %d is too small for T+; nothing to compare with", n)
     if tp is None:  # d_n for the certificates comes from INSERT alone
         return None, None, min_distance_after(polygon, n)
-    d_n = tp.info.get("d_n")
-    return tp, tp.quality(d_n=d_n if d_n is not None else False), d_n
+    # only the measures are compared and reported (:func:`_summary`), not the bounds
+    return tp, quality(tp.points, tp.triangles), tp.info.get("d_n")
 
 
 def _summary(q):
@@ -170,7 +170,7 @@ def optimize_mesh(
         report("relocation", 1, 1)
     # the kernel's own triangles (moves.finish_kept), checked here once
     ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
-    q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
+    q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
 
