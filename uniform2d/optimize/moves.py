@@ -184,16 +184,17 @@ def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progr
     m, xy, t = st.m, st.xy, st.t
     args = (m, st.role, st.eid, t, st.ea, st.ed, st.hv, st.href)
     rounds, done, value = before
+    restrict = st.restrict
     if sched.spring_rounds:
         rounds += relax.spring(
             *args, iters=sched.spring_rounds, dt=S.SPRING_STEP, pressure=S.SPRING_PRESSURE,
-            tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT,
+            tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT, restrict=restrict,
         )
     for k in sched.exponents:
         best = _snapshot(st)
         made, value = relax.descend(
             *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
-            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT,
+            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT, restrict=restrict,
         )
         done += made
         _restore(st, best)  # continue from the best state of this stage
@@ -202,7 +203,7 @@ def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progr
         best = _snapshot(st)
         relax.spread(
             *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP,
-            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT,
+            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT, restrict=restrict,
         )
         _restore(st, best)
     return Progress(rounds, done, value)
@@ -350,6 +351,10 @@ class _Loaded(NamedTuple):
     href: float  # target length (uniform) or field scale (graded), normalised
     centre: np.ndarray
     scale: float
+    # the kernel passes cover only the triangles the moves can change (frozen
+    # sites: the deep interior of a large lattice); False: every triangle, as
+    # the surface layer's meshes were made
+    restrict: bool = False
 
 
 def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -> _Loaded:
@@ -388,7 +393,9 @@ def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -
         href_n = float(np.sqrt((Ls**2).mean() / (hs**2).mean()))
     else:
         href_n = (target_size(polygon, N - nV) if href is None else href) / scale
-    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale)
+    restrict = frozen is not None and bool(np.any(frozen))
+    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale,
+                   restrict)
 
 
 def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:
