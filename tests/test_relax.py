@@ -12,7 +12,7 @@ import shapely
 
 import uniform2d
 from uniform2d import Polygon, SizeField
-from uniform2d._kernel import cdt, descent, relax
+from uniform2d._kernel import cdt, descent, relax, star as kstar
 from uniform2d._kernel import objective as kobj
 from uniform2d.optimize import improve, lattice_seed, target_size
 from uniform2d.optimize.moves import _load, _unload
@@ -47,9 +47,24 @@ def _polygons():
     return ps
 
 
+def _half_frozen(st, nV):
+    """Freeze the sites left of their median abscissa (as the optimiser freezes a
+    lattice's deep interior): whole triangles of fixed vertices, which a
+    restricted run leaves out of its passes."""
+    x = st.xy[nV:, 0]
+    st.role[nV:][(x < np.median(x)) & (st.role[nV:] == relax.FREE)] = relax.FIXED
+
+
+def _live(st, k, restrict):
+    """The kernel's live set and the dead slots' part, as its passes take them."""
+    alive, slots, _ = kstar.live_slots(st.m, st.role, restrict)
+    return slots, alive, kstar.dead_part(st.m, alive, st.hv, st.href, k)
+
+
 @pytest.mark.parametrize("k", range(6))
 @pytest.mark.parametrize("stage", ["spring", "descend", "spread"])
-def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage):
+@pytest.mark.parametrize("restrict", [False, True])
+def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage, restrict):
     p = _polygons()[k]
     n = 120
     # a scattered start (many moves and flips), jittered off INSERT's exact
@@ -64,27 +79,30 @@ def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage):
     sites[np.flatnonzero(inner)[ok]] = jit[ok]
     res = uniform2d.insert(p, 0, sites=sites)
     st = _load(p, res.mesh_points, res.triangles, None, None, None)
+    nV = len(p.vertices)
+    if restrict:  # the passes skip the triangles of the frozen half, and must still keep the CDT
+        _half_frozen(st, nV)
+    fixed = st.role == relax.FIXED
     before = st.xy.copy()
     args = (st.m, st.role, st.eid, st.t, st.ea, st.ed, st.hv, st.href)
     if stage == "spring":
-        made = relax.spring(*args, 30, 0.2, 1.02, 1e-4, 0.3, FLAT)
+        made = relax.spring(*args, 30, 0.2, 1.02, 1e-4, 0.3, FLAT, restrict)
     elif stage == "descend":
         bx, bt = st.xy.copy(), st.t.copy()
         btv = cdt.triangle_list(st.m).astype(np.int32).ravel()
-        made, _ = relax.descend(*args, 0, 10, 4, 0.05, bx, bt, btv, FLAT)
+        made, _ = relax.descend(*args, 0, 10, 4, 0.05, bx, bt, btv, FLAT, restrict)
     else:
         bx, bt = st.xy.copy(), st.t.copy()
         btv = cdt.triangle_list(st.m).astype(np.int32).ravel()
-        made = relax.spread(*args, 0, 10, 0.05, bx, bt, btv, FLAT)
+        made = relax.spread(*args, 0, 10, 0.05, bx, bt, btv, FLAT, restrict)
         if made < 10:  # stopped early: the kernel state is one sweep past the kept one
             st.xy[:] = bx
             st.t[:] = bt
             cdt.build_adjacency(st.m, btv.reshape(-1, 3))
             cdt.legalize_all(st.m)
     assert made >= 1
-    nV = len(p.vertices)
     moved = np.abs(st.xy - before).max(axis=1) > 0
-    assert moved[nV:].any() and not moved[:nV].any()  # polygon vertices are FIXED
+    assert moved[nV:].any() and not moved[fixed].any()  # FIXED vertices stay
     # the kernel's triangulation (normalised coordinates) vs a fresh exact CDT
     pts = _unload(p, st)
     fresh = uniform2d.insert(p, 0, sites=pts[nV:])
@@ -94,9 +112,10 @@ def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage):
     check_mesh(pts, kern, p)
 
 
+@pytest.mark.parametrize("restrict", [False, True])
 @pytest.mark.parametrize("graded", [False, True])
 @pytest.mark.parametrize("k", [2, 4, 6])
-def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
+def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded, restrict):
     # independent reference: the p-power sums over the unique edges and the
     # triangles, computed with numpy from the kernel's triangle list
     p = BENCH["square2holes"]
@@ -119,21 +138,29 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded):
         kobj.MAX_EDGE: (1.0, 0.0, 0.0),
         kobj.MAX_PERIMETER: (0.0, 0.0, 1.0),
     }
+    if restrict:  # the frozen half's triangles come from the dead part
+        _half_frozen(st, len(p.vertices))
+    live = _live(st, k, restrict)
+    assert restrict == (len(live[0]) < len(tri))
     for obj, want in expect.items():
-        got = descent._weights(st.m, st.hv, st.href, k, obj)
+        got = descent._weights(st.m, st.hv, st.href, k, obj, *live)
         np.testing.assert_allclose(got, want, rtol=1e-9, atol=0)
 
 
+@pytest.mark.parametrize("restrict", [False, True])
 @pytest.mark.parametrize("graded", [False, True])
-def test_measure_weights_pass_gives_measures_bit_for_bit(graded):
-    # the weights themselves are checked against numpy above (_weights is this pass)
+def test_measure_weights_pass_gives_measures_bit_for_bit(graded, restrict):
+    # the weights themselves are checked against numpy above (_weights is this pass);
+    # restricted, the extremes are those of the live and the dead triangles together
     p = BENCH["star10"]
     size = _ramp(p) if graded else None
     res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
     st = _load(p, res.mesh_points, res.triangles, size, None, None)
+    if restrict:
+        _half_frozen(st, len(p.vertices))
     for obj in (kobj.BALANCED, kobj.RATIO, kobj.MAX_EDGE, kobj.MAX_PERIMETER):
         for k in (3, 8):
-            got = descent._measure_weights(st.m, st.hv, st.href, k, obj)
+            got = descent._measure_weights(st.m, st.hv, st.href, k, obj, *_live(st, k, restrict))
             assert got[:3] == relax.measure(st.m, st.hv, st.href)
 
 

@@ -9,9 +9,10 @@ from ._jit import njit
 
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
-from .star import FIXED, TRIES, accept, edge, gather, initial_steps, keep_state, legalize_moved
-from .star import measure, objective_of, outgoing, place_at, refresh_sizes, refuse
-from .star import ring_neighbours, search, star_buffers, star_ok
+from .star import FIXED, TRIES, accept, counted, dead_part, edge, gather, initial_steps
+from .star import keep_state, legalize_live, live_slots, measure_live, objective_of, place_at
+from .star import pw as _pw
+from .star import refresh_sizes, refuse, ring_neighbours, search, stars, star_ok
 
 __all__ = ["descend"]
 
@@ -22,14 +23,6 @@ RELEVANT = 1e-2
 #: not worth the sweeps).
 PATIENCE = 6
 GAIN = 1e-4
-
-
-@njit(cache=True, inline="always")
-def _pw(x, k):
-    """x ** (2 ** k), by k squarings (the exponents are powers of two: fast, exact enough)."""
-    for _ in range(k):
-        x = x * x
-    return x
 
 
 @njit(cache=True, inline="always")
@@ -101,7 +94,7 @@ def _wake(m, h0, active):
 
 
 @njit(cache=True)
-def _weights(m, hv, href, k, objective):
+def _weights(m, hv, href, k, objective, slots, alive, dead):
     """Weights (w_len, w_short, w_per) of the three energy terms for ``objective``.
 
     The terms ``S_len = sum l**p``, ``S_short = sum l**-p`` and ``S_per = sum
@@ -117,17 +110,18 @@ def _weights(m, hv, href, k, objective):
     ``S_short`` infinite and its weight 0 for that sweep (typically a polygon
     edge far below the target size, which fixes the shortest edge anyway).
     """
-    _, _, _, w_len, w_short, w_per = _measure_weights(m, hv, href, k, objective)
+    _, _, _, w_len, w_short, w_per = _measure_weights(m, hv, href, k, objective, slots, alive, dead)
     return w_len, w_short, w_per
 
 
 @njit(cache=True)
-def _measure_weights(m, hv, href, k, objective):
+def _measure_weights(m, hv, href, k, objective, slots, alive, dead):
     """:func:`measure` and :func:`_weights` of the present mesh in one pass over its
-    triangles instead of two: the same terms, summed in the same order, so the
-    same values.  (lmax, lmin, pmax, w_len, w_short, w_per)."""
+    live triangles (the dead ones' part is ``dead``, :func:`.star.dead_part`)
+    instead of two: the same terms, summed in the same order, so the same
+    values.  (lmax, lmin, pmax, w_len, w_short, w_per)."""
     if objective == MAX_EDGE or objective == MAX_PERIMETER:  # weights without a pass
-        lmax, lmin, pmax = measure(m, hv, href)
+        lmax, lmin, pmax = measure_live(m, hv, href, slots, dead)
         if objective == MAX_EDGE:
             return lmax, lmin, pmax, 1.0, 0.0, 0.0
         return lmax, lmin, pmax, 0.0, 0.0, 1.0
@@ -138,7 +132,7 @@ def _measure_weights(m, hv, href, k, objective):
     s_len = 0.0
     s_short = 0.0
     s_per = 0.0
-    for t in range(m.nt):
+    for t in slots:
         per = 0.0
         tgt = 0.0
         for i in range(3):
@@ -149,8 +143,7 @@ def _measure_weights(m, hv, href, k, objective):
             ell = L / s
             lmax = max(lmax, ell)
             lmin = min(lmin, ell)
-            g = tw[h]
-            if g < 0 or g > h:  # each edge once
+            if counted(tw, alive, h):  # each edge once
                 q = _pw(ell, k)
                 s_len += q
                 # an underflowed q (a polygon edge far shorter than the target,
@@ -158,6 +151,10 @@ def _measure_weights(m, hv, href, k, objective):
                 s_short += 1.0 / q if q > 0.0 else np.inf
         pmax = max(pmax, per / tgt)
         s_per += _pw(per / tgt, k)
+    lmax, lmin, pmax = max(lmax, dead[0]), min(lmin, dead[1]), max(pmax, dead[2])
+    s_len += dead[3]
+    s_short += dead[4]
+    s_per += dead[5]
     if objective == RATIO:
         return lmax, lmin, pmax, 1.0 / s_len, 1.0 / s_short, 0.0
     return lmax, lmin, pmax, 2.0 / s_len, 1.0 / s_short, 1.0 / s_per
@@ -182,18 +179,17 @@ def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR,
 
 @njit(cache=True)
 def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved, k,
-           w_len, w_short, w_per, floor, flat):  # fmt: skip
+           w_len, w_short, w_per, floor, flat, movers, slots):  # fmt: skip
     """One sweep of :func:`descend` over the active vertices, in order; returns
     (moves made, the largest energy share met).  A vertex whose share is below
     ``floor`` rests; so does one whose line search fails, until a neighbour moves."""
     xy = m.xy
-    vh = outgoing(m)
-    SP, TR, L = star_buffers(m)
+    vh, SP, TR, L = stars(m, slots)
     grad = np.zeros(2)
     g2 = np.zeros(2)
     emax = 0.0
     moves = 0
-    for v in range(m.nv):
+    for v in movers:
         if role[v] == FIXED or vh[v] < 0 or not active[v]:
             continue
         h0 = vh[v]
@@ -224,7 +220,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
 
 @njit(cache=True)
 def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best_xy, best_t,
-            best_tv, flat):  # fmt: skip
+            best_tv, flat, restrict=False):  # fmt: skip
     """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``, p = 2**k.
 
     After each sweep the mesh is legalised and measured; the best state by the
@@ -237,12 +233,17 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     ``flat * (href * hv[v])**2`` any further.  The run ends early when the
     objective stops improving (:data:`PATIENCE`, :data:`GAIN`) or nothing moves.
     A vertex's star is read once per visit (:func:`gather`); the trials of its
-    line search only recompute the distances to the moved vertex.
+    line search only recompute the distances to the moved vertex.  With
+    ``restrict`` the passes cover only the triangles the moves can change
+    (:func:`.star.live_slots`); without it, every triangle.
     """
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
+    alive, slots, movers = live_slots(m, role, restrict)
+    dead = dead_part(m, alive, hv, href, k)
     # without a size field the mesh a sweep's weights are taken on is the one the
     # sweep before measured: one pass gives both (:func:`_measure_weights`)
-    lmax, lmin, pmax, w_len, w_short, w_per = _measure_weights(m, hv, href, k, objective)
+    lmax, lmin, pmax, w_len, w_short, w_per = _measure_weights(
+        m, hv, href, k, objective, slots, alive, dead)
     best = objective_of(objective, lmax, lmin, pmax)
     step = initial_steps(m, hv, href, step0)
     active = np.ones(m.nv, np.bool_)
@@ -255,20 +256,23 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     for sweep in range(sweeps):
         if m.sized:
             refresh_sizes(m, hv, moved)
-            w_len, w_short, w_per = _weights(m, hv, href, k, objective)
+            w_len, w_short, w_per = _weights(m, hv, href, k, objective, slots, alive, dead)
         moved[:] = False
         # a vertex whose share is below RELEVANT times the largest share of the
         # previous sweep cannot change the objective's extremes: skip it
         moves, emax = _sweep(
             m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved, k,
-            w_len, w_short, w_per, RELEVANT * emax, flat,
+            w_len, w_short, w_per, RELEVANT * emax, flat, movers, slots,
         )  # fmt: skip
-        todo = legalize_moved(m, moved, todo)
+        todo, slots, woke = legalize_live(m, moved, todo, alive, slots)
+        if woke:
+            dead = dead_part(m, alive, hv, href, k)
         done = sweep + 1
         if m.sized:
-            lmax, lmin, pmax = measure(m, hv, href)
+            lmax, lmin, pmax = measure_live(m, hv, href, slots, dead)
         else:
-            lmax, lmin, pmax, w_len, w_short, w_per = _measure_weights(m, hv, href, k, objective)
+            lmax, lmin, pmax, w_len, w_short, w_per = _measure_weights(
+                m, hv, href, k, objective, slots, alive, dead)
         val = objective_of(objective, lmax, lmin, pmax)
         if val < best:
             best = val

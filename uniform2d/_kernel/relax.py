@@ -57,6 +57,20 @@ Three ways to move
                  shortest edge and largest perimeter stay within the mesh's
                  extremes, so the objective is held while the spread drops.
 
+Restricted passes
+-----------------
+Every round or sweep also passes over the mesh: the measures and weights, the
+edges to legalise, each vertex's star.  Where most vertices are FIXED (the
+optimiser freezes the deep interior of a large lattice, which is uniform
+already) those passes would cost more than the moves.  With ``restrict`` they
+cover only the live triangle slots (:func:`.star.live_slots`: those with a
+movable vertex, two rings around them, and any slot a flip rewrites); what the
+other triangles add to the measures is computed once (:func:`.star.dead_part`),
+for their shapes cannot change.  Only sums are added in another order (the
+dead part last), so values, and the moves they steer, can differ in the last
+bits.  Without ``restrict`` every pass covers every triangle, in the same order
+as always (the surface layer's meshes are made so).
+
 Besides validity, moves obey a quality guard (a float test, not a predicate): no
 triangle around the moved vertex may become flatter than ``flat * target**2``
 (twice its area) unless it was flatter before, so slivers cannot form but can heal.

@@ -9,24 +9,27 @@ import numpy as np
 from ._jit import njit
 
 from .cdt import snap
-from .star import FIXED, TRIES, accept, edge, edge_halves, gather, initial_steps, keep_state
-from .star import legalize_moved, measure, objective_of, outgoing, place_at, refresh_sizes
-from .star import refuse, ring_neighbours, search, star_buffers, star_ok
+from .star import FIXED, TRIES, accept, counted, dead_part, edge, gather, initial_steps
+from .star import keep_state, legalize_live, live_slots, measure_live, objective_of, place_at
+from .star import refresh_sizes, refuse, ring_neighbours, search, stars, star_ok
 
 __all__ = ["spread"]
 
 
 @njit(cache=True)
-def _mean_length(m, hv, href):
-    """Mean normalised length over the edges."""
-    tv, xy = m.tv, m.xy
+def _mean_length(m, hv, href, slots, alive, dead):
+    """Mean normalised length over the edges (those of the dead slots: ``dead``,
+    :func:`.star.dead_part`)."""
+    tv, tw, xy = m.tv, m.tw, m.xy
     s = 0.0
     k = 0
-    for h in edge_halves(m):
-        L, tgt = edge(xy, tv, hv, href, h)
-        s += L / tgt
-        k += 1
-    return s / k
+    for t in slots:
+        for h in range(3 * t, 3 * t + 3):
+            if counted(tw, alive, h):
+                L, tgt = edge(xy, tv, hv, href, h)
+                s += L / tgt
+                k += 1
+    return (s + dead[8]) / (k + dead[9])
 
 
 @njit(cache=True)
@@ -84,18 +87,17 @@ def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR,
 
 @njit(cache=True)
 def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, lmin, pmax,
-           flat):  # fmt: skip
+           flat, movers, slots, alive, dead):  # fmt: skip
     """One sweep of :func:`spread` over the movable vertices, in order, each move
     keeping its star within the extremes (lmax, lmin, pmax); returns the moves made."""
     xy = m.xy
-    vh = outgoing(m)
-    SP, TR, L = star_buffers(m)
-    cbar = _mean_length(m, hv, href)
+    vh, SP, TR, L = stars(m, slots)
+    cbar = _mean_length(m, hv, href, slots, alive, dead)
     grad = np.zeros(2)
     g2 = np.zeros(2)
     ext = np.zeros(3)
     moves = 0
-    for v in range(m.nv):
+    for v in movers:
         if role[v] == FIXED or vh[v] < 0:
             continue
         h0 = vh[v]
@@ -120,7 +122,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, l
 
 @njit(cache=True)
 def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy, best_t,
-           best_tv, flat):  # fmt: skip
+           best_tv, flat, restrict=False):  # fmt: skip
     """Gauss-Seidel sweeps on the spread ``sum (l - mean l)**2`` that cannot make
     ``objective`` worse.
 
@@ -129,10 +131,13 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
     extremes, so the objective can only change through the flips of the
     legalisation; a sweep after which it is worse than at the start ends the
     run, and ``best_*`` (which must hold the starting state) keep the last state
-    that was not.  Returns the number of sweeps kept.
+    that was not.  Returns the number of sweeps kept.  With ``restrict`` the
+    passes cover only the triangles the moves can change (:func:`.star.live_slots`).
     """
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
-    lmax, lmin, pmax = measure(m, hv, href)
+    alive, slots, movers = live_slots(m, role, restrict)
+    dead = dead_part(m, alive, hv, href, 0)
+    lmax, lmin, pmax = measure_live(m, hv, href, slots, dead)
     start = objective_of(objective, lmax, lmin, pmax)
     step = initial_steps(m, hv, href, step0)
     moved = np.ones(m.nv, np.bool_)  # moved in the last sweep (all, before the first)
@@ -143,9 +148,11 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
             refresh_sizes(m, hv, moved)
         moved[:] = False
         moves = _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved,
-                       lmax, lmin, pmax, flat)  # fmt: skip
-        todo = legalize_moved(m, moved, todo)
-        a, b, c = measure(m, hv, href)
+                       lmax, lmin, pmax, flat, movers, slots, alive, dead)  # fmt: skip
+        todo, slots, woke = legalize_live(m, moved, todo, alive, slots)
+        if woke:
+            dead = dead_part(m, alive, hv, href, 0)
+        a, b, c = measure_live(m, hv, href, slots, dead)
         if objective_of(objective, a, b, c) > start:
             break  # a flip made it worse: keep the state before this sweep
         lmax, lmin, pmax = a, b, c

@@ -9,14 +9,15 @@ from ._jit import njit
 
 from .cdt import nxt, snap
 from .predicates import orient2d
-from .star import FIXED, FREE, SLIDE, legalize_moved, refresh_sizes
-from .star import ring_neighbours, t_of
+from .star import FIXED, FREE, SLIDE, counted, dead_part, legalize_live, live_slots
+from .star import refresh_sizes, ring_neighbours, t_of
 
 __all__ = ["spring"]
 
 
 @njit(cache=True)
-def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, flat):
+def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, flat,
+           restrict=False):  # fmt: skip
     """Jacobi spring rounds (see the module docstring); returns the rounds made.
 
     A vertex moves by ``dt`` times its spring force, at most ``cap * href * hv[v]``;
@@ -24,11 +25,14 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
     ring neighbour.  Moves that would invert a triangle, or flatten one whose
     doubled area is below ``flat * (href * mean hv)**2`` further, are undone (its
     three vertices stay), then the mesh is legalised.  Stops when the largest
-    move is below ``tol * href``.
+    move is below ``tol * href``.  With ``restrict`` the passes cover only the
+    triangles the moves can change (:func:`.star.live_slots`).
     """
     n = m.nv
     xy, tv, tw = m.xy, m.tv, m.tw
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
+    alive, slots, movers = live_slots(m, role, restrict)
+    dead = dead_part(m, alive, hv, href, 0)
     F = np.zeros((n, 2))
     new = np.empty((n, 2))
     newt = t.copy()
@@ -38,51 +42,61 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
     for it in range(1, iters + 1):
         if m.sized:
             refresh_sizes(m, hv, moved)
+        if it == 1:  # from here on only the movers' flags change
+            for v in range(n):
+                moved[v] = False
         # rest-length scale c: sum (c * target)^2 = pressure^2 * sum L^2
         sL = 0.0
         sT = 0.0
-        for h in range(3 * m.nt):  # each edge once (of two twins, the smaller)
-            if 0 <= tw[h] < h:
-                continue
-            a = tv[h]
-            b = tv[nxt(h)]
-            L2 = (xy[b, 0] - xy[a, 0]) ** 2 + (xy[b, 1] - xy[a, 1]) ** 2
-            s = 0.5 * (hv[a] + hv[b])
-            sL += L2
-            sT += s * s
-        c = pressure * np.sqrt(sL / sT)
-        F[:, :] = 0.0
-        for h in range(3 * m.nt):
-            if 0 <= tw[h] < h:
-                continue
-            a = tv[h]
-            b = tv[nxt(h)]
-            if role[a] == FIXED and role[b] == FIXED:
-                continue  # no force of a fixed vertex is read (most, deep in a large mesh)
-            dx = xy[b, 0] - xy[a, 0]
-            dy = xy[b, 1] - xy[a, 1]
-            L = np.sqrt(dx * dx + dy * dy)
-            f = (c * 0.5 * (hv[a] + hv[b]) - L) / L
-            F[b, 0] += f * dx
-            F[b, 1] += f * dy
-            F[a, 0] -= f * dx
-            F[a, 1] -= f * dy
+        for tt in slots:
+            for h in range(3 * tt, 3 * tt + 3):  # each edge once
+                if not counted(tw, alive, h):
+                    continue
+                a = tv[h]
+                b = tv[nxt(h)]
+                L2 = (xy[b, 0] - xy[a, 0]) ** 2 + (xy[b, 1] - xy[a, 1]) ** 2
+                s = 0.5 * (hv[a] + hv[b])
+                sL += L2
+                sT += s * s
+        c = pressure * np.sqrt((sL + dead[6]) / (sT + dead[7]))
+        for v in movers:  # the forces read: those of fixed vertices are not
+            F[v, 0] = 0.0
+            F[v, 1] = 0.0
+        for tt in slots:
+            for h in range(3 * tt, 3 * tt + 3):
+                if not counted(tw, alive, h):
+                    continue
+                a = tv[h]
+                b = tv[nxt(h)]
+                if role[a] == FIXED and role[b] == FIXED:
+                    continue  # no force of a fixed vertex is read (most, deep in a large mesh)
+                dx = xy[b, 0] - xy[a, 0]
+                dy = xy[b, 1] - xy[a, 1]
+                L = np.sqrt(dx * dx + dy * dy)
+                f = (c * 0.5 * (hv[a] + hv[b]) - L) / L
+                F[b, 0] += f * dx
+                F[b, 1] += f * dy
+                F[a, 0] -= f * dx
+                F[a, 1] -= f * dy
         biggest = _trial(
-            m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved
+            m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved, movers
         )
-        _commit(m, role, t, new, newt, moved, hv, flat * href * href)
-        todo = legalize_moved(m, moved, todo)
+        _commit(m, role, t, new, newt, moved, hv, flat * href * href, slots, movers)
+        todo, slots, woke = legalize_live(m, moved, todo, alive, slots)
+        if woke:
+            dead = dead_part(m, alive, hv, href, 0)
         if biggest < tol * href:
             break
     return it
 
 
 @njit(cache=True)
-def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved):
-    """Trial places ``new``/``newt`` of all movable vertices; returns the largest move."""
+def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved,
+           movers):  # fmt: skip
+    """Trial places ``new``/``newt`` of all ``movers``; returns the largest move."""
     xy = m.xy
     biggest = 0.0
-    for v in range(m.nv):
+    for v in movers:
         moved[v] = False
         if role[v] == FIXED:
             continue
@@ -120,14 +134,15 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
 
 
 @njit(cache=True)
-def _commit(m, role, t, new, newt, moved, hv, flat2):
+def _commit(m, role, t, new, newt, moved, hv, flat2, slots, movers):
     """Apply the trial places, undoing those that would invert a triangle (exact)
-    or flatten one below ``flat2 * mean(hv)**2`` (see :func:`spring`)."""
+    or flatten one below ``flat2 * mean(hv)**2`` (see :func:`spring`); only the
+    live ``slots`` can hold a moved vertex."""
     xy, tv = m.xy, m.tv
     changed = True
     while changed:
         changed = False
-        for tt in range(m.nt):
+        for tt in slots:
             a = tv[3 * tt]
             b = tv[3 * tt + 1]
             c = tv[3 * tt + 2]
@@ -148,7 +163,7 @@ def _commit(m, role, t, new, newt, moved, hv, flat2):
                 moved[b] = False
                 moved[c] = False
                 changed = True
-    for v in range(m.nv):
+    for v in movers:
         if moved[v]:
             xy[v, 0] = new[v, 0]
             xy[v, 1] = new[v, 1]

@@ -19,7 +19,7 @@ ends at -1)::
 import numpy as np
 from ._jit import njit
 
-from .cdt import legalize_stack, nxt, prv
+from .cdt import _lawson, new_tag, nxt, prv
 from .heap import grown
 from .objective import combine
 from .predicates import orient2d
@@ -28,6 +28,124 @@ from .rank import size_at
 FIXED, FREE, SLIDE = 0, 1, 2
 #: Halvings of the step a line search tries before the vertex gives up.
 TRIES = 8
+#: Rings of triangles of fixed vertices around the movable ones that the
+#: passes of a restricted run cover from the start (:func:`live_slots`): a flip
+#: that reaches farther wakes a slot, which costs a pass over the rest.
+LIVE_RINGS = 2
+
+
+@njit(cache=True, inline="always")
+def pw(x, k):
+    """x ** (2 ** k), by k squarings (the exponents are powers of two: fast, exact enough)."""
+    for _ in range(k):
+        x = x * x
+    return x
+
+
+@njit(cache=True, inline="always")
+def counted(tw, alive, h):
+    """Whether half-edge h stands for its edge in a pass over the live slots:
+    each edge once, by the smaller of two live twins, by the live one of a
+    live and a dead twin (never by a dead one: those edges are in
+    :func:`dead_part`), on the boundary by its only half."""
+    g = tw[h]
+    return g < 0 or g > h or alive[g // 3] == 0
+
+
+@njit(cache=True)
+def slot_list(alive):
+    """The slots t with ``alive[t]``, in increasing order."""
+    k = 0
+    for t in range(alive.shape[0]):
+        if alive[t]:
+            k += 1
+    out = np.empty(k, np.int64)
+    k = 0
+    for t in range(alive.shape[0]):
+        if alive[t]:
+            out[k] = t
+            k += 1
+    return out
+
+
+@njit(cache=True)
+def live_slots(m, role, restrict):
+    """(alive, slots, movers): which triangle slots the passes of a run cover
+    (``alive[t]`` 1), those slots in increasing order, and the vertices that
+    are not FIXED, in order.
+
+    Without ``restrict`` every slot is alive, and every pass is the plain pass
+    over the whole mesh, bit for bit.  With it, the slots with a movable vertex
+    and :data:`LIVE_RINGS` rings of triangles around them: a triangle of three
+    fixed vertices that no flip rewrites keeps its shape, so what it adds to the
+    measures is computed once (:func:`dead_part`), and the passes over a large
+    mesh whose deep interior is frozen cost what its movable band costs.  A
+    flip that rewrites a dead slot wakes it (:func:`legalize_live`)."""
+    nt = m.nt
+    tv, tw = m.tv, m.tw
+    alive = np.ones(nt, np.int8)
+    if restrict:
+        for t in range(nt):
+            fixed = role[tv[3 * t]] == FIXED and role[tv[3 * t + 1]] == FIXED
+            alive[t] = 0 if fixed and role[tv[3 * t + 2]] == FIXED else 1
+        for _ in range(LIVE_RINGS):
+            grow = alive.copy()
+            for t in range(nt):
+                if alive[t]:
+                    for i in range(3):
+                        g = tw[3 * t + i]
+                        if g >= 0:
+                            grow[g // 3] = 1
+            alive = grow
+    n_move = 0
+    for v in range(m.nv):
+        if role[v] != FIXED:
+            n_move += 1
+    movers = np.empty(n_move, np.int64)
+    n_move = 0
+    for v in range(m.nv):
+        if role[v] != FIXED:
+            movers[n_move] = v
+            n_move += 1
+    return alive, slot_list(alive), movers
+
+
+@njit(cache=True)
+def dead_part(m, alive, hv, href, k):
+    """What the dead slots (``alive[t]`` 0) add to the passes: (longest,
+    shortest, largest perimeter, sum l**p, sum l**-p, sum pi**p, sum L**2,
+    sum target**2, sum l, edge count), the extremes normalised by their
+    targets, p = 2**k, each edge once (:func:`counted`'s complement); neutral
+    (0, inf, 0, 0, ...) when every slot is alive."""
+    xy, tv, tw = m.xy, m.tv, m.tw
+    out = np.zeros(10)
+    out[1] = np.inf
+    for t in range(m.nt):
+        if alive[t]:
+            continue
+        per = 0.0
+        tgt = 0.0
+        for i in range(3):
+            h = 3 * t + i
+            L, s = edge(xy, tv, hv, href, h)
+            per += L
+            tgt += s
+            ell = L / s
+            out[0] = max(out[0], ell)
+            out[1] = min(out[1], ell)
+            g = tw[h]
+            if g < 0 or (g > h and alive[g // 3] == 0):
+                q = pw(ell, k)
+                out[3] += q
+                out[4] += 1.0 / q if q > 0.0 else np.inf
+                out[6] += L * L
+                s0 = 0.5 * (hv[tv[h]] + hv[tv[nxt(h)]])  # the spring's target, without href
+                out[7] += s0 * s0
+                out[8] += ell
+                out[9] += 1.0
+        out[2] = max(out[2], per / tgt)
+        out[5] += pw(per / tgt, k)
+    return out
 
 
 @njit(cache=True)
@@ -68,6 +186,28 @@ def measure(m, hv, href):
             lmin = min(lmin, ell)
         pmax = max(pmax, per / tgt)
     return lmax, lmin, pmax
+
+
+@njit(cache=True)
+def measure_live(m, hv, href, slots, dead):
+    """:func:`measure` over the live ``slots``, with the dead ones' part ``dead``
+    (:func:`dead_part`): the same values, bit for bit, when every slot is live."""
+    xy, tv = m.xy, m.tv
+    lmax = 0.0
+    lmin = np.inf
+    pmax = 0.0
+    for t in slots:
+        per = 0.0
+        tgt = 0.0
+        for i in range(3):
+            L, s = edge(xy, tv, hv, href, 3 * t + i)
+            per += L
+            tgt += s
+            ell = L / s
+            lmax = max(lmax, ell)
+            lmin = min(lmin, ell)
+        pmax = max(pmax, per / tgt)
+    return max(lmax, dead[0]), min(lmin, dead[1]), max(pmax, dead[2])
 
 
 @njit(cache=True)
@@ -139,29 +279,27 @@ def t_of(role, t, u, at_start):
 
 
 @njit(cache=True)
-def outgoing(m):
-    """One outgoing half-edge per vertex: the boundary one for boundary vertices."""
+def stars(m, slots):
+    """One outgoing half-edge per vertex of the live ``slots`` (the boundary one
+    for boundary vertices; -1 for none) and buffers for the largest star: spokes (S, 3), triangles
+    (S, 2), lengths (S,).  One pass over the half-edges for both: a sweep needs
+    both, and on a large mesh whose deep interior is frozen each pass costs about
+    as much as the moves of the few vertices that move.  (vh, SP, TR, L)."""
     vh = np.full(m.nv, -1, np.int64)
-    for h in range(3 * m.nt):
-        v = m.tv[h]
-        if vh[v] < 0:
-            vh[v] = h
+    deg = np.zeros(m.nv, np.int32)
+    top = 0
+    for t in slots:  # every half-edge leaving a movable vertex is in a live slot
+        for h in range(3 * t, 3 * t + 3):
+            v = m.tv[h]
+            if vh[v] < 0:
+                vh[v] = h
+            deg[v] += 1
+            top = max(top, deg[v])
     for v in range(m.nv):
         if m.vseg[v] >= 0:
             vh[v] = m.vseg[v]
-    return vh
-
-
-@njit(cache=True)
-def star_buffers(m):
-    """Buffers for the largest star: spokes (S, 3), triangles (S, 2), lengths (S,)."""
-    deg = np.zeros(m.nv, np.int64)
-    top = 0
-    for h in range(3 * m.nt):
-        deg[m.tv[h]] += 1
-        top = max(top, deg[m.tv[h]])
     s = top + 2
-    return np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
+    return vh, np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
 
 
 @njit(cache=True)
@@ -219,19 +357,26 @@ def star_ok(x, y, x0, y0, ns, nt, SP, floor):
 
 
 @njit(cache=True)
-def suspects(m, moved, todo):
-    """The unconstrained edges with a moved vertex in either triangle (each once),
-    for the legalisation after a sweep.  Returns (todo, count)."""
+def suspects(m, moved, todo, alive, slots):
+    """The unconstrained edges with a moved vertex in either triangle (each once,
+    :func:`counted`), for the legalisation after a sweep.  Returns (todo, count)."""
     tv, tw = m.tv, m.tw
+    # first which triangles hold a moved vertex (moved vertices are in live
+    # slots only), then each edge reads its twin's flag: a byte per triangle
+    # instead of the twin's vertex, scattered over the half-edge arrays
+    hot = np.zeros(m.nt, np.bool_)
+    for t in slots:
+        hot[t] = moved[tv[3 * t]] or moved[tv[3 * t + 1]] or moved[tv[3 * t + 2]]
     sp = 0
-    for h in range(3 * m.nt):
-        g = tw[h]
-        if g < h:  # boundary (-1), or the twin's turn
-            continue
-        if moved[tv[h]] or moved[tv[nxt(h)]] or moved[tv[prv(h)]] or moved[tv[prv(g)]]:
-            todo = grown(todo, sp + 1)
-            todo[sp] = h
-            sp += 1
+    for t in slots:
+        for h in range(3 * t, 3 * t + 3):
+            g = tw[h]
+            if g < 0 or not counted(tw, alive, h):  # boundary, or the twin's turn
+                continue
+            if hot[t] or hot[g // 3]:
+                todo = grown(todo, sp + 1)
+                todo[sp] = h
+                sp += 1
     return todo, sp
 
 
@@ -271,25 +416,22 @@ def place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, s):
 
 
 @njit(cache=True)
-def edge_halves(m):
-    """One half-edge of every edge, in increasing order (of two twins, the smaller)."""
-    out = np.empty(3 * m.nt, np.int64)
-    k = 0
-    for h in range(3 * m.nt):
-        g = m.tw[h]
-        if g < 0 or g > h:
-            out[k] = h
-            k += 1
-    return out[:k]
-
-
-@njit(cache=True)
-def legalize_moved(m, moved, todo):
+def legalize_live(m, moved, todo, alive, slots):
     """Make every edge around the moved vertices locally Delaunay again
-    (:func:`suspects`, then Lawson flips); returns the stack, grown if needed."""
-    todo, sp = suspects(m, moved, todo)
-    legalize_stack(m, todo, sp)
-    return todo
+    (:func:`suspects`, then Lawson flips), and wake every dead slot a flip
+    rewrote.  Returns (todo, grown if needed; slots; whether a slot woke: the
+    caller's :func:`dead_part` is then stale)."""
+    todo, sp = suspects(m, moved, todo, alive, slots)
+    k = _lawson(m, todo, sp, new_tag(m), np.int64(0))
+    woke = False
+    for i in range(k):
+        t = m.cav[i]
+        if alive[t] == 0:
+            alive[t] = 1
+            woke = True
+    if woke:
+        slots = slot_list(alive)
+    return todo, slots, woke
 
 
 @njit(cache=True)
@@ -320,12 +462,52 @@ def refuse(step, v, href, hvv):
 
 @njit(cache=True)
 def keep_state(m, t, best_xy, best_t, best_tv):
-    """Copy the present points, edge parameters and triangles into ``best_*``."""
+    """Copy the present points, edge parameters and triangles into ``best_*``.
+
+    ``best_tv`` holds the triangles ``tv`` (3 nt entries) or, if it has
+    :func:`state_size` entries, the whole triangulation: then ``tw``, ``tc``,
+    ``vseg`` and ``vcs`` follow, and :func:`restore_state` puts it back by
+    copying (no adjacency rebuilt from a triangle list)."""
     # loops: slice copies compile numba's shape-error code
     for i in range(best_xy.shape[0]):
         best_xy[i, 0] = m.xy[i, 0]
         best_xy[i, 1] = m.xy[i, 1]
     for i in range(best_t.shape[0]):
         best_t[i] = t[i]
-    for i in range(best_tv.shape[0]):
+    n3 = 3 * m.nt
+    for i in range(min(best_tv.shape[0], n3)):
         best_tv[i] = m.tv[i]
+    if best_tv.shape[0] > n3:
+        for i in range(n3):
+            best_tv[n3 + i] = m.tw[i]
+            best_tv[2 * n3 + i] = m.tc[i]
+        for v in range(m.nv):
+            best_tv[3 * n3 + v] = m.vseg[v]
+            best_tv[3 * n3 + m.nv + v] = m.vcs[v]
+
+
+@njit(cache=True)
+def state_size(m):
+    """Entries of a ``best_tv`` that holds the whole triangulation (:func:`keep_state`)."""
+    return 9 * m.nt + 2 * m.nv
+
+
+@njit(cache=True)
+def restore_state(m, t, best_xy, best_t, best_tv):
+    """Put back what :func:`keep_state` kept in a ``best_tv`` of :func:`state_size`
+    entries.  The same triangulation a rebuild from its triangles gives (twins,
+    boundary half-edges and flags are fixed by the triangles; ``vcs`` is any
+    flagged half-edge, here the one kept), without the sort a rebuild makes."""
+    for i in range(best_xy.shape[0]):
+        m.xy[i, 0] = best_xy[i, 0]
+        m.xy[i, 1] = best_xy[i, 1]
+    for i in range(best_t.shape[0]):
+        t[i] = best_t[i]
+    n3 = 3 * m.nt
+    for i in range(n3):
+        m.tv[i] = best_tv[i]
+        m.tw[i] = best_tv[n3 + i]
+        m.tc[i] = best_tv[2 * n3 + i]
+    for v in range(m.nv):
+        m.vseg[v] = best_tv[3 * n3 + v]
+        m.vcs[v] = best_tv[3 * n3 + m.nv + v]

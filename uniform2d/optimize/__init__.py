@@ -17,7 +17,8 @@ Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
    a short run, the better two thirds or half a short descent, and so on) and
    the best goes on into the full schedule
    (:func:`~uniform2d.optimize.moves.improve_best`).  Lattice points deep inside P are uniform
-   already and stay put.
+   already and stay put (the kernel's passes then leave out the triangles
+   that cannot change).
 3. **Moving points** (:func:`improve`, in :mod:`~uniform2d.optimize.moves`;
    kernel :mod:`uniform2d._kernel.relax`).  The constrained Delaunay
    triangulation of the points is built once and kept valid and Delaunay by
@@ -32,11 +33,11 @@ Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
    relocation moves (:mod:`~uniform2d.optimize.relocate`): a point from where
    the edges are shortest to the middle of the longest edge, kept if the
    objective improves.
-4. **Certification.**  The final points are triangulated afresh
-   (:func:`uniform2d.triangulation.triangulate`, exact CDT); the quality is
-   compared with the paper's T+ on the objective and the better mesh is
-   returned, with its certificates (when n is too small for T+, the optimised
-   one).
+4. **Certification.**  The mesh is the kernel's own triangulation of the final
+   points, the exact CDT it kept throughout, checked once
+   (:func:`uniform2d.triangulation.ensure_valid`); its measures are compared
+   with the paper's T+ on the objective and the better mesh is returned, with
+   its certificates (when n is too small for T+, the optimised one).
 
 With a size field (:func:`improve` ``size=``, used by the surface layer) every
 length is measured against the local target size, so the same moves make a

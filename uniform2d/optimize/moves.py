@@ -15,17 +15,17 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._kernel import cdt, relax
+from .._kernel import cdt, relax, star
 from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon
-from ..segment_chains import piece_chains, rebuild
-from ..triangulation import boundary_tol, load_mesh, triangulate
+from ..triangulation import edge_parameters, load_mesh, triangulate
+from ..triangulation import load as build
 from . import schedule as S
 from .objective import objective_code
 from .seed import target_size
 
-__all__ = ["improve", "improve_best"]
+__all__ = ["improve", "improve_kept", "improve_best"]
 
 
 def improve(
@@ -98,15 +98,36 @@ def improve(
     >>> pts.shape, np.allclose(pts[5, 1], 0.0)   # the boundary site stayed on y = 0
     ((7, 2), True)
     """
+    return _improve(polygon, sites, size=size, objective=objective, href=href, frozen=frozen,
+                    spring_rounds=spring_rounds, sweeps=sweeps, exponents=exponents,
+                    spread_sweeps=spread_sweeps, edges=edges, fresh=True)
+
+
+def improve_kept(polygon: Polygon, sites, **options):
+    """:func:`improve` for the optimiser's own sites: built in the kernel once
+    (:func:`load_built`, with ``edges`` and no size field) and returned as the
+    kernel's own triangulation of the moved points (:func:`finish_kept`) instead
+    of triangulating them again; the optimiser checks the mesh it returns."""
+    return _improve(polygon, sites, fresh=False, **options)
+
+
+def _improve(polygon, sites, *, size=None, objective="balanced", href=None, frozen=None,
+             spring_rounds=None, sweeps=None, exponents=None, spread_sweeps=None, edges=None,
+             fresh=True):
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     obj = objective_code(objective)
-    st = load(polygon, sites, size=size, href=href, frozen=frozen, edges=edges)
+    if fresh or size is not None or edges is None:
+        st = load(polygon, sites, size=size, href=href, frozen=frozen, edges=edges)
+    else:
+        st = load_built(polygon, sites, href=href, frozen=frozen, edges=edges)
     if st is None:
         return finish(polygon, None, Progress())
     sched = default_schedule(len(st.xy), size is not None, spring_rounds=spring_rounds,
                              sweeps=sweeps, exponents=exponents, spread_sweeps=spread_sweeps)
     run = advance(st, sched, obj)
+    if not fresh:
+        return finish_kept(polygon, st, run)
     unloaded = unload(polygon, st)
     del st
     return finish(polygon, unloaded, run)
@@ -139,6 +160,22 @@ def load(polygon: Polygon, sites, *, size=None, href=None, frozen=None, edges=No
     return _load(polygon, P0, T0, size, href, frozen, edges)
 
 
+def load_built(polygon: Polygon, sites, *, href=None, frozen=None, edges=None):
+    """:func:`load` of the optimiser's own sites (``edges`` given, no size field),
+    kept in the kernel the triangulation was built in: no triangle list read
+    out, checked and loaded into a second kernel (the mesh returned is checked
+    at the end).  The kernel's slots then come in the order the build made
+    them, not that of a triangle list, so the moves can take other (equally
+    valid) turns than after :func:`load`."""
+    if len(sites) == 0:
+        return None
+    built = build(polygon, sites, edges=edges)
+    edges = built.edges
+    tb = edge_parameters(polygon, built.sites, edges)
+    boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
+    return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href, frozen)
+
+
 def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
     """Run the stages of ``sched`` on a loaded mesh, in place; returns ``before``
     with this run's rounds and sweeps added.  The kernel's triangulation is the
@@ -147,39 +184,44 @@ def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progr
     m, xy, t = st.m, st.xy, st.t
     args = (m, st.role, st.eid, t, st.ea, st.ed, st.hv, st.href)
     rounds, done, value = before
+    restrict = st.restrict
     if sched.spring_rounds:
         rounds += relax.spring(
             *args, iters=sched.spring_rounds, dt=S.SPRING_STEP, pressure=S.SPRING_PRESSURE,
-            tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT,
+            tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT, restrict=restrict,
         )
     for k in sched.exponents:
-        best_xy, best_t, best_tv = _snapshot(st)
+        best = _snapshot(st)
         made, value = relax.descend(
             *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
-            best_xy=best_xy, best_t=best_t, best_tv=best_tv, flat=S.FLAT,
+            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT, restrict=restrict,
         )
         done += made
-        _restore(st, best_xy, best_t, best_tv)  # continue from the best state of this stage
+        _restore(st, best)  # continue from the best state of this stage
+        del best  # before the next stage's copy (at 1e6 points, ~100 MB each)
     if sched.spread_sweeps:
-        best_xy, best_t, best_tv = _snapshot(st)
+        best = _snapshot(st)
         relax.spread(
             *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP,
-            best_xy=best_xy, best_t=best_t, best_tv=best_tv, flat=S.FLAT,
+            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT, restrict=restrict,
         )
-        _restore(st, best_xy, best_t, best_tv)
+        _restore(st, best)
     return Progress(rounds, done, value)
 
 
 def _snapshot(st: "_Loaded"):
-    """Copies of the points, edge parameters and flat triangle list of a loaded mesh."""
-    return st.xy.copy(), st.t.copy(), cdt.triangle_list(st.m).astype(np.int32).ravel()
+    """(points, edge parameters, triangulation) of a loaded mesh, copied
+    (:func:`uniform2d._kernel.star.keep_state` with the whole triangulation)."""
+    best = np.empty_like(st.xy), np.empty_like(st.t), np.empty(star.state_size(st.m), np.int32)
+    star.keep_state(st.m, st.t, *best)
+    return best
 
 
-def _restore(st: "_Loaded", xy, t, tv) -> None:
-    """Put a :func:`_snapshot` back."""
-    st.xy[:] = xy
-    st.t[:] = t
-    rebuild(st.m, tv.reshape(-1, 3), st.pieces)
+def _restore(st: "_Loaded", best) -> None:
+    """Put a :func:`_snapshot` back: by copying, not by rebuilding the
+    triangulation from its triangles (the same mesh, without a sort of its
+    edges that costs a quarter of a second and ~50 MB at 1e6 points)."""
+    star.restore_state(st.m, st.t, *best)
 
 
 def unload(polygon: Polygon, st: "_Loaded") -> tuple:
@@ -206,14 +248,32 @@ def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
     return points, triangles, info
 
 
+def finish_kept(polygon: Polygon, st: "_Loaded", run: Progress):
+    """:func:`finish`'s result from the kernel's own triangulation of its points.
+
+    The kernel keeps its mesh the exact constrained Delaunay triangulation of
+    its points after every round, and its points are exactly the ones returned
+    (:func:`_unload`), so this is a CDT of them without a second one built from
+    scratch (at 1e6 points that build costs seconds).  Where four points are
+    cocircular it may pick the other diagonal than a fresh build would."""
+    nV = len(polygon.vertices)
+    points = _unload(polygon, st)
+    triangles = cdt.triangle_list(st.m)
+    info = {
+        "spring_rounds": int(run.spring_rounds), "sweeps": int(run.sweeps),
+        "objective_value": run.value, "edges": st.eid[nV:].copy(),
+    }
+    return points, triangles, info
+
+
 def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=None,
                  report=None, spring_rounds=None, sweeps=None, exponents=None,
                  spread_sweeps=None):
     """:func:`improve` from the best of several starts, found by successive halving.
 
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
-    arguments.  Every start is loaded once and runs the first schedule of
-    ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`;
+    arguments.  Every start is built in the kernel once (:func:`load_built`) and
+    runs the first schedule of ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`;
     ``KEEP_LARGE`` above ``KEEP_MAX`` points) run the next, and so on; the
     winner's kernel state goes on into the full schedule (overridden as
     :func:`improve`'s) without being loaded again, from the stage
@@ -222,7 +282,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     the long ones on the few that can win.  ``report(done, total)``, if given, is
     called before the first trial and after each.
 
-    Returns (index of the winning start, points, triangles, info) as :func:`improve`.
+    Returns (index of the winning start, points, triangles, info) as :func:`improve`,
+    the triangles the kernel's own (:func:`finish_kept`).
     All starts are alive in the kernel at once until the first ranking: fine
     for what :func:`~uniform2d.optimize.seed.variants` gives (up to 12 starts
     of at most ``schedule.SMALL`` points, 2 of at most ``schedule.LARGE``, a
@@ -231,7 +292,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     obj = objective_code(objective)
     alive = []
     for sites, edges, frozen in starts:
-        st = load(polygon, sites, href=href, frozen=frozen, edges=edges)
+        st = load_built(polygon, sites, href=href, frozen=frozen, edges=edges)
         alive.append((len(alive), st, Progress()))
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
     keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
@@ -260,9 +321,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     if exponents is None:
         sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
     run = advance(st, sched, obj, run)
-    unloaded = unload(polygon, st)
-    del st
-    return i, *finish(polygon, unloaded, run)
+    return i, *finish_kept(polygon, st, run)
 
 
 def rank(st: "_Loaded | None", obj: int) -> float:
@@ -292,7 +351,10 @@ class _Loaded(NamedTuple):
     href: float  # target length (uniform) or field scale (graded), normalised
     centre: np.ndarray
     scale: float
-    pieces: tuple  # (us, vs): the segment pieces split at the points on them
+    # the kernel passes cover only the triangles the moves can change (frozen
+    # sites: the deep interior of a large lattice); False: every triangle, as
+    # the surface layer's meshes were made
+    restrict: bool = False
 
 
 def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -> _Loaded:
@@ -300,9 +362,16 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
     the role of every point: polygon vertices and ``frozen`` sites fixed, sites
     on the boundary sliding along their edge, the others free; ``edges`` as
     :func:`improve`'s."""
-    nV = len(polygon.vertices)
     T0 = np.asarray(triangles, dtype=np.int32)
     m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
+    return _roles(polygon, m, xy, centre, scale, boundary, href, frozen, T0 if graded else None)
+
+
+def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -> _Loaded:
+    """:func:`_load` once the mesh is in kernel ``m`` (coordinates ``xy``): the
+    roles, edges and sizes of its points.  ``graded``: the mesh's triangles
+    where the kernel reads a size field (None without one)."""
+    nV = len(polygon.vertices)
     N = len(xy)
     a, d, _ = polygon_edges(polygon, constraints=True)
     role = np.full(N, relax.FREE, np.int8)
@@ -317,15 +386,16 @@ def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -
         t[nV + i] = ti
     hv = np.ones(N)
     relax.refresh_sizes(m, hv, np.ones(N, np.bool_))
-    if graded:  # the field's shape, scaled to the edges present
-        E = np.concatenate([T0[:, [0, 1]], T0[:, [1, 2]], T0[:, [2, 0]]])
+    if graded is not None:  # the field's shape, scaled to the edges present
+        E = np.concatenate([graded[:, [0, 1]], graded[:, [1, 2]], graded[:, [2, 0]]])
         Ls = np.hypot(*(xy[E[:, 1]] - xy[E[:, 0]]).T)
         hs = 0.5 * (hv[E[:, 0]] + hv[E[:, 1]])
         href_n = float(np.sqrt((Ls**2).mean() / (hs**2).mean()))
     else:
         href_n = (target_size(polygon, N - nV) if href is None else href) / scale
+    restrict = frozen is not None and bool(np.any(frozen))
     return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale,
-                   piece_chains(polygon, boundary, boundary_tol(polygon)))
+                   restrict)
 
 
 def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:

@@ -16,8 +16,9 @@ from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
 from ..tplus import tplus_if_feasible
+from ..triangulation import ensure_valid
 from . import schedule as S
-from .moves import improve, improve_best
+from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
 from .seed import boundary_counts, boundary_points, boundary_rows, seed_interior, target_size, variants
@@ -39,7 +40,7 @@ def _start(polygon: Polygon, n: int, h: float, variant):
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
-    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid)
+    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid, over=True)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays
     deep = to_segments(ipts, a, a + d, 2.0 * S.BAND * h) > S.BAND * h
     frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
@@ -59,7 +60,7 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
         report("seed", 1, 1)
         sites, edges, frozen, _ = made[0]
         report("relaxation", 0, 1)
-        pts, tri, run = improve(
+        pts, tri, run = improve_kept(
             polygon, sites, objective=objective, href=h, frozen=frozen, edges=edges, **options
         )
         i = 0
@@ -107,8 +108,8 @@ def _reference(polygon: Polygon, n: int, start):
             log.info("uniform: n = %d is too small for T+; nothing to compare with", n)
     if tp is None:  # d_n for the certificates comes from INSERT alone
         return None, None, min_distance_after(polygon, n)
-    d_n = tp.info.get("d_n")
-    return tp, tp.quality(d_n=d_n if d_n is not None else False), d_n
+    # only the measures are compared and reported (:func:`_summary`), not the bounds
+    return tp, quality(tp.points, tp.triangles), tp.info.get("d_n")
 
 
 def _summary(q):
@@ -167,7 +168,9 @@ def optimize_mesh(
         report("relocation", 0, 1)
         pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options, run["edges"])
         report("relocation", 1, 1)
-    q_new = quality(pts, tri, polygon, n_steiner=n, d_n=d_n if d_n is not None else False)
+    # the kernel's own triangles (moves.finish_kept), checked here once
+    ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
+    q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
 

@@ -10,7 +10,7 @@ from ..polygon import Polygon
 from ..quality import edge_lengths
 from ..triangulation import boundary_tol
 from . import schedule as S
-from .moves import improve
+from .moves import improve_kept
 from .objective import extremes, objective_value
 
 __all__ = ["relocate"]
@@ -68,7 +68,7 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
         trial_edges[r] = new_edge
         near = np.minimum(np.hypot(*(trial - new).T), np.hypot(*(trial - old).T))
         local = fixed | (near > S.RELOCATE_RADIUS * h)
-        p2, t2, info2 = improve(
+        p2, t2, info2 = improve_kept(
             polygon, trial, objective=objective, href=h, frozen=local, edges=trial_edges,
             **{**options, **S.RELOCATE},
         )
