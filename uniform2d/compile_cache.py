@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import importlib
 import logging
+import os
 import pkgutil
 
-__all__ = ["cold_kernels", "kernels_cold", "COMPILE_NOTICE"]
+__all__ = ["cold_kernels", "kernels_cold", "cache_writable", "COMPILE_NOTICE"]
 
 log = logging.getLogger(__name__)
 
@@ -58,3 +59,13 @@ def kernels_cold(fraction: float = 0.5) -> bool | None:
         return None
     log.debug("%d of %d kernels have no cache entry", cold, total)
     return total > 0 and cold > fraction * total
+
+
+def cache_writable() -> bool:
+    """Whether numba can write every kernel's cache directory (False if it cannot be told)."""
+    try:
+        paths = {d._cache._cache_path for d in _kernel_dispatchers()}
+    except Exception:  # numba's cache internals are not a public API
+        log.debug("cannot inspect numba's cache", exc_info=True)
+        return False
+    return bool(paths) and all(os.access(p, os.W_OK) for p in paths)
