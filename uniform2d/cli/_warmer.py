@@ -39,32 +39,27 @@ log = logging.getLogger(__name__)
 
 
 def warm() -> None:
-    """Compile, into numba's cache, what a :func:`uniform2d.uniform_mesh` run
-    compiles besides the exact triangulation of P and INSERT, by running the
-    library's code on a tiny mesh (see the module docstring for the order)."""
+    """Compile, into numba's cache, kernels a :func:`uniform2d.uniform_mesh` run
+    compiles late, by running the library's code on tiny inputs, in the order
+    the module docstring gives."""
     import numpy as np
 
-    from .._kernel import cavity, cdt
+    from .._kernel import cdt, heap
+    from .._kernel import insert as kinsert
     from ..optimize import moves, pipeline
     from ..optimize import schedule as S
     from ..optimize.objective import objective_code
     from ..optimize.seed import target_size, variants
-    from ..polygon import Polygon
 
-    square = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]])
-    polygon, n = Polygon(square), 24
-    h = target_size(polygon, n)
-    sites, edges, frozen, _ = pipeline._start(polygon, n, h, variants(polygon, n)[0])
-    # the cavity insertion INSERT's loop calls, typed as it calls it (as
-    # polytri.triangulate does), without the rings' Delaunay legalisation
-    m, xy = cdt.allocate(3 + len(sites), 2 * len(sites) + 8)
-    xy[:3] = [[-8.0, -8.0], [8.0, -8.0], [0.0, 8.0]]
-    xy[3:] = sites
-    cdt.set_nv(m, len(xy))
-    cdt.build_adjacency(m, np.array([[0, 1, 2]], np.int32))
-    cavity.insert_sites(m, np.arange(3, len(xy), dtype=np.int64))
+    # INSERT's two selection steps, typed as its loop calls them, on empty queues
+    m, _ = cdt.allocate(4, 4)
+    M, P = heap.new_heap(16), kinsert.new_pool(64)
+    W = kinsert._gather(m, M, P, 0.0)[0]
+    kinsert._choose(m, M, P, W, 0.0)
 
-    st = moves.load(polygon, sites, href=h, frozen=frozen, edges=edges)
+    # the optimiser's stages, the last first, on a lattice mesh of a square
+    polygon, points, triangles, edges = _lattice(4)
+    st = moves._load(polygon, points, triangles, None, None, None, edges)
     obj = objective_code("balanced")
     none = moves.default_schedule(len(st.xy), False)._replace(
         spring_rounds=0, sweeps=1, exponents=(), spread_sweeps=0)
@@ -72,7 +67,35 @@ def warm() -> None:
                   dict(spring_rounds=1)):
         moves.advance(st, none._replace(**stage), obj)
         moves.rank(st, obj)
+
+    # the optimiser's start: the mesh of its sites (checked), their distance to P
     moves.finish(polygon, moves.unload(polygon, st), moves.Progress())
+    n = len(points) - len(polygon.vertices)
+    pipeline._start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
+
+
+def _lattice(k: int):
+    """(square polygon, points, triangles, edges): the k x k unit lattice of the
+    square [0, k]^2 cut into triangles (Delaunay), its corners first, then the
+    other lattice points, with the polygon edge each lies on (-1 inside)."""
+    import numpy as np
+
+    from ..polygon import Polygon
+
+    g = np.arange(k + 1, dtype=np.float64)
+    x, y = (a.ravel() for a in np.meshgrid(g, g))
+    corner = np.array([0, k, (k + 1) ** 2 - 1, k * (k + 1)])
+    order = np.concatenate([corner, np.setdiff1d(np.arange((k + 1) ** 2), corner)])
+    rank = np.argsort(order)  # lattice index -> place in ``order``
+    a = (np.arange(k)[:, None] * (k + 1) + np.arange(k)[None, :]).ravel()  # lower-left corners
+    cells = np.stack([a, a + 1, a + k + 2, a + k + 1], axis=1)
+    triangles = rank[np.concatenate([cells[:, [0, 1, 2]], cells[:, [0, 2, 3]]])]
+    points = np.column_stack([x, y])[order]
+    edges = np.full(len(points), -1, np.int64)
+    for e, (axis, value) in enumerate([(1, 0.0), (0, k), (1, k), (0, 0.0)]):
+        edges[points[:, axis] == value] = e
+    polygon = Polygon(points[:4])
+    return polygon, points, triangles.astype(np.int64), edges[4:]
 
 
 def spare_cpus() -> int:
