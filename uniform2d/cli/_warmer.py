@@ -5,19 +5,21 @@ calling process: on a cold cache the command's first ``mesh`` spends most of its
 time compiling, on one core, while the other cores idle.  What a run compiles
 goes into numba's disk cache (``cache=True``), and numba looks there before it
 compiles anything, a kernel called from Python or one typed as the callee of
-another.  So when :func:`start` finds the kernels cold, it starts one background
-process that runs :func:`warm`: the library's own code on a tiny mesh, in an
-order chosen against the order a run needs the kernels in.  First the cavity
-insertion INSERT's main loop calls too (the run gets there after the exact
-triangulation, its first kernels); then what the run needs after INSERT, from
-the last (the spread sweeps) to the first, so that the run, compiling from the
-first, meets the warmer halfway instead of following it.  Whatever the warmer
-finished, the run loads; whatever it did not, the run compiles as before.
+another.  So when the command finds the kernels cold, :func:`start` starts one
+background process that runs :func:`warm`, which compiles in an order chosen
+against the order the run needs the kernels in.  The run first compiles the
+exact triangulation of P and INSERT's queues; the warmer meanwhile compiles
+INSERT's two selection steps, which the run types next.  Then the optimiser's
+stages, from the last (the spread sweeps) to the first, and its start: the run,
+compiling its optimiser from the first, meets the warmer halfway instead of
+following it.  Whatever the warmer finished, the run loads; whatever it did
+not, the run compiles as before.
 
-The warmer runs the library's code rather than compiling named signatures
-because a kernel is cached per argument types (dtypes, layouts, int32 against
-int64): only the same calls made the same way compile what a run looks up
-(``tests/test_warmer.py`` checks that a run compiles none of them again).
+A kernel is cached per argument types (dtypes, layouts, int32 against int64),
+so the warmer makes its calls with the library's own code on tiny inputs (a
+lattice mesh loaded as the optimiser loads one; INSERT's queues as INSERT makes
+them), not with signatures written out; ``tests/test_warmer.py`` checks that a
+run after it compiles none of its kernels again.
 
 The warmer prints nothing and writes nothing but numba's cache (each file to a
 temporary name, then renamed: stopping it at any moment leaves no torn entry).
@@ -111,7 +113,7 @@ def start() -> subprocess.Popen | None:
     Returns it, or None."""
     from ..compile_cache import cache_writable
 
-    if spare_cpus() < 2 or not cache_writable():
+    if not sys.executable or spare_cpus() < 2 or not cache_writable():
         return None
     # the package this process runs, whatever the current directory holds
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
