@@ -106,9 +106,11 @@ class _Started:
 
 @pytest.fixture
 def cold(monkeypatch):
+    """A cold cache, on a machine with a CPU to spare (whatever its load now)."""
     import uniform2d.compile_cache as C
 
     monkeypatch.setattr(C, "kernels_cold", lambda: True)
+    monkeypatch.setattr(_warmer, "busy", lambda cpus: False)
 
 
 @pytest.mark.skipif(_warmer.spare_cpus() < 2, reason="the warmer needs two CPUs")
@@ -158,18 +160,37 @@ def test_no_warmer_when_warm_on_one_cpu_unwritable_or_for_the_paper_method(
     assert started.procs == [None]  # asked for once, on a cold cache
 
 
-def test_start_refuses_one_cpu_and_an_unwritable_cache(monkeypatch):
+def test_start_refuses_one_cpu_busy_cpus_and_an_unwritable_cache(monkeypatch):
     import uniform2d.compile_cache as C
 
     def no_process(*args, **kwargs):
         raise AssertionError("no warmer should start")
 
     monkeypatch.setattr(subprocess, "Popen", no_process)
+    monkeypatch.setattr(_warmer, "busy", lambda cpus: False)
     monkeypatch.setattr(_warmer, "spare_cpus", lambda: 1)
     assert _warmer.start() is None
     monkeypatch.setattr(_warmer, "spare_cpus", lambda: 2)
     monkeypatch.setattr(C, "cache_writable", lambda: False)
     assert _warmer.start() is None
+    monkeypatch.setattr(C, "cache_writable", lambda: True)
+    monkeypatch.setattr(_warmer, "busy", lambda cpus: True)
+    assert _warmer.start() is None
+
+
+def test_cpus_are_busy_when_the_load_leaves_none_idle_besides_the_run(monkeypatch):
+    load = [0.0]
+
+    def loadavg():
+        if load[0] is None:
+            raise OSError("no load average here")
+        return (load[0], 0.0, 0.0)
+
+    monkeypatch.setattr(os, "getloadavg", loadavg)
+    for value, cpus, busy in [(0.2, 2, False), (1.0, 2, False), (1.3, 2, True), (3.5, 2, True),
+                              (2.5, 4, False), (3.5, 4, True), (None, 2, False)]:
+        load[0] = value
+        assert _warmer.busy(cpus) is busy, (value, cpus)
 
 
 def test_the_kernels_cache_is_writable_here():

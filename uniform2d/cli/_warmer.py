@@ -35,7 +35,7 @@ import subprocess
 import sys
 import threading
 
-__all__ = ["warm", "start", "stop", "spare_cpus"]
+__all__ = ["warm", "start", "stop", "spare_cpus", "busy"]
 
 log = logging.getLogger(__name__)
 
@@ -53,14 +53,20 @@ def warm() -> None:
     from ..optimize.objective import objective_code
     from ..optimize.seed import target_size, variants
 
+    # the distance to P's edges the optimiser's start measures (nothing the run
+    # compiles first is needed for it), while the run compiles the predicates
+    # INSERT's selection steps need too
+    polygon, points, triangles, edges = _lattice(4)
+    n = len(points) - len(polygon.vertices)
+    pipeline._start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
+
     # INSERT's two selection steps, typed as its loop calls them, on empty queues
     m, _ = cdt.allocate(4, 4)
     M, P = heap.new_heap(16), kinsert.new_pool(64)
     W = kinsert._gather(m, M, P, 0.0)[0]
     kinsert._choose(m, M, P, W, 0.0)
 
-    # the optimiser's stages, the last first, on a lattice mesh of a square
-    polygon, points, triangles, edges = _lattice(4)
+    # the optimiser's stages, the last first, on the lattice mesh
     st = moves._load(polygon, points, triangles, None, None, None, edges)
     obj = objective_code("balanced")
     none = moves.default_schedule(len(st.xy), False)._replace(
@@ -70,10 +76,8 @@ def warm() -> None:
         moves.advance(st, none._replace(**stage), obj)
         moves.rank(st, obj)
 
-    # the optimiser's start: the mesh of its sites (checked), their distance to P
+    # the optimiser's start: the mesh of its sites, checked
     moves.finish(polygon, moves.unload(polygon, st), moves.Progress())
-    n = len(points) - len(polygon.vertices)
-    pipeline._start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
 
 
 def _lattice(k: int):
@@ -107,13 +111,25 @@ def spare_cpus() -> int:
     return os.cpu_count() or 1
 
 
+def busy(cpus: int) -> bool:
+    """Whether the system's load (its last minute's average) leaves no CPU of
+    ``cpus`` idle besides this run's: then a second compiling process takes CPU
+    from the run itself (README command 1 took 61 s with it, 43 s without, on two
+    cores loaded 3 to 4).  False where there is no load average."""
+    try:
+        return os.getloadavg()[0] > cpus - 1
+    except (AttributeError, OSError):
+        return False
+
+
 def start() -> subprocess.Popen | None:
     """Start the warmer process, for a run about to compile the kernels, if it can
-    help: their cache is writable and this process may use two CPUs or more.
-    Returns it, or None."""
+    help: their cache is writable, this process may use two CPUs or more and
+    one of them is idle (:func:`busy`).  Returns it, or None."""
     from ..compile_cache import cache_writable
 
-    if not sys.executable or spare_cpus() < 2 or not cache_writable():
+    cpus = spare_cpus()
+    if not sys.executable or cpus < 2 or busy(cpus) or not cache_writable():
         return None
     # the package this process runs, whatever the current directory holds
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
