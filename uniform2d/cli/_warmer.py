@@ -9,11 +9,13 @@ another.  So when the command finds the kernels cold, :func:`start` starts one
 background process that runs :func:`warm`, which compiles in an order chosen
 against the order the run needs the kernels in.  The run first compiles the
 exact triangulation of P and INSERT's queues; the warmer meanwhile compiles
-INSERT's two selection steps, which the run types next.  Then the optimiser's
-stages, from the last (the spread sweeps) to the first, and its start: the run,
-compiling its optimiser from the first, meets the warmer halfway instead of
-following it.  Whatever the warmer finished, the run loads; whatever it did
-not, the run compiles as before.
+the distance to P's edges (which needs none of those) and INSERT's two
+selection steps, which the run types next.  Then the optimiser's stages, from
+the last (the spread sweeps) to the first, and its start: the run, compiling
+its optimiser from the first, meets the warmer halfway instead of following
+it.  Whatever the warmer finished, the run loads; whatever it did not, the run
+compiles as before.  A second process only helps on a CPU that would
+otherwise idle, so none is started when the system's load leaves none idle.
 
 A kernel is cached per argument types (dtypes, layouts, int32 against int64),
 so the warmer makes its calls with the library's own code on tiny inputs (a
