@@ -24,7 +24,8 @@ them), not with signatures written out; ``tests/test_warmer.py`` checks that a
 run after it compiles none of its kernels again.
 
 The warmer prints nothing and writes nothing but numba's cache (each file to a
-temporary name, then renamed: stopping it at any moment leaves no torn entry).
+temporary name, then renamed: stopping it at any moment leaves no torn entry,
+at worst one stray temporary file).
 It ignores Ctrl-C and ends when the command ends, however it ends
 (:func:`stop`, or the end of its stdin if the command dies first).
 """
@@ -116,8 +117,9 @@ def spare_cpus() -> int:
 def busy(cpus: int) -> bool:
     """Whether the system's load (its last minute's average) leaves no CPU of
     ``cpus`` idle besides this run's: then a second compiling process takes CPU
-    from the run itself (README command 1 took 61 s with it, 43 s without, on two
-    cores loaded 3 to 4).  False where there is no load average."""
+    from the run itself (with per-session scheduling, as Linux's autogroups, the
+    command's share of the machine does not grow with its processes).  False
+    where there is no load average."""
     try:
         return os.getloadavg()[0] > cpus - 1
     except (AttributeError, OSError):
