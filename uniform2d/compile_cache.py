@@ -12,15 +12,16 @@ from __future__ import annotations
 
 import importlib
 import logging
+import os
 import pkgutil
 
-__all__ = ["cold_kernels", "kernels_cold", "COMPILE_NOTICE"]
+__all__ = ["cold_kernels", "kernels_cold", "cache_writable", "COMPILE_NOTICE"]
 
 log = logging.getLogger(__name__)
 
 #: What the command line prints, once, before a run that compiles the kernels.
 COMPILE_NOTICE = (
-    "compiling the numba kernels: the first run takes about 30 s longer "
+    "compiling the numba kernels: the first run takes 25 to 30 s longer "
     "(they are cached for later runs)"
 )
 
@@ -58,3 +59,13 @@ def kernels_cold(fraction: float = 0.5) -> bool | None:
         return None
     log.debug("%d of %d kernels have no cache entry", cold, total)
     return total > 0 and cold > fraction * total
+
+
+def cache_writable() -> bool:
+    """Whether numba can write every kernel's cache directory (False if it cannot be told)."""
+    try:
+        paths = {d._cache._cache_path for d in _kernel_dispatchers()}
+    except Exception:  # numba's cache internals are not a public API
+        log.debug("cannot inspect numba's cache", exc_info=True)
+        return False
+    return bool(paths) and all(os.access(p, os.W_OK) for p in paths)

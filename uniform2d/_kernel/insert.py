@@ -176,7 +176,7 @@ def _current(m, a, b, xtol, bound):
             return False, 0.0, 0.0, 0.0
         cx, cy, r = circumcircle(m.xy, m.tv[3 * a], m.tv[3 * a + 1], m.tv[3 * a + 2])
         return True, r / size_at(m, cx, cy), cx, cy
-    h = find_constrained(m, -a - 1, b)
+    h = find_constrained(m, -a - 1, np.int64(b))
     if h < 0:
         return False, 0.0, 0.0, 0.0
     w, x, y = eval_segment(m, h, xtol, bound)
@@ -345,7 +345,7 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
                 x, y = _project(m, hsplit, x, y)
                 x, y = snap(m, x, y)
         else:
-            hsplit = find_constrained(m, -a - 1, b)
+            hsplit = find_constrained(m, -a - 1, np.int64(b))
             t0 = hsplit // 3
             x, y = snap(m, x, y)
         out_xy[j, 0] = x

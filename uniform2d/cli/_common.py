@@ -39,13 +39,14 @@ def positive_float(text: str) -> float:
     return value
 
 
-def announce_compile(quiet: bool = False) -> bool:
+def announce_compile(quiet: bool = False, cold: bool | None = None) -> bool:
     """Say once on stderr that the kernels are being compiled, if they are about
-    to be (a cold numba cache) and not --quiet; return whether it was said."""
+    to be (``cold``; by default: a cold numba cache) and not --quiet; return
+    whether it was said."""
     from ..compile_cache import COMPILE_NOTICE, kernels_cold
     from .main import PROG
 
-    if quiet or not kernels_cold():
+    if quiet or not (kernels_cold() if cold is None else cold):
         return False
     print(f"{PROG}: {COMPILE_NOTICE}", file=sys.stderr, flush=True)
     return True
@@ -181,7 +182,7 @@ def collect(outcomes: Iterable[Outcome], several: bool, show: Callable,
 
 
 def run_batch(args, process: Callable, plan: list, desc: str, show: Callable,
-              document: Callable) -> int:
+              document: Callable, warm: bool = False) -> int:
     """The batch loop of a command over ``plan`` (one tuple per input, its input
     path first); returns the exit code.
 
@@ -189,10 +190,28 @@ def run_batch(args, process: Callable, plan: list, desc: str, show: Callable,
     input and returns a dict; ``show(args, doc, several)`` prints it, above the
     bar over files; ``document(doc)`` is what --json lists for it.  Runs in
     ``args.jobs`` local processes or on the Dask cluster ``args.scheduler``.
+    With ``warm`` (the inputs are meshed by :func:`uniform2d.uniform_mesh`), a
+    cold numba cache and the batch in this process, a second process compiles
+    the kernels the meshing needs later meanwhile (:mod:`._warmer`).
     """
+    from . import _warmer
+    from ..compile_cache import kernels_cold
+
     several = len(plan) > 1
+    warmer = None
     if args.scheduler is None:  # here, or in local workers sharing this cache
-        announce_compile(args.quiet)
+        cold = bool(kernels_cold())
+        announce_compile(args.quiet, cold)
+        if cold and warm and (args.jobs == 1 or not several):
+            warmer = _warmer.start()
+    try:
+        return _run_batch(args, process, plan, desc, show, document)
+    finally:
+        _warmer.stop(warmer)
+
+
+def _run_batch(args, process, plan, desc, show, document) -> int:
+    several = len(plan) > 1
     with file_bar(len(plan), args.quiet, desc) as bar:
 
         def shown(doc):

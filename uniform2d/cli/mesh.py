@@ -299,7 +299,8 @@ def run(args) -> int:
     # one input runs here, where its phases can be shown as they pass
     args.phase_bar = len(plan) == 1 and shows_progress(args.quiet)
     return run_batch(args, _process, plan, "meshing", _show,
-                     lambda doc: {k: v for k, v in doc.items() if k != "summary"})
+                     lambda doc: {k: v for k, v in doc.items() if k != "summary"},
+                     warm=args.method == "uniform")
 
 
 def _print_tplus(info) -> None:

@@ -1,0 +1,199 @@
+"""The first run's kernel warmer: it compiles what a run looks up later, and the
+command starts it only on a cold cache, says nothing through it, and stops it."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from test_cli_batch import run
+from uniform2d.cli import _warmer
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+PLATE = DATA / "plate_bolts.json"
+SQUARE = DATA / "benchmarks" / "square.json"
+
+#: Runs in a fresh process: the uniform2d kernels numba compiles (not loads from
+#: its cache) while the code in argv[1] runs, in order, as JSON on stdout; the
+#: code may append to ``marks`` the count compiled so far.
+COMPILES = r"""
+import json, sys
+from numba.core import event
+
+compiled, marks = [], []
+
+class Compiled(event.Listener):
+    def on_start(self, e):
+        pass
+
+    def on_end(self, e):
+        f = e.data["dispatcher"].py_func
+        if (f.__module__ or "").startswith("uniform2d."):
+            compiled.append((f"{f.__module__}.{f.__qualname__}", str(e.data["args"])))
+
+event.register("numba:compile", Compiled())
+exec(sys.argv[1])
+json.dump({"compiled": compiled, "marks": marks}, sys.stdout)
+"""
+
+WARM = "from uniform2d.cli._warmer import warm; warm()"
+
+#: README command 1's mesh; the mark is the end of the T+ phase (INSERT and T+):
+#: everything after it is the optimiser's.
+MESH = f"""
+from uniform2d import uniform_mesh
+from uniform2d.io import read_polygon
+
+def progress(phase, done, total):
+    if (phase, done) == ("T+", 1):
+        marks.append(len(compiled))
+
+uniform_mesh(read_polygon({str(PLATE)!r}), 400, progress=progress)
+"""
+
+
+def _compiles(code: str, cache: Path) -> dict:
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    done = subprocess.run([sys.executable, "-c", COMPILES, code], env=env, capture_output=True,
+                          text=True, timeout=900, check=True)
+    return json.loads(done.stdout)
+
+
+@pytest.mark.slow
+@pytest.mark.compile_cache
+def test_a_mesh_after_the_warmer_compiles_nothing_it_compiled_nor_anything_after_insert(tmp_path):
+    """The warmer's calls are typed as the run's: were one argument's type to
+    drift (a dtype, a layout, int32 for int64), the run would compile that
+    kernel again, under another signature, and this would fail."""
+    warmed = _compiles(WARM, tmp_path)["compiled"]
+    names = {name for name, _ in warmed}
+    later = {"uniform2d._kernel.cavity.insert_point", "uniform2d._kernel.distance.to_segments",
+             "uniform2d._kernel.validity._unmatched", "uniform2d._kernel.spring.spring",
+             "uniform2d._kernel.descent.descend", "uniform2d._kernel.spread.spread",
+             "uniform2d._kernel.star.edge_cv", "uniform2d._kernel.star.refresh_sizes"}
+    assert later <= names
+    mesh = _compiles(MESH, tmp_path)
+    compiled, (insert_done,) = mesh["compiled"], mesh["marks"]
+    assert "uniform2d._kernel.insert.run" in {name for name, _ in compiled[:insert_done]}
+    assert {tuple(c) for c in compiled} & {tuple(w) for w in warmed} == set()  # the cache works
+    # ... and the run typed no kernel the warmer compiled another way (but the
+    # one made for several array dtypes)
+    again = {name for name, _ in compiled} & names - {"uniform2d._kernel.heap.grown"}
+    assert again == set()
+    assert compiled[insert_done:] == []  # the optimiser compiles nothing
+
+
+# -- the command -------------------------------------------------------------------------
+class _Started:
+    """Records the warmers the command starts (real ones, or none)."""
+
+    def __init__(self, monkeypatch, real=True):
+        self.procs = []
+        start = _warmer.start
+
+        def recording():
+            proc = start() if real else None
+            self.procs.append(proc)
+            return proc
+
+        monkeypatch.setattr(_warmer, "start", recording)
+
+
+@pytest.fixture
+def cold(monkeypatch):
+    """A cold cache, on a machine with a CPU to spare (whatever its load now)."""
+    import uniform2d.compile_cache as C
+
+    monkeypatch.setattr(C, "kernels_cold", lambda: True)
+    monkeypatch.setattr(_warmer, "busy", lambda cpus: False)
+
+
+@pytest.mark.skipif(_warmer.spare_cpus() < 2, reason="the warmer needs two CPUs")
+def test_the_command_stops_its_warmer_and_prints_the_same_bytes(capfd, tmp_path, monkeypatch,
+                                                                   cold):
+    started = _Started(monkeypatch)
+    code, out, err = run(capfd, "mesh", SQUARE, "-n", 30, "-o", tmp_path / "a.vtu", "--stats")
+    (proc,) = started.procs
+    assert code == 0 and proc is not None and proc.returncode is not None
+    monkeypatch.setattr(_warmer, "spare_cpus", lambda: 1)
+    code, out1, err1 = run(capfd, "mesh", SQUARE, "-n", 30, "-o", tmp_path / "b.vtu", "--stats")
+    assert code == 0 and started.procs[1:] == [None]
+    assert (out, err) == (out1, err1)
+    assert (tmp_path / "a.vtu").read_bytes() == (tmp_path / "b.vtu").read_bytes()
+
+
+@pytest.mark.skipif(_warmer.spare_cpus() < 2, reason="the warmer needs two CPUs")
+@pytest.mark.parametrize("stop", [KeyboardInterrupt, ValueError])
+def test_an_interrupted_or_failed_command_stops_its_warmer(capfd, tmp_path, monkeypatch, cold,
+                                                           stop):
+    import uniform2d.uniform as U
+
+    started = _Started(monkeypatch)
+
+    def fails(*args, **kwargs):
+        raise stop("stopped")
+
+    monkeypatch.setattr(U, "uniform_mesh", fails)
+    code, out, err = run(capfd, "mesh", SQUARE, "-n", 30, "-o", tmp_path / "a.vtu")
+    (proc,) = started.procs
+    assert code == (130 if stop is KeyboardInterrupt else 2)
+    assert proc is not None and proc.returncode is not None
+    assert not (tmp_path / "a.vtu").exists()
+
+
+def test_no_warmer_when_warm_on_one_cpu_unwritable_or_for_the_paper_method(
+        capsys, tmp_path, monkeypatch):
+    import uniform2d.compile_cache as C
+
+    started = _Started(monkeypatch, real=False)
+    args = ("mesh", SQUARE, "-n", 30, "-o", tmp_path / "a.vtu")
+    assert run(capsys, *args)[0] == 0  # the kernels are not cold (conftest)
+    monkeypatch.setattr(C, "kernels_cold", lambda: True)
+    assert run(capsys, *args, "--method", "paper")[0] == 0
+    assert started.procs == []
+    assert run(capsys, *args)[0] == 0
+    assert started.procs == [None]  # asked for once, on a cold cache
+
+
+def test_start_refuses_one_cpu_busy_cpus_and_an_unwritable_cache(monkeypatch):
+    import uniform2d.compile_cache as C
+
+    def no_process(*args, **kwargs):
+        raise AssertionError("no warmer should start")
+
+    monkeypatch.setattr(subprocess, "Popen", no_process)
+    monkeypatch.setattr(_warmer, "busy", lambda cpus: False)
+    monkeypatch.setattr(_warmer, "spare_cpus", lambda: 1)
+    assert _warmer.start() is None
+    monkeypatch.setattr(_warmer, "spare_cpus", lambda: 2)
+    monkeypatch.setattr(C, "cache_writable", lambda: False)
+    assert _warmer.start() is None
+    monkeypatch.setattr(C, "cache_writable", lambda: True)
+    monkeypatch.setattr(_warmer, "busy", lambda cpus: True)
+    assert _warmer.start() is None
+
+
+def test_cpus_are_busy_when_the_load_leaves_none_idle_besides_the_run(monkeypatch):
+    load = [0.0]
+
+    def loadavg():
+        if load[0] is None:
+            raise OSError("no load average here")
+        return (load[0], 0.0, 0.0)
+
+    monkeypatch.setattr(os, "getloadavg", loadavg)
+    for value, cpus, busy in [(0.2, 2, False), (1.0, 2, False), (1.3, 2, True), (3.5, 2, True),
+                              (2.5, 4, False), (3.5, 4, True), (None, 2, False)]:
+        load[0] = value
+        assert _warmer.busy(cpus) is busy, (value, cpus)
+
+
+def test_the_kernels_cache_is_writable_here():
+    from uniform2d.compile_cache import cache_writable
+
+    assert cache_writable() is True  # numba caches this test run's kernels somewhere
