@@ -559,3 +559,26 @@ def test_unique_edges_against_a_counter_of_sorted_pairs():
     assert [tuple(e) for e in edges.tolist()] == sorted(want)
     assert counts.tolist() == [want[k] for k in sorted(want)]
     assert np.array_equal(unique_edges(tri), edges)
+
+
+@pytest.mark.parametrize("case", ["random", "fan"])
+def test_quality_edges_by_vertex_against_a_counter_of_sorted_pairs(case):
+    """The measures' bucketed edge list: small buckets (insertion sort) and a
+    fan's apex, whose bucket holds every edge (numpy's sort)."""
+    from collections import Counter
+
+    from uniform2d.quality import _unique_edges
+
+    rng = np.random.default_rng(5)
+    if case == "random":
+        tri = rng.integers(0, 300, (2000, 3))
+    else:
+        rim = rng.permutation(np.arange(1, 602))
+        tri = np.column_stack([np.zeros(600, np.int64), rim[:-1], rim[1:]])
+    want = Counter(tuple(sorted((int(t[i]), int(t[(i + 1) % 3])))) for t in tri for i in range(3))
+    ro = np.array(tri, np.int64)
+    ro.flags.writeable = False
+    for arg in (tri, ro):
+        edges, counts = _unique_edges(arg, 602)
+        assert [tuple(e) for e in edges.tolist()] == sorted(want)
+        assert counts.tolist() == [want[k] for k in sorted(want)]

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ._kernel._jit import njit
+from ._kernel.edges import edges_by_vertex
 from .bounds import BOUND_SLACK, Term, _is_convex, _packing_distance, lower_bound_terms
 from .errors import InvalidArgumentError
 from .polygon import Polygon
@@ -72,49 +72,7 @@ def _unique_edges(tri: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarra
     The same as :func:`uniform2d.geometry.unique_edges` with counts, bucketed by
     the smaller vertex instead of sorted as a whole (each bucket holds a vertex's
     few larger neighbours): at 1e6 points a tenth of the sort's time."""
-    return _edges_by_vertex(np.ascontiguousarray(tri, dtype=np.int64), np.int64(n_points))
-
-
-@njit(cache=True)
-def _edges_by_vertex(tri, n):
-    """:func:`_unique_edges` of int64 triangles over n points."""
-    start = np.zeros(n + 1, np.int64)
-    for t in range(tri.shape[0]):
-        for k in range(3):
-            start[min(tri[t, k], tri[t, (k + 1) % 3]) + 1] += 1
-    for i in range(n):
-        start[i + 1] += start[i]
-    nb = np.empty(start[n], np.int64)  # the larger ends, bucketed by the smaller
-    fill = start[:n].copy()
-    for t in range(tri.shape[0]):
-        for k in range(3):
-            a, b = tri[t, k], tri[t, (k + 1) % 3]
-            lo = min(a, b)
-            nb[fill[lo]] = max(a, b)
-            fill[lo] += 1
-    n_edges = 0
-    for i in range(n):  # sort each bucket (a handful of entries) and count its distinct ends
-        for j in range(start[i] + 1, start[i + 1]):
-            x = nb[j]
-            k = j - 1
-            while k >= start[i] and nb[k] > x:
-                nb[k + 1] = nb[k]
-                k -= 1
-            nb[k + 1] = x
-        for j in range(start[i], start[i + 1]):
-            if j == start[i] or nb[j] != nb[j - 1]:
-                n_edges += 1
-    edges = np.empty((n_edges, 2), np.int64)
-    counts = np.zeros(n_edges, np.int64)
-    e = -1
-    for i in range(n):
-        for j in range(start[i], start[i + 1]):
-            if j == start[i] or nb[j] != nb[j - 1]:
-                e += 1
-                edges[e, 0] = i
-                edges[e, 1] = nb[j]
-            counts[e] += 1
-    return edges, counts
+    return edges_by_vertex(np.ascontiguousarray(tri, dtype=np.int64), np.int64(n_points))
 
 
 def edge_lengths(points, triangles) -> tuple[np.ndarray, np.ndarray]:

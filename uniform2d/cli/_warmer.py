@@ -55,6 +55,9 @@ def warm() -> None:
     from ..optimize import schedule as S
     from ..optimize.objective import objective_code
     from ..optimize.seed import target_size, variants
+    from numba import types
+
+    from .._kernel.edges import edges_by_vertex
 
     # the distance to P's edges the optimiser's start measures (nothing the run
     # compiles first is needed for it), while the run compiles the predicates
@@ -69,7 +72,13 @@ def warm() -> None:
     W = kinsert._gather(m, M, P, 0.0)[0]
     kinsert._choose(m, M, P, W, 0.0)
 
-    # the optimiser's stages, the last first, on the lattice mesh
+    # the measures of the finished mesh (the run's last step), then the
+    # optimiser's stages, the last first, on the lattice mesh
+    # the run measures read-only triangles (a Mesh's) and writable ones, in an
+    # order in which numba types each once; called here, a read-only array would
+    # be passed to the writable specialisation: so both written out
+    for readonly in (True, False):
+        edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=readonly), types.int64))
     st = moves._load(polygon, points, triangles, None, None, None, edges)
     obj = objective_code("balanced")
     none = moves.default_schedule(len(st.xy), False)._replace(
