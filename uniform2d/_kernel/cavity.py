@@ -120,7 +120,8 @@ def _grow_cavity(m, x, y, t0, hs, tag):
                 continue
             w = tv[prv(g)]
             if incircle(xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1], xy[w, 0], xy[w, 1], x, y) > 0.0:
-                reserve(m, ncav + 3)
+                if ncav + 3 > m.stack.shape[0]:  # (a call costs more than the test)
+                    reserve(m, ncav + 3)
                 m.tmark[n] = tag
                 m.cav[ncav] = n
                 ncav += 1
@@ -149,7 +150,8 @@ def _cavity_boundary(m, x, y, ncav, hs, tag):
                 continue
             if _orient_v(xy, tv[h], tv[nxt(h)], x, y) <= 0.0:
                 return ERR_ORIENT
-            reserve(m, nb + 1)
+            if nb + 1 > m.stack.shape[0]:
+                reserve(m, nb + 1)
             m.bh[nb] = h
             nb += 1
     return nb
@@ -160,7 +162,8 @@ def _write_fan(m, x, y, ncav, nb, tag):
     """Replace the cavity ``cav[:ncav]`` by the fan of new triangles (u, v, p) over
     its boundary ``bh[:nb]``, p the new vertex; the slots used end up in ``cav[:nb]``."""
     xy, tv, tw = m.xy, m.tv, m.tw
-    reserve(m, nb + 1)
+    if nb + 1 > m.stack.shape[0]:
+        reserve(m, nb + 1)
     # read every boundary edge before slots are overwritten
     p = m.nv
     xy[p, 0] = x

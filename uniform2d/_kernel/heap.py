@@ -13,6 +13,10 @@ near-equal keys make it themselves (Algorithm INSERT does, see
 :mod:`.insert`).  Both heaps are *lazy*: nothing is removed from the middle;
 callers recognise stale entries when they are served.  ``push``/``lpush`` double
 the arrays when full.
+
+The operations are inlined into their callers (INSERT's loop): a call passing a
+structref costs a counted reference, two locked instructions, more than a short
+sift; only the growth is a call of its own.
 """
 
 import numpy as np
@@ -81,13 +85,19 @@ def grown(a, need):
 
 # -- value heap ---------------------------------------------------------------------------
 @njit(cache=True)
+def _grow(H):
+    n = H.size
+    H.keys = grown(H.keys, 2 * n)
+    H.pa = grown(H.pa, 2 * n)
+    H.pb = grown(H.pb, 2 * n)
+
+
+@njit(cache=True, inline="always")
 def push(H, key, a, b):
     """Add ``(key; a, b)``."""
     n = H.size
     if n == H.keys.shape[0]:
-        H.keys = grown(H.keys, 2 * n)
-        H.pa = grown(H.pa, 2 * n)
-        H.pb = grown(H.pb, 2 * n)
+        _grow(H)
     K, PA, PB = H.keys, H.pa, H.pb
     i = n
     while i > 0:
@@ -104,7 +114,7 @@ def push(H, key, a, b):
     H.size = n + 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pop(H):
     """Remove and return the entry with the largest key as (key, a, b); H not empty."""
     K, PA, PB = H.keys, H.pa, H.pb
@@ -132,7 +142,7 @@ def pop(H):
     return key, a, b
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def top_key(H):
     """The largest key, or -inf when empty."""
     if H.size == 0:
@@ -147,14 +157,20 @@ def _lt(a1, a2, b1, b2):
 
 
 @njit(cache=True)
+def _lgrow(L):
+    n = L.size
+    L.k1 = grown(L.k1, 2 * n)
+    L.k2 = grown(L.k2, 2 * n)
+    L.pa = grown(L.pa, 2 * n)
+    L.pb = grown(L.pb, 2 * n)
+
+
+@njit(cache=True, inline="always")
 def lpush(L, k1, k2, a, b):
     """Add ``(k1, k2; a, b)``."""
     n = L.size
     if n == L.k1.shape[0]:
-        L.k1 = grown(L.k1, 2 * n)
-        L.k2 = grown(L.k2, 2 * n)
-        L.pa = grown(L.pa, 2 * n)
-        L.pb = grown(L.pb, 2 * n)
+        _lgrow(L)
     K1, K2, PA, PB = L.k1, L.k2, L.pa, L.pb
     i = n
     while i > 0:
@@ -173,7 +189,7 @@ def lpush(L, k1, k2, a, b):
     L.size = n + 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def lpop(L):
     """Remove and return the smallest entry as (k1, k2, a, b); L not empty."""
     K1, K2, PA, PB = L.k1, L.k2, L.pa, L.pb
@@ -203,7 +219,7 @@ def lpop(L):
     return k1, k2, a, b
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def ltop(L):
     """(k1, a, b) of the smallest entry; L not empty."""
     return L.k1[0], L.pa[0], L.pb[0]

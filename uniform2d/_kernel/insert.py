@@ -56,6 +56,7 @@ import numpy as np
 from ._jit import njit
 
 from . import heap
+from .borrow import borrowed, settle
 from .cavity import insert_point
 from .cdt import circumcircle, constrained, locate_scan, nxt, prv, snap
 from .predicates import dot2d, orient2d
@@ -70,7 +71,7 @@ ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
 ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inserted
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def triangle_key(m, t):
     """Its value (circumradius / size there) if t's circumcentre is a candidate (see
     the module doc), else -1."""
@@ -88,7 +89,7 @@ def triangle_key(m, t):
     return r / size_at(m, cx, cy)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _push_triangle(m, M, t):
     r = triangle_key(m, t)
     if r > 0.0:
@@ -183,10 +184,26 @@ def _current(m, a, b, xtol, bound):
     return True, w, x, y
 
 
+@njit(cache=True, inline="always")
+def _kept(tstamp, pa, pb, pw, px, py, s):
+    """Whether pool member s is a live triangle, whose value and centre are what
+    they were when filed (its vertices cannot change while its stamp does not;
+    recomputing them gives the same bits, unless one is NaN, never equal): then
+    :func:`_revalidate` returns True.  Arrays, not the structrefs, so that the
+    common case costs no counted reference."""
+    a = pa[s]
+    if a >= 0 and tstamp[a] == pb[s]:
+        w, x, y = pw[s], px[s], py[s]
+        return w == w and x == x and y == y
+    return False
+
+
 @njit(cache=True)
 def _revalidate(m, M, P, s, thr, xtol):
     """Is member s current and unchanged?  If dead it is dropped; if changed it is
     re-filed with its fresh values (in the pool if still >= thr, else in M)."""
+    if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s):
+        return True
     a, b = P.pa[s], P.pb[s]
     alive, w, x, y = _current(m, a, b, xtol, P.pw[s])
     if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
@@ -208,12 +225,15 @@ def _gather(m, M, P, xtol):
     its tied group (the common case, which needs no pool at all), else a = b = -1
     and the group is in the pool."""
     W = -1.0
-    while P.pv.size > 0:
-        w, s, g = P.pv.keys[0], P.pv.pa[0], P.pv.pb[0]
+    pv = P.pv
+    while pv.size > 0:
+        w, s, g = pv.keys[0], pv.pa[0], pv.pb[0]
         if P.pgen[s] != g:
-            heap.pop(P.pv)
+            heap.pop(pv)
             continue
-        if _revalidate(m, M, P, s, np.inf, xtol):
+        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s) or _revalidate(
+            m, M, P, s, np.inf, xtol
+        ):
             W = w
             break
     while M.size > 0 and (W < 0.0 or heap.top_key(M) >= tied_above(W, m.wg)):
@@ -241,7 +261,9 @@ def _lclean(m, M, P, L, loc, thr, xtol):
         if P.pgen[s] != g or P.ploc[s] != loc:
             heap.lpop(L)
             continue
-        if _revalidate(m, M, P, s, thr, xtol):
+        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s) or _revalidate(
+            m, M, P, s, thr, xtol
+        ):
             return x
     return np.inf
 
@@ -250,9 +272,10 @@ def _lclean(m, M, P, L, loc, thr, xtol):
 def _choose(m, M, P, W, xtol):
     """Step 2: the slot of the canonical candidate (or -1)."""
     thr = tied_above(W, m.wg)
+    lo, wy = P.lo, P.wy  # read once: each read of a structref field is counted
     while True:
         xw = _lclean(m, M, P, P.wx, np.int64(1), thr, xtol)
-        xo = _lclean(m, M, P, P.lo, np.int64(0), thr, xtol)
+        xo = _lclean(m, M, P, lo, np.int64(0), thr, xtol)
         if xw == np.inf and xo == np.inf:
             return -1
         if xo < xw and xw != np.inf:  # a smaller x outside: rebuild the window
@@ -260,15 +283,18 @@ def _choose(m, M, P, W, xtol):
             continue
         P.bound = min(xw, xo) + xtol
         restart = False
-        while P.lo.size > 0:  # pull members with x <= B into the window
-            x, s, g = heap.ltop(P.lo)
+        while lo.size > 0:  # pull members with x <= B into the window
+            x, s, g = heap.ltop(lo)
             if P.pgen[s] != g or P.ploc[s] != 0:
-                heap.lpop(P.lo)
+                heap.lpop(lo)
                 continue
             if x > P.bound:
                 break
-            heap.lpop(P.lo)
-            if not _revalidate(m, M, P, s, thr, xtol):
+            heap.lpop(lo)
+            if not (
+                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s)
+                or _revalidate(m, M, P, s, thr, xtol)
+            ):
                 restart = True  # a re-filed member may have moved the anchor
                 break
             to_window(P, np.int64(s))
@@ -276,17 +302,20 @@ def _choose(m, M, P, W, xtol):
             continue
         ymin = np.inf
         nsel = 0
-        while P.wy.size > 0:  # window members with y <= y_min + xtol
-            y, s, g = heap.ltop(P.wy)
+        while wy.size > 0:  # window members with y <= y_min + xtol
+            y, s, g = heap.ltop(wy)
             if P.pgen[s] != g or P.ploc[s] != 1:
-                heap.lpop(P.wy)
+                heap.lpop(wy)
                 continue
             if nsel > 0 and y > ymin + xtol:
                 break
-            if not _revalidate(m, M, P, s, thr, xtol):
+            if not (
+                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s)
+                or _revalidate(m, M, P, s, thr, xtol)
+            ):
                 restart = True
                 break
-            heap.lpop(P.wy)
+            heap.lpop(wy)
             if nsel == 0:
                 ymin = y
             if nsel == P.sel.shape[0]:
@@ -296,7 +325,7 @@ def _choose(m, M, P, W, xtol):
         best = -1
         for i in range(nsel):  # put them back; the smallest x wins
             s = P.sel[i]
-            heap.lpush(P.wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
+            heap.lpush(wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
             if best < 0 or P.px[s] < P.px[best]:
                 best = s
         if restart:
@@ -309,7 +338,37 @@ def _choose(m, M, P, W, xtol):
 
 @njit(cache=True)
 def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
-    """Insert n points; returns n, or a negative status on failure.
+    """Insert n points; returns n, or a negative status on failure (:func:`_steps`).
+
+    The steps run on borrowed copies of m, M and P (:mod:`.borrow`): their
+    arrays are read without reference counting, which was most of the time.
+    A buffer that grows is a new, counted array, so the copies are settled and
+    borrowed again whenever one has grown (about log n times).
+    """
+    j = 0
+    while 0 <= j < n:
+        v = borrowed(m)
+        V = borrowed(M)
+        Q = borrowed(P)
+        Q.pv = borrowed(P.pv)
+        Q.lo = borrowed(P.lo)
+        Q.wx = borrowed(P.wx)
+        Q.wy = borrowed(P.wy)
+        j = _steps(v, V, Q, j, n, out_xy, out_w, out_b, xtol, snap_d)
+        settle(m, v)
+        settle(M, V)
+        settle(P.pv, Q.pv)
+        settle(P.lo, Q.lo)
+        settle(P.wx, Q.wx)
+        settle(P.wy, Q.wy)
+        settle(P, Q)
+    return j
+
+
+@njit(cache=True)
+def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
+    """Insert points j0..n-1; returns n, or a negative status on failure, or
+    the next step once a buffer has grown (see :func:`run`).
 
     A circumcentre closer than ``snap_d`` to a boundary subsegment of its triangle
     is placed on that subsegment (it is numerically on the boundary; inside it
@@ -318,7 +377,9 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
     exact predicates decide on the coordinates actually returned.  On failure ``out_*[j]`` describe the failing
     point and the status is ``code - 100 * j``.
     """
-    for j in range(n):
+    pv, lo, wx, wy = P.pv, P.lo, P.wx, P.wy
+    room = _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.k1, wx.k1, wy.k1)
+    for j in range(j0, n):
         w, a, b, x, y = _gather(m, M, P, xtol)
         if w < 0.0:
             return ERR_EMPTY - 100 * j
@@ -362,7 +423,19 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
             out_xy[j, 0] = x
             out_xy[j, 1] = y
         push_new(m, M, k, hsplit >= 0)
+        if _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.k1, wx.k1, wy.k1) != room:
+            return j + 1
     return n
+
+
+@njit(cache=True, inline="always")
+def _room(a, b, c, d, e, f, g, h):
+    """The total capacity of the buffers that grow (it changes when one does);
+    arrays, not their structrefs: passing a structref costs a counted reference."""
+    return (
+        a.shape[0] + b.shape[0] + c.shape[0] + d.shape[0]
+        + e.shape[0] + f.shape[0] + g.shape[0] + h.shape[0]
+    )
 
 
 @njit(cache=True)
