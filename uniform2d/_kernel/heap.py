@@ -25,7 +25,10 @@ from numba.experimental import structref
 
 from ._jit import njit
 
-__all__ = ["grown", "new_heap", "push", "pop", "top_key", "new_lheap", "lpush", "lpop", "ltop"]
+__all__ = [
+    "grown", "new_heap", "grow", "push", "sift_up", "pop", "top_key", "new_lheap", "lpush", "lpop",
+    "ltop",
+]
 
 
 @structref.register
@@ -85,7 +88,8 @@ def grown(a, need):
 
 # -- value heap ---------------------------------------------------------------------------
 @njit(cache=True)
-def _grow(H):
+def grow(H):
+    """Double the room of H (full)."""
     n = H.size
     H.keys = grown(H.keys, 2 * n)
     H.pa = grown(H.pa, 2 * n)
@@ -97,8 +101,16 @@ def push(H, key, a, b):
     """Add ``(key; a, b)``."""
     n = H.size
     if n == H.keys.shape[0]:
-        _grow(H)
-    K, PA, PB = H.keys, H.pa, H.pb
+        grow(H)
+    sift_up(H.keys, H.pa, H.pb, n, key, a, b)
+    H.size = n + 1
+
+
+@njit(cache=True, inline="always")
+def sift_up(K, PA, PB, n, key, a, b):
+    """:func:`push` on the arrays of a heap with n entries and room for one more
+    (the caller counts it): for loops that push many entries, where passing
+    the structref would cost a counted reference each."""
     i = n
     while i > 0:
         p = (i - 1) >> 1
@@ -111,7 +123,6 @@ def push(H, key, a, b):
     K[i] = key
     PA[i] = a
     PB[i] = b
-    H.size = n + 1
 
 
 @njit(cache=True, inline="always")

@@ -72,24 +72,34 @@ ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inser
 
 
 @njit(cache=True, inline="always")
-def triangle_key(m, t):
-    """Its value (circumradius / size there) if t's circumcentre is a candidate (see
-    the module doc), else -1."""
-    xy = m.xy
+def _centre(xy, tv, tw, tc, t):
+    """(candidate, cx, cy, r): t's circumcircle, and whether its centre is a
+    candidate (see the module doc).  Arrays, not the triangulation's structref:
+    passing a structref costs a counted reference."""
     for i in range(3):
         h = 3 * t + i
         s = dot2d(
-            xy[m.tv[h], 0], xy[m.tv[h], 1],
-            xy[m.tv[nxt(h)], 0], xy[m.tv[nxt(h)], 1],
-            xy[m.tv[prv(h)], 0], xy[m.tv[prv(h)], 1],
+            xy[tv[h], 0], xy[tv[h], 1],
+            xy[tv[nxt(h)], 0], xy[tv[nxt(h)], 1],
+            xy[tv[prv(h)], 0], xy[tv[prv(h)], 1],
         )  # fmt: skip
-        if s < 0.0 or (s == 0.0 and constrained(m, h)):
-            return -1.0
-    cx, cy, r = circumcircle(xy, m.tv[3 * t], m.tv[3 * t + 1], m.tv[3 * t + 2])
+        if s < 0.0 or (s == 0.0 and (tw[h] < 0 or tc[h] != 0)):  # constrained(m, h)
+            return False, 0.0, 0.0, 0.0
+    cx, cy, r = circumcircle(xy, tv[3 * t], tv[3 * t + 1], tv[3 * t + 2])
+    return True, cx, cy, r
+
+
+@njit(cache=True)
+def triangle_key(m, t):
+    """Its value (circumradius / size there) if t's circumcentre is a candidate (see
+    the module doc), else -1."""
+    ok, cx, cy, r = _centre(m.xy, m.tv, m.tw, m.tc, t)
+    if not ok:
+        return -1.0
     return r / size_at(m, cx, cy)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _push_triangle(m, M, t):
     r = triangle_key(m, t)
     if r > 0.0:
@@ -127,8 +137,17 @@ def push_new(m, M, k, split):
     """Entries for the k new triangles cav[:k] and, after a split, the two new halves."""
     p = m.nv - 1
     for i in range(k):
-        t = m.cav[i]
-        _push_triangle(m, M, np.int64(t))
+        t = np.int64(m.cav[i])
+        # _push_triangle, on arrays: no counted reference per triangle
+        ok, cx, cy, r = _centre(m.xy, m.tv, m.tw, m.tc, t)
+        if ok:
+            if m.sized:
+                r = r / size_at(m, cx, cy)  # (without a field size_at is 1.0: r / 1.0 is r)
+            if r > 0.0:
+                if M.size == M.keys.shape[0]:
+                    heap.grow(M)
+                heap.sift_up(M.keys, M.pa, M.pb, M.size, r, np.int32(t), m.tstamp[t])
+                M.size += 1
         if split:
             for e in range(3):
                 h = 3 * t + e
