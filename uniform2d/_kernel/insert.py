@@ -397,7 +397,7 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
     point and the status is ``code - 100 * j``.
     """
     pv, lo, wx, wy = P.pv, P.lo, P.wx, P.wy
-    room = _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.k1, wx.k1, wy.k1)
+    room = _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.e, wx.e, wy.e)
     for j in range(j0, n):
         w, a, b, x, y = _gather(m, M, P, xtol)
         if w < 0.0:
@@ -442,7 +442,7 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
             out_xy[j, 0] = x
             out_xy[j, 1] = y
         push_new(m, M, k, hsplit >= 0)
-        if _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.k1, wx.k1, wy.k1) != room:
+        if _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.e, wx.e, wy.e) != room:
             return j + 1
     return n
 
