@@ -275,26 +275,48 @@ def _gather(m, M, P, xtol):
 def _lclean(m, M, P, L, loc, thr, xtol):
     """Drop stale or invalid entries from the top of L (an (x, y) heap whose members
     have ploc == loc); returns the top x, or inf when L is empty."""
+    while True:
+        x, s = _ltop(P, L, loc, m.tstamp)
+        if s < 0 or _revalidate(m, M, P, s, thr, xtol):
+            return x
+
+
+@njit(cache=True)
+def _ltop(P, L, loc, tstamp):
+    """:func:`_lclean` up to the first member that needs re-evaluation: (top x,
+    -1) when the top member is kept (:func:`_kept`) or L is empty (x = inf),
+    (x, s) when member s on top must be re-evaluated.  A dead triangle is
+    dropped here as :func:`_revalidate` would drop it.  Two structrefs, not
+    four: the common cases cost fewer counted references."""
     while L.size > 0:
         x, s, g = heap.ltop(L)
         if P.pgen[s] != g or P.ploc[s] != loc:
             heap.lpop(L)
             continue
-        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s) or _revalidate(
-            m, M, P, s, thr, xtol
-        ):
-            return x
-    return np.inf
+        if _kept(tstamp, P.pa, P.pb, P.pw, P.px, P.py, s):
+            return x, np.int64(-1)
+        a = P.pa[s]
+        if a >= 0 and tstamp[a] != P.pb[s]:  # pool_kill(P, s), without passing P
+            P.pgen[s] += 1
+            P.pfree[P.nfree] = s
+            P.nfree += 1
+            continue
+        return x, np.int64(s)
+    return np.inf, np.int64(-1)
 
 
 @njit(cache=True)
 def _choose(m, M, P, W, xtol):
     """Step 2: the slot of the canonical candidate (or -1)."""
     thr = tied_above(W, m.wg)
-    lo, wy = P.lo, P.wy  # read once: each read of a structref field is counted
+    wx, lo, wy = P.wx, P.lo, P.wy  # read once: each read of a structref field is counted
     while True:
-        xw = _lclean(m, M, P, P.wx, np.int64(1), thr, xtol)
-        xo = _lclean(m, M, P, lo, np.int64(0), thr, xtol)
+        xw, s = _ltop(P, wx, np.int64(1), m.tstamp)  # _lclean, common case first
+        if s >= 0:
+            xw = _lclean(m, M, P, wx, np.int64(1), thr, xtol)
+        xo, s = _ltop(P, lo, np.int64(0), m.tstamp)
+        if s >= 0:
+            xo = _lclean(m, M, P, lo, np.int64(0), thr, xtol)
         if xw == np.inf and xo == np.inf:
             return -1
         if xo < xw and xw != np.inf:  # a smaller x outside: rebuild the window
