@@ -16,9 +16,10 @@ near-equal keys make it themselves (Algorithm INSERT does, see
 callers recognise stale entries when they are served.  ``push``/``lpush`` double
 the arrays when full.
 
-The operations are inlined into their callers (INSERT's loop): a call passing a
-structref costs a counted reference, two locked instructions, more than a short
-sift; only the growth is a call of its own.
+A call passing a structref costs a counted reference (two locked instructions),
+so :func:`sift_up` also pushes on a heap's bare arrays, for loops that push many
+entries.  (numba's ``inline="always"`` would not save it -- the inlined
+arguments are counted as well -- and costs seconds of compile per call site.)
 """
 
 import numpy as np
@@ -91,7 +92,7 @@ def grow(H):
     H.pb = grown(H.pb, 2 * n)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def push(H, key, a, b):
     """Add ``(key; a, b)``."""
     n = H.size
@@ -101,7 +102,7 @@ def push(H, key, a, b):
     H.size = n + 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def sift_up(K, PA, PB, n, key, a, b):
     """:func:`push` on the arrays of a heap with n entries and room for one more
     (the caller counts it): for loops that push many entries, where passing
@@ -120,7 +121,7 @@ def sift_up(K, PA, PB, n, key, a, b):
     PB[i] = b
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def pop(H):
     """Remove and return the entry with the largest key as (key, a, b); H not empty."""
     K, PA, PB = H.keys, H.pa, H.pb
@@ -148,7 +149,7 @@ def pop(H):
     return key, a, b
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def top_key(H):
     """The largest key, or -inf when empty."""
     if H.size == 0:
@@ -167,7 +168,7 @@ def _lgrow(L):
     L.e = grown(L.e, 8 * L.size)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def lpush(L, k1, k2, a, b):
     """Add ``(k1, k2; a, b)``."""
     n = L.size
@@ -179,30 +180,17 @@ def lpush(L, k1, k2, a, b):
         p = (i - 1) >> 1
         if not _lt(k1, k2, E[4 * p], E[4 * p + 1]):
             break
-        _lmove(E, i, p)
+        for q in range(4):  # entry i <- entry p
+            E[4 * i + q] = E[4 * p + q]
         i = p
-    _lset(E, i, k1, k2, a, b)
-    L.size = n + 1
-
-
-@njit(cache=True, inline="always")
-def _lmove(E, i, j):
-    """Entry i <- entry j."""
-    E[4 * i] = E[4 * j]
-    E[4 * i + 1] = E[4 * j + 1]
-    E[4 * i + 2] = E[4 * j + 2]
-    E[4 * i + 3] = E[4 * j + 3]
-
-
-@njit(cache=True, inline="always")
-def _lset(E, i, k1, k2, a, b):
     E[4 * i] = k1
     E[4 * i + 1] = k2
     E[4 * i + 2] = a
     E[4 * i + 3] = b
+    L.size = n + 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def lpop(L):
     """Remove and return the smallest entry as (k1, k2, a, b); L not empty."""
     E = L.e
@@ -220,13 +208,17 @@ def lpop(L):
                 c += 1
             if not _lt(E[4 * c], E[4 * c + 1], l1, l2):
                 break
-            _lmove(E, i, c)
+            for q in range(4):  # entry i <- entry c
+                E[4 * i + q] = E[4 * c + q]
             i = c
-        _lset(E, i, l1, l2, la, lb)
+        E[4 * i] = l1
+        E[4 * i + 1] = l2
+        E[4 * i + 2] = la
+        E[4 * i + 3] = lb
     return k1, k2, a, b
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def ltop(L):
     """(k1, a, b) of the smallest entry; L not empty."""
     E = L.e

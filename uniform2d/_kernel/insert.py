@@ -71,7 +71,7 @@ ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
 ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inserted
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _centre(xy, tv, tw, tc, t):
     """(candidate, cx, cy, r): t's circumcircle, and whether its centre is a
     candidate (see the module doc).  Arrays, not the triangulation's structref:
@@ -203,7 +203,7 @@ def _current(m, a, b, xtol, bound):
     return True, w, x, y
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _kept(tstamp, pa, pb, pw, px, py, s):
     """Whether pool member s is a live triangle, whose value and centre are what
     they were when filed (its vertices cannot change while its stamp does not;
@@ -221,7 +221,7 @@ def _kept(tstamp, pa, pb, pw, px, py, s):
 def _revalidate(m, M, P, s, thr, xtol):
     """Is member s current and unchanged?  If dead it is dropped; if changed it is
     re-filed with its fresh values (in the pool if still >= thr, else in M)."""
-    if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s):
+    if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)):
         return True
     a, b = P.pa[s], P.pb[s]
     alive, w, x, y = _current(m, a, b, xtol, P.pw[s])
@@ -250,8 +250,8 @@ def _gather(m, M, P, xtol):
         if P.pgen[s] != g:
             heap.pop(pv)
             continue
-        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s) or _revalidate(
-            m, M, P, s, np.inf, xtol
+        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)) or _revalidate(
+            m, M, P, np.int64(s), np.inf, xtol
         ):
             W = w
             break
@@ -277,7 +277,7 @@ def _lclean(m, M, P, L, loc, thr, xtol):
     have ploc == loc); returns the top x, or inf when L is empty."""
     while True:
         x, s = _ltop(P, L, loc, m.tstamp)
-        if s < 0 or _revalidate(m, M, P, s, thr, xtol):
+        if s < 0 or _revalidate(m, M, P, np.int64(s), thr, xtol):
             return x
 
 
@@ -293,7 +293,7 @@ def _ltop(P, L, loc, tstamp):
         if P.pgen[s] != g or P.ploc[s] != loc:
             heap.lpop(L)
             continue
-        if _kept(tstamp, P.pa, P.pb, P.pw, P.px, P.py, s):
+        if _kept(tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)):
             return x, np.int64(-1)
         a = P.pa[s]
         if a >= 0 and tstamp[a] != P.pb[s]:  # pool_kill(P, s), without passing P
@@ -333,8 +333,8 @@ def _choose(m, M, P, W, xtol):
                 break
             heap.lpop(lo)
             if not (
-                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s)
-                or _revalidate(m, M, P, s, thr, xtol)
+                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
+                or _revalidate(m, M, P, np.int64(s), thr, xtol)
             ):
                 restart = True  # a re-filed member may have moved the anchor
                 break
@@ -351,8 +351,8 @@ def _choose(m, M, P, W, xtol):
             if nsel > 0 and y > ymin + xtol:
                 break
             if not (
-                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, s)
-                or _revalidate(m, M, P, s, thr, xtol)
+                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
+                or _revalidate(m, M, P, np.int64(s), thr, xtol)
             ):
                 restart = True
                 break
@@ -395,7 +395,7 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
         Q.lo = borrowed(P.lo)
         Q.wx = borrowed(P.wx)
         Q.wy = borrowed(P.wy)
-        j = _steps(v, V, Q, j, n, out_xy, out_w, out_b, xtol, snap_d)
+        j = _steps(v, V, Q, np.int64(j), n, out_xy, out_w, out_b, xtol, snap_d)
         settle(m, v)
         settle(M, V)
         settle(P.pv, Q.pv)
@@ -469,7 +469,7 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
     return n
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _room(a, b, c, d, e, f, g, h):
     """The total capacity of the buffers that grow (it changes when one does);
     arrays, not their structrefs: passing a structref costs a counted reference."""

@@ -59,14 +59,14 @@ def new_pool(capacity):
     )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def to_window(P, s):
     P.ploc[s] = 1
     heap.lpush(P.wx, P.px[s], P.py[s], np.int64(s), P.pgen[s])
     heap.lpush(P.wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def to_outside(P, s):
     P.ploc[s] = 0
     heap.lpush(P.lo, P.px[s], P.py[s], np.int64(s), P.pgen[s])
@@ -96,7 +96,7 @@ def _grow_pool(P):
     P.pfree = heap.grown(P.pfree, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def pool_add(P, a, b, w, x, y, xtol):
     if P.nfree > 0:
         P.nfree -= 1
@@ -121,7 +121,7 @@ def pool_add(P, a, b, w, x, y, xtol):
         to_outside(P, np.int64(s))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def pool_kill(P, s):
     P.pgen[s] += 1
     P.pfree[P.nfree] = s
