@@ -463,6 +463,37 @@ def test_exact_path_uses_difference_tails():
             assert exact_fn(*args) == 0.0, (name, args)
 
 
+def test_incircle_unrounded_stage_exact_when_it_claims_to_be():
+    """The exact path's first stage (the filter's formula in plain floats, kept
+    when no operation rounded) answers with the exact determinant whenever it
+    claims to, claims it for few-bit coordinates (lattice-like meshes), and
+    leaves many-bit ones to the expansions."""
+    rng = np.random.default_rng(3)
+    claimed = declined = 0
+    for bits in (4, 12, 20, 53):
+        for _ in range(300):
+            if bits == 53:
+                d = rng.uniform(-1, 1, 6)
+            else:
+                d = rng.integers(-(2**bits), 2**bits, 6) * 2.0**-bits
+            adx, ady, bdx, bdy, cdx, cdy = (float(v) for v in d)
+            exact, det = kinc._without_rounding(adx, ady, bdx, bdy, cdx, cdy)
+            A, B, C = ((Fraction(x), Fraction(y)) for x, y in ((adx, ady), (bdx, bdy), (cdx, cdy)))
+            ref = (
+                (A[0] ** 2 + A[1] ** 2) * (B[0] * C[1] - C[0] * B[1])
+                + (B[0] ** 2 + B[1] ** 2) * (C[0] * A[1] - A[0] * C[1])
+                + (C[0] ** 2 + C[1] ** 2) * (A[0] * B[1] - B[0] * A[1])
+            )
+            if exact:
+                assert Fraction(det) == ref, (bits, d)
+                claimed += 1
+            else:
+                declined += 1
+            if bits <= 12:
+                assert exact, (bits, d)  # 4 * 13 bits fit in a significand
+    assert claimed >= 600 and declined >= 300
+
+
 # --------------------------------------------------------------------------
 # symmetry properties (the filter formula is not symmetric: this is exactness)
 # --------------------------------------------------------------------------

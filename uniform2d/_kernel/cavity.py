@@ -39,7 +39,7 @@ import numpy as np
 from ._jit import njit
 
 from .cdt import (
-    ERR_ORIENT, _lawson, _link, _orient_v, _set_triangle, locate, locate_scan, new_tag, nxt,
+    ERR_ORIENT, _lawson, _orient_v, _set_triangle, locate, locate_scan, new_tag, nxt,
     prv, reserve,
 )  # fmt: skip
 from .predicates import incircle
@@ -120,7 +120,8 @@ def _grow_cavity(m, x, y, t0, hs, tag):
                 continue
             w = tv[prv(g)]
             if incircle(xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1], xy[w, 0], xy[w, 1], x, y) > 0.0:
-                reserve(m, ncav + 3)
+                if ncav + 3 > m.stack.shape[0]:  # (a call costs more than the test)
+                    reserve(m, ncav + 3)
                 m.tmark[n] = tag
                 m.cav[ncav] = n
                 ncav += 1
@@ -149,7 +150,8 @@ def _cavity_boundary(m, x, y, ncav, hs, tag):
                 continue
             if _orient_v(xy, tv[h], tv[nxt(h)], x, y) <= 0.0:
                 return ERR_ORIENT
-            reserve(m, nb + 1)
+            if nb + 1 > m.stack.shape[0]:
+                reserve(m, nb + 1)
             m.bh[nb] = h
             nb += 1
     return nb
@@ -160,7 +162,8 @@ def _write_fan(m, x, y, ncav, nb, tag):
     """Replace the cavity ``cav[:ncav]`` by the fan of new triangles (u, v, p) over
     its boundary ``bh[:nb]``, p the new vertex; the slots used end up in ``cav[:nb]``."""
     xy, tv, tw = m.xy, m.tv, m.tw
-    reserve(m, nb + 1)
+    if nb + 1 > m.stack.shape[0]:
+        reserve(m, nb + 1)
     # read every boundary edge before slots are overwritten
     p = m.nv
     xy[p, 0] = x
@@ -183,7 +186,7 @@ def _write_fan(m, x, y, ncav, nb, tag):
         s = m.cav[k]
         u = bu[k]
         _set_triangle(m, np.int64(s), np.int64(u), np.int64(m.ebuf[k]), np.int64(p))
-        _link(m, 3 * s, m.stack[k])
+        _link_arrays(tw, m.tc, tv, m.vcs, m.vseg, 3 * s, m.stack[k])
         tw[3 * s + 1] = -1
         tw[3 * s + 2] = -1
         m.tc[3 * s + 1] = 0
@@ -203,6 +206,23 @@ def _write_fan(m, x, y, ncav, nb, tag):
             m.vseg[tv[3 * s + 1]] = 3 * s + 1  # v -> p is a new boundary half-edge
         if tw[3 * s + 2] < 0:
             m.vseg[p] = 3 * s + 2  # p -> u
+
+
+@njit(cache=True)
+def _link_arrays(tw, tc, tv, vcs, vseg, h, g):
+    """:func:`.cdt._link` on the triangulation's arrays (h takes g as twin, and
+    g's flag; g = -1 makes h a boundary half-edge): the fan links every
+    boundary edge, and passing the structref would cost a counted reference
+    each time.  The two must stay the same."""
+    tw[h] = g
+    if g >= 0:
+        tw[g] = h
+        tc[h] = tc[g]
+        if tc[g]:
+            vcs[tv[h]] = h
+    else:
+        tc[h] = 0
+        vseg[tv[h]] = h
 
 
 @njit(cache=True)

@@ -4,7 +4,11 @@ Sign convention and range of exactness: :mod:`.predicates` (stated there once).
 A plain floating-point determinant decides when it clears Shewchuk's
 ``iccerrboundA`` (slightly inflated, see below); otherwise the exact path does:
 on the coordinate differences when they are exact (the usual case), else on
-the coordinates themselves (:mod:`.expansion`).
+the coordinates themselves (:mod:`.expansion`).  On exact differences it first
+evaluates the filter's formula in plain floating point and keeps the result
+when no operation rounded (:func:`_without_rounding`): exactly cocircular
+points with few significant bits, the common failed filter on symmetric
+domains, then cost no expansion.
 """
 
 import numpy as np
@@ -129,6 +133,53 @@ def _on_coordinates(ax, ay, bx, by, cx, cy, dx, dy):
 
 
 @njit(cache=True)
+def _without_rounding(adx, ady, bdx, bdy, cdx, cdy):
+    """(exact, det): the filter's formula on exact differences in plain floating
+    point, and whether no operation rounded (every two_product / two_sum tail
+    vanishes), in which case det is the exact determinant.
+
+    Cocircular points with few significant bits -- the lattice-like meshes of
+    symmetric domains, where most failed filters come from -- pass this, and
+    it needs no expansion (no workspace to allocate): a few dozen flops where
+    :func:`_on_differences` costs about a microsecond."""
+    p1, e1 = two_product(bdx, cdy)
+    p2, e2 = two_product(cdx, bdy)
+    p3, e3 = two_product(cdx, ady)
+    p4, e4 = two_product(adx, cdy)
+    p5, e5 = two_product(adx, bdy)
+    p6, e6 = two_product(bdx, ady)
+    if e1 != 0.0 or e2 != 0.0 or e3 != 0.0 or e4 != 0.0 or e5 != 0.0 or e6 != 0.0:
+        return False, 0.0
+    c1, f1 = two_sum(p1, -p2)
+    c2, f2 = two_sum(p3, -p4)
+    c3, f3 = two_sum(p5, -p6)
+    if f1 != 0.0 or f2 != 0.0 or f3 != 0.0:
+        return False, 0.0
+    la, ok = _lift(adx, ady)
+    lb, okb = _lift(bdx, bdy)
+    lc, okc = _lift(cdx, cdy)
+    if not (ok and okb and okc):
+        return False, 0.0
+    t1, g1 = two_product(la, c1)
+    t2, g2 = two_product(lb, c2)
+    t3, g3 = two_product(lc, c3)
+    if g1 != 0.0 or g2 != 0.0 or g3 != 0.0:
+        return False, 0.0
+    s, h1 = two_sum(t1, t2)
+    det, h2 = two_sum(s, t3)
+    return h1 == 0.0 and h2 == 0.0, det
+
+
+@njit(cache=True, inline="always")
+def _lift(px, py):
+    """(px**2 + py**2, whether it is exact)."""
+    x, ex = two_product(px, px)
+    y, ey = two_product(py, py)
+    z, ez = two_sum(x, y)
+    return z, ex == 0.0 and ey == 0.0 and ez == 0.0
+
+
+@njit(cache=True)
 def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     """incircle by exact arithmetic (called only when the filter cannot decide)."""
     ok, k, ax, ay, bx, by, cx, cy, dx, dy = scaled4(ax, ay, bx, by, cx, cy, dx, dy, TARGET_DEG4)
@@ -141,6 +192,9 @@ def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     bdy, t4 = two_sum(by, -dy)
     cdy, t5 = two_sum(cy, -dy)
     if t0 == 0.0 and t1 == 0.0 and t2 == 0.0 and t3 == 0.0 and t4 == 0.0 and t5 == 0.0:
+        exact, det = _without_rounding(adx, ady, bdx, bdy, cdx, cdy)
+        if exact:  # the exact value is one float: the expansion's only component
+            return unscale(det, 4 * k)
         return unscale(_on_differences(adx, ady, bdx, bdy, cdx, cdy), 4 * k)
     return unscale(_on_coordinates(ax, ay, bx, by, cx, cy, dx, dy), 4 * k)
 

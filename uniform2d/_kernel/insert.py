@@ -56,6 +56,7 @@ import numpy as np
 from ._jit import njit
 
 from . import heap
+from .borrow import borrowed, settle
 from .cavity import insert_point
 from .cdt import circumcircle, constrained, locate_scan, nxt, prv, snap
 from .predicates import dot2d, orient2d
@@ -71,20 +72,30 @@ ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inser
 
 
 @njit(cache=True)
-def triangle_key(m, t):
-    """Its value (circumradius / size there) if t's circumcentre is a candidate (see
-    the module doc), else -1."""
-    xy = m.xy
+def _centre(xy, tv, tw, tc, t):
+    """(candidate, cx, cy, r): t's circumcircle, and whether its centre is a
+    candidate (see the module doc).  Arrays, not the triangulation's structref:
+    passing a structref costs a counted reference."""
     for i in range(3):
         h = 3 * t + i
         s = dot2d(
-            xy[m.tv[h], 0], xy[m.tv[h], 1],
-            xy[m.tv[nxt(h)], 0], xy[m.tv[nxt(h)], 1],
-            xy[m.tv[prv(h)], 0], xy[m.tv[prv(h)], 1],
+            xy[tv[h], 0], xy[tv[h], 1],
+            xy[tv[nxt(h)], 0], xy[tv[nxt(h)], 1],
+            xy[tv[prv(h)], 0], xy[tv[prv(h)], 1],
         )  # fmt: skip
-        if s < 0.0 or (s == 0.0 and constrained(m, h)):
-            return -1.0
-    cx, cy, r = circumcircle(xy, m.tv[3 * t], m.tv[3 * t + 1], m.tv[3 * t + 2])
+        if s < 0.0 or (s == 0.0 and (tw[h] < 0 or tc[h] != 0)):  # constrained(m, h)
+            return False, 0.0, 0.0, 0.0
+    cx, cy, r = circumcircle(xy, tv[3 * t], tv[3 * t + 1], tv[3 * t + 2])
+    return True, cx, cy, r
+
+
+@njit(cache=True)
+def triangle_key(m, t):
+    """Its value (circumradius / size there) if t's circumcentre is a candidate (see
+    the module doc), else -1."""
+    ok, cx, cy, r = _centre(m.xy, m.tv, m.tw, m.tc, t)
+    if not ok:
+        return -1.0
     return r / size_at(m, cx, cy)
 
 
@@ -126,8 +137,17 @@ def push_new(m, M, k, split):
     """Entries for the k new triangles cav[:k] and, after a split, the two new halves."""
     p = m.nv - 1
     for i in range(k):
-        t = m.cav[i]
-        _push_triangle(m, M, np.int64(t))
+        t = np.int64(m.cav[i])
+        # _push_triangle, on arrays: no counted reference per triangle
+        ok, cx, cy, r = _centre(m.xy, m.tv, m.tw, m.tc, t)
+        if ok:
+            if m.sized:
+                r = r / size_at(m, cx, cy)  # (without a field size_at is 1.0: r / 1.0 is r)
+            if r > 0.0:
+                if M.size == M.keys.shape[0]:
+                    heap.grow(M)
+                heap.sift_up(M.keys, M.pa, M.pb, M.size, r, np.int32(t), m.tstamp[t])
+                M.size += 1
         if split:
             for e in range(3):
                 h = 3 * t + e
@@ -184,9 +204,25 @@ def _current(m, a, b, xtol, bound):
 
 
 @njit(cache=True)
+def _kept(tstamp, pa, pb, pw, px, py, s):
+    """Whether pool member s is a live triangle, whose value and centre are what
+    they were when filed (its vertices cannot change while its stamp does not;
+    recomputing them gives the same bits, unless one is NaN, never equal): then
+    :func:`_revalidate` returns True.  Arrays, not the structrefs, so that the
+    common case costs no counted reference."""
+    a = pa[s]
+    if a >= 0 and tstamp[a] == pb[s]:
+        w, x, y = pw[s], px[s], py[s]
+        return w == w and x == x and y == y
+    return False
+
+
+@njit(cache=True)
 def _revalidate(m, M, P, s, thr, xtol):
     """Is member s current and unchanged?  If dead it is dropped; if changed it is
     re-filed with its fresh values (in the pool if still >= thr, else in M)."""
+    if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)):
+        return True
     a, b = P.pa[s], P.pb[s]
     alive, w, x, y = _current(m, a, b, xtol, P.pw[s])
     if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
@@ -208,12 +244,15 @@ def _gather(m, M, P, xtol):
     its tied group (the common case, which needs no pool at all), else a = b = -1
     and the group is in the pool."""
     W = -1.0
-    while P.pv.size > 0:
-        w, s, g = P.pv.keys[0], P.pv.pa[0], P.pv.pb[0]
+    pv = P.pv
+    while pv.size > 0:
+        w, s, g = pv.keys[0], pv.pa[0], pv.pb[0]
         if P.pgen[s] != g:
-            heap.pop(P.pv)
+            heap.pop(pv)
             continue
-        if _revalidate(m, M, P, s, np.inf, xtol):
+        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)) or _revalidate(
+            m, M, P, np.int64(s), np.inf, xtol
+        ):
             W = w
             break
     while M.size > 0 and (W < 0.0 or heap.top_key(M) >= tied_above(W, m.wg)):
@@ -236,23 +275,48 @@ def _gather(m, M, P, xtol):
 def _lclean(m, M, P, L, loc, thr, xtol):
     """Drop stale or invalid entries from the top of L (an (x, y) heap whose members
     have ploc == loc); returns the top x, or inf when L is empty."""
+    while True:
+        x, s = _ltop(P, L, loc, m.tstamp)
+        if s < 0 or _revalidate(m, M, P, np.int64(s), thr, xtol):
+            return x
+
+
+@njit(cache=True)
+def _ltop(P, L, loc, tstamp):
+    """:func:`_lclean` up to the first member that needs re-evaluation: (top x,
+    -1) when the top member is kept (:func:`_kept`) or L is empty (x = inf),
+    (x, s) when member s on top must be re-evaluated.  A dead triangle is
+    dropped here as :func:`_revalidate` would drop it.  Two structrefs, not
+    four: the common cases cost fewer counted references."""
     while L.size > 0:
         x, s, g = heap.ltop(L)
         if P.pgen[s] != g or P.ploc[s] != loc:
             heap.lpop(L)
             continue
-        if _revalidate(m, M, P, s, thr, xtol):
-            return x
-    return np.inf
+        if _kept(tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)):
+            return x, np.int64(-1)
+        a = P.pa[s]
+        if a >= 0 and tstamp[a] != P.pb[s]:  # pool_kill(P, s), without passing P
+            P.pgen[s] += 1
+            P.pfree[P.nfree] = s
+            P.nfree += 1
+            continue
+        return x, np.int64(s)
+    return np.inf, np.int64(-1)
 
 
 @njit(cache=True)
 def _choose(m, M, P, W, xtol):
     """Step 2: the slot of the canonical candidate (or -1)."""
     thr = tied_above(W, m.wg)
+    wx, lo, wy = P.wx, P.lo, P.wy  # read once: each read of a structref field is counted
     while True:
-        xw = _lclean(m, M, P, P.wx, np.int64(1), thr, xtol)
-        xo = _lclean(m, M, P, P.lo, np.int64(0), thr, xtol)
+        xw, s = _ltop(P, wx, np.int64(1), m.tstamp)  # _lclean, common case first
+        if s >= 0:
+            xw = _lclean(m, M, P, wx, np.int64(1), thr, xtol)
+        xo, s = _ltop(P, lo, np.int64(0), m.tstamp)
+        if s >= 0:
+            xo = _lclean(m, M, P, lo, np.int64(0), thr, xtol)
         if xw == np.inf and xo == np.inf:
             return -1
         if xo < xw and xw != np.inf:  # a smaller x outside: rebuild the window
@@ -260,15 +324,18 @@ def _choose(m, M, P, W, xtol):
             continue
         P.bound = min(xw, xo) + xtol
         restart = False
-        while P.lo.size > 0:  # pull members with x <= B into the window
-            x, s, g = heap.ltop(P.lo)
+        while lo.size > 0:  # pull members with x <= B into the window
+            x, s, g = heap.ltop(lo)
             if P.pgen[s] != g or P.ploc[s] != 0:
-                heap.lpop(P.lo)
+                heap.lpop(lo)
                 continue
             if x > P.bound:
                 break
-            heap.lpop(P.lo)
-            if not _revalidate(m, M, P, s, thr, xtol):
+            heap.lpop(lo)
+            if not (
+                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
+                or _revalidate(m, M, P, np.int64(s), thr, xtol)
+            ):
                 restart = True  # a re-filed member may have moved the anchor
                 break
             to_window(P, np.int64(s))
@@ -276,17 +343,20 @@ def _choose(m, M, P, W, xtol):
             continue
         ymin = np.inf
         nsel = 0
-        while P.wy.size > 0:  # window members with y <= y_min + xtol
-            y, s, g = heap.ltop(P.wy)
+        while wy.size > 0:  # window members with y <= y_min + xtol
+            y, s, g = heap.ltop(wy)
             if P.pgen[s] != g or P.ploc[s] != 1:
-                heap.lpop(P.wy)
+                heap.lpop(wy)
                 continue
             if nsel > 0 and y > ymin + xtol:
                 break
-            if not _revalidate(m, M, P, s, thr, xtol):
+            if not (
+                _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
+                or _revalidate(m, M, P, np.int64(s), thr, xtol)
+            ):
                 restart = True
                 break
-            heap.lpop(P.wy)
+            heap.lpop(wy)
             if nsel == 0:
                 ymin = y
             if nsel == P.sel.shape[0]:
@@ -296,7 +366,7 @@ def _choose(m, M, P, W, xtol):
         best = -1
         for i in range(nsel):  # put them back; the smallest x wins
             s = P.sel[i]
-            heap.lpush(P.wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
+            heap.lpush(wy, P.py[s], P.px[s], np.int64(s), P.pgen[s])
             if best < 0 or P.px[s] < P.px[best]:
                 best = s
         if restart:
@@ -309,7 +379,37 @@ def _choose(m, M, P, W, xtol):
 
 @njit(cache=True)
 def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
-    """Insert n points; returns n, or a negative status on failure.
+    """Insert n points; returns n, or a negative status on failure (:func:`_steps`).
+
+    The steps run on borrowed copies of m, M and P (:mod:`.borrow`): their
+    arrays are read without reference counting, which was most of the time.
+    A buffer that grows is a new, counted array, so the copies are settled and
+    borrowed again whenever one has grown (about log n times).
+    """
+    j = 0
+    while 0 <= j < n:
+        v = borrowed(m)
+        V = borrowed(M)
+        Q = borrowed(P)
+        Q.pv = borrowed(P.pv)
+        Q.lo = borrowed(P.lo)
+        Q.wx = borrowed(P.wx)
+        Q.wy = borrowed(P.wy)
+        j = _steps(v, V, Q, np.int64(j), n, out_xy, out_w, out_b, xtol, snap_d)
+        settle(m, v)
+        settle(M, V)
+        settle(P.pv, Q.pv)
+        settle(P.lo, Q.lo)
+        settle(P.wx, Q.wx)
+        settle(P.wy, Q.wy)
+        settle(P, Q)
+    return j
+
+
+@njit(cache=True)
+def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
+    """Insert points j0..n-1; returns n, or a negative status on failure, or
+    the next step once a buffer has grown (see :func:`run`).
 
     A circumcentre closer than ``snap_d`` to a boundary subsegment of its triangle
     is placed on that subsegment (it is numerically on the boundary; inside it
@@ -318,7 +418,9 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
     exact predicates decide on the coordinates actually returned.  On failure ``out_*[j]`` describe the failing
     point and the status is ``code - 100 * j``.
     """
-    for j in range(n):
+    pv, lo, wx, wy = P.pv, P.lo, P.wx, P.wy
+    room = _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.e, wx.e, wy.e)
+    for j in range(j0, n):
         w, a, b, x, y = _gather(m, M, P, xtol)
         if w < 0.0:
             return ERR_EMPTY - 100 * j
@@ -362,7 +464,19 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
             out_xy[j, 0] = x
             out_xy[j, 1] = y
         push_new(m, M, k, hsplit >= 0)
+        if _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.e, wx.e, wy.e) != room:
+            return j + 1
     return n
+
+
+@njit(cache=True)
+def _room(a, b, c, d, e, f, g, h):
+    """The total capacity of the buffers that grow (it changes when one does);
+    arrays, not their structrefs: passing a structref costs a counted reference."""
+    return (
+        a.shape[0] + b.shape[0] + c.shape[0] + d.shape[0]
+        + e.shape[0] + f.shape[0] + g.shape[0] + h.shape[0]
+    )
 
 
 @njit(cache=True)

@@ -43,9 +43,12 @@ significant component.  The exact path first checks whether the coordinate
 differences are exact (their ``two_sum`` tails vanish -- the usual case for
 nearby points); if so it evaluates the filter's own formula exactly on them
 (no allocation for orient2d/dot2d), otherwise it expands the determinant in
-the coordinates themselves.  No staged adaptive middle path: degenerate
-inputs are rare, and the exact path costs tens of nanoseconds (orient2d,
-dot2d with exact differences) to a few microseconds (incircle, general case).
+the coordinates themselves.  No staged adaptive middle path, except that
+incircle on exact differences first keeps the plain floating-point value when
+no operation rounded (few-bit cocircular points, as in the lattice-like meshes
+of symmetric domains); otherwise the exact path costs tens of nanoseconds
+(orient2d, dot2d with exact differences) to a few microseconds (incircle,
+general case).
 
 Range of exactness
 ------------------
