@@ -48,15 +48,15 @@ def warm() -> None:
     compiles late, by running the library's code on tiny inputs, in the order
     the module docstring gives."""
     import numpy as np
+    from numba import typeof, types
 
     from .._kernel import cdt, heap
+    from .._kernel.cavity import insert_point
     from .._kernel import insert as kinsert
     from ..optimize import moves, pipeline
     from ..optimize import schedule as S
     from ..optimize.objective import objective_code
     from ..optimize.seed import target_size, variants
-    from numba import types
-
     from .._kernel.edges import edges_by_vertex
 
     # the distance to P's edges the optimiser's start measures (nothing the run
@@ -71,6 +71,12 @@ def warm() -> None:
     M, P = heap.new_heap(16), kinsert.new_pool(64)
     W = kinsert._gather(m, M, P, 0.0)[0]
     kinsert._choose(m, M, P, W, 0.0)
+    # and its insertion steps, last first; not callable on empty queues, so typed
+    # from the queues' own types, as the loop passes them
+    tm, i64, f64 = typeof(m), types.int64, types.float64
+    kinsert.push_new.compile((tm, typeof(M), i64, types.boolean))
+    kinsert._insert_nearby.compile((tm, f64, f64, i64, i64))
+    insert_point.compile((tm, f64, f64, i64, i64))
 
     # the measures of the finished mesh (the run's last step), then the
     # optimiser's stages, the last first, on the lattice mesh
