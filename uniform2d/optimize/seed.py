@@ -325,7 +325,7 @@ def _closest_count(cand: _Candidates, count: int, h: float, over: bool = False, 
             return P, dist
         if under and 0 <= count - len(P) <= count // 500:
             return P, dist
-        if not over and abs(len(P) - count) <= count // 500:  # the fix-up after it is exact
+        if not (over or under) and abs(len(P) - count) <= count // 500:  # the fix-up after it is exact
             break
         width = hi - lo
         if len(P) > count:
