@@ -40,7 +40,10 @@ def _start(polygon: Polygon, n: int, h: float, variant):
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
-    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid, over=True)
+    # a large start's short schedule cannot close holes where lattice points
+    # were dropped: it fills a few too few instead (seed_interior's under)
+    large = n + len(polygon.vertices) > S.LARGE
+    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid, over=True, under=large)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays
     deep = to_segments(ipts, a, a + d, 2.0 * S.BAND * h) > S.BAND * h
     frozen = np.concatenate([np.zeros(len(bpts), bool), deep])

@@ -289,7 +289,7 @@ class _Candidates:
         return P[ok], dist[ok]
 
 
-def _closest_count(cand: _Candidates, count: int, h: float, over: bool = False):
+def _closest_count(cand: _Candidates, count: int, h: float, over: bool = False, under: bool = False):
     """Search on the lattice spacing for ``count`` candidates (the count
     decreases with the spacing); the best (points, distances) found.
 
@@ -304,11 +304,16 @@ def _closest_count(cand: _Candidates, count: int, h: float, over: bool = False):
     count jumps there: a row of an aligned lattice enters at once): 9 lattices
     a start instead of 14 on the benchmark polygons at n = 1000.  Below 500
     the count must come out exactly, and the plain bisection's lattice (which
-    can sit a hair from such a jump) gave better minimum angles at n = 200."""
+    can sit a hair from such a jump) gave better minimum angles at n = 200.
+    ``under`` (the optimiser's large starts) is ``over``'s search stopping at
+    up to ``count // 500`` candidates too few instead, which
+    :func:`_fill_band_gaps` adds where the lattice meets the boundary: points
+    dropped from that layer leave holes there that the short schedule of a
+    large mesh does not close (its longest edges and largest triangles)."""
     lo, hi = 0.5 * h, 1.5 * h
     best = None
     mid = 0.5 * (lo + hi)
-    fast = over and count // 500 > 0
+    fast = (over or under) and count // 500 > 0
     aimed = False
     for _ in range(30):
         P, dist = cand(mid)
@@ -318,7 +323,9 @@ def _closest_count(cand: _Candidates, count: int, h: float, over: bool = False):
             best = (P, dist)
         if over and 0 <= len(P) - count <= count // 500:
             return P, dist
-        if not over and abs(len(P) - count) <= count // 500:  # the fix-up after it is exact
+        if under and 0 <= count - len(P) <= count // 500:
+            return P, dist
+        if not (over or under) and abs(len(P) - count) <= count // 500:  # the fix-up after it is exact
             break
         width = hi - lo
         if len(P) > count:
@@ -329,15 +336,16 @@ def _closest_count(cand: _Candidates, count: int, h: float, over: bool = False):
             break
         # aim, unless the last aim left more than half the bracket (then bisect)
         aimed = fast and not (aimed and hi - lo > 0.5 * width)
-        mid = _aim(mid, len(P), count, lo, hi) if aimed else 0.5 * (lo + hi)
+        mid = _aim(mid, len(P), count, lo, hi, under) if aimed else 0.5 * (lo + hi)
     return best
 
 
-def _aim(sp: float, got: int, count: int, lo: float, hi: float) -> float:
+def _aim(sp: float, got: int, count: int, lo: float, hi: float, under: bool = False) -> float:
     """The next spacing to try after ``got`` candidates at ``sp``: where the
     count would be ``count`` (plus a quarter of the tolerance, to land above
-    it) if it went as 1/spacing**2, strictly inside the bracket (lo, hi)."""
-    want = count + 0.25 * (count // 500) + 0.5
+    it; minus, ``under``, to land below) if it went as 1/spacing**2, strictly
+    inside the bracket (lo, hi)."""
+    want = count + (-1.0 if under else 1.0) * (0.25 * (count // 500) + 0.5)
     x = sp * math.sqrt(max(got, 1) / want)
     margin = 1e-3 * (hi - lo)
     return min(max(x, lo + margin), hi - margin)
@@ -371,6 +379,50 @@ def _fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None, bedges=
 GAP_BLOCK = 1 << 16
 
 
+def _fill_band_gaps(polygon: Polygon, bpts, P, count: int, h: float, sa, sb, bedges=None):
+    """:func:`_fill_largest_gaps` for a start with a few points too few, whose
+    gaps are where the lattice meets the boundary (or its rows): only the points
+    within BAND_FILL * h of the boundary are triangulated (not the whole seed,
+    ~2 s at 1e6 points), and only triangles whose centroid is within
+    (BAND_FILL - 2) * h count, not those across the empty interior."""
+    far = BAND_FILL * h
+    while len(P) < count:
+        near = np.flatnonzero(to_segments(P, sa, sb, far) < far)
+        allp = np.concatenate([polygon.vertices, bpts, P[near]])
+        edges = None if bedges is None else np.concatenate([bedges, np.full(len(near), -1, np.int64)])
+        _, tri = triangulate(polygon, allp[len(polygon.vertices):], edges)
+        q = allp[tri]
+        u, v = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
+        area = 0.5 * np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
+        c = q.mean(axis=1)
+        area[to_segments(c, sa, sb, far) >= far - 2.0 * h] = -1.0
+        need = min(count - len(P), int(np.count_nonzero(area >= 0)))
+        if need == 0:
+            break
+        P = np.concatenate([P, c[_largest_spread(area, c, need)]])
+    return P
+
+
+def _largest_spread(area, c, need: int) -> np.ndarray:
+    """The indices of ``need`` of the largest ``area``s.  Along a straight edge
+    many gaps have the same area (to rounding): of those at the cut, evenly
+    spaced ones in the order of their centroids ``c``, not a run of neighbours
+    (two points in adjacent gaps crowd each other, and the rest stay open)."""
+    key = np.round(area / area.max(), 9)
+    order = np.lexsort((np.arange(len(key)), -key))
+    cut = key[order[need - 1]]
+    above = order[key[order] > cut]
+    tied = np.flatnonzero(key == cut)
+    tied = tied[np.lexsort((tied, c[tied, 1], c[tied, 0]))]
+    k = need - len(above)
+    return np.concatenate([above, tied[(np.arange(k) * len(tied)) // k]])
+
+
+#: Depth (in sizes h) of the band :func:`_fill_band_gaps` triangulates: past
+#: the boundary rows (~0.9 h) and the lattice's first layers.
+BAND_FILL = 6.0
+
+
 def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
     """The ``count`` of the lattice points P farthest from the boundary (in
     their order)."""
@@ -385,6 +437,7 @@ def _drop_nearest(cand: _Candidates, P, dist, count: int) -> np.ndarray:
 def seed_interior(
     polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
     rows: np.ndarray | None = None, bedges: np.ndarray | None = None, over: bool = False,
+    under: bool = False,
 ) -> np.ndarray:
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
     ``edge`` (default: the longest), deterministic.  With ``rows`` (from
@@ -395,7 +448,8 @@ def seed_interior(
     (optional): the polygon edge of each boundary point ``bpts``, as the caller
     placed them, so that gaps are found without judging them by distance.
     ``over``: as :func:`_closest_count`'s (the optimiser's starts; the default
-    keeps :func:`lattice_seed`'s points as they were)."""
+    keeps :func:`lattice_seed`'s points as they were); ``under``: also as
+    its, where the lattice is not split into regions."""
     if count <= 0:
         return np.empty((0, 2))
     if rows is not None and len(rows) >= count:
@@ -406,11 +460,13 @@ def seed_interior(
     total = count
     if rows is not None:
         count = total - len(rows)
-    P, dist = _closest_count(cand, count, h, over)
+    P, dist = _closest_count(cand, count, h, over and not under, under)
     P = _drop_nearest(cand, P, dist, count)
     if rows is not None:
         P = np.concatenate([rows, P])
         count = total
+    if under:
+        return _fill_band_gaps(polygon, bpts, P, count, h, cand.sa, cand.sb, bedges)
     return _fill_largest_gaps(polygon, bpts, P, count, bedges=bedges)
 
 
