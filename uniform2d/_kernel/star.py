@@ -170,22 +170,9 @@ def edge(xy, tv, hv, href, h):
 @njit(cache=True)
 def measure(m, hv, href):
     """(longest, shortest, largest perimeter), all normalised by their targets."""
-    xy, tv = m.xy, m.tv
-    lmax = 0.0
-    lmin = np.inf
-    pmax = 0.0
-    for t in range(m.nt):
-        per = 0.0
-        tgt = 0.0
-        for i in range(3):
-            L, s = edge(xy, tv, hv, href, 3 * t + i)
-            per += L
-            tgt += s
-            ell = L / s
-            lmax = max(lmax, ell)
-            lmin = min(lmin, ell)
-        pmax = max(pmax, per / tgt)
-    return lmax, lmin, pmax
+    none = np.zeros(3)  # no dead slots: the neutral part
+    none[1] = np.inf
+    return measure_live(m, hv, href, np.arange(m.nt), none)
 
 
 @njit(cache=True)
