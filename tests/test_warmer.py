@@ -187,10 +187,27 @@ def test_cpus_are_busy_when_the_load_leaves_none_idle_besides_the_run(monkeypatc
         return (load[0], 0.0, 0.0)
 
     monkeypatch.setattr(os, "getloadavg", loadavg)
+    monkeypatch.setattr(_warmer, "_idle_cpus", lambda interval: None)  # no /proc/stat
     for value, cpus, busy in [(0.2, 2, False), (1.0, 2, False), (1.3, 2, True), (3.5, 2, True),
                               (2.5, 4, False), (3.5, 4, True), (None, 2, False)]:
         load[0] = value
         assert _warmer.busy(cpus) is busy, (value, cpus)
+
+
+def test_cpus_are_busy_when_fewer_than_two_idle_now(monkeypatch):
+    idle = [0.0]
+    monkeypatch.setattr(_warmer, "_idle_cpus", lambda interval: idle[0])
+    monkeypatch.setattr(os, "getloadavg", lambda: (9.0, 9.0, 9.0))  # not asked: a minute's past
+    for value, cpus, busy in [(2.0, 2, False), (1.6, 2, False), (1.2, 2, True), (0.1, 2, True),
+                              (1.6, 8, False), (1.2, 8, True)]:
+        idle[0] = value
+        assert _warmer.busy(cpus) is busy, (value, cpus)
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/stat"), reason="Linux's CPU totals")
+def test_idle_cpus_are_read_between_none_and_all():
+    idle = _warmer._idle_cpus(0.05)
+    assert idle is not None and 0.0 <= idle <= os.cpu_count()
 
 
 def test_the_kernels_cache_is_writable_here():

@@ -15,18 +15,22 @@ __all__ = ["edges_by_vertex"]
 
 @njit(cache=True)
 def _sort_bucket(a, lo, hi):
-    """Sort a[lo:hi] in place: insertion sort for the usual handful of entries,
-    numpy's sort for a vertex of high degree (a fan's apex: quadratic otherwise)."""
-    if hi - lo > 32:
-        a[lo:hi] = np.sort(a[lo:hi])
-        return
-    for j in range(lo + 1, hi):
-        x = a[j]
-        k = j - 1
-        while k >= lo and a[k] > x:
-            a[k + 1] = a[k]
-            k -= 1
-        a[k + 1] = x
+    """Sort a[lo:hi] in place: a Shell sort (Knuth's gaps 1, 4, 13, ...), which
+    is insertion sort for the usual handful of entries and not quadratic on a
+    vertex of high degree (a fan's apex).  Not numpy's sort: compiling that for
+    numba takes longer than the first run can spare."""
+    gap = 1
+    while gap < (hi - lo) // 3:
+        gap = 3 * gap + 1
+    while gap >= 1:
+        for j in range(lo + gap, hi):
+            x = a[j]
+            k = j - gap
+            while k >= lo and a[k] > x:
+                a[k + gap] = a[k]
+                k -= gap
+            a[k + gap] = x
+        gap //= 3
 
 
 @njit(cache=True)

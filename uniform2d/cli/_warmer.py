@@ -9,19 +9,19 @@ another.  So when the command finds the kernels cold, :func:`start` starts one
 background process that runs :func:`warm`, which compiles in an order chosen
 against the order the run needs the kernels in.  The run first compiles the
 exact triangulation of P and INSERT's queues; the warmer meanwhile compiles
-the distance to P's edges (which needs none of those) and INSERT's two
-selection steps, which the run types next.  Then the optimiser's stages, from
-the last (the spread sweeps) to the first, and its start: the run, compiling
-its optimiser from the first, meets the warmer halfway instead of following
-it.  Whatever the warmer finished, the run loads; whatever it did not, the run
-compiles as before.  A second process only helps on a CPU that would
+INSERT's steps, which the run types next.  Then the kernels the run needs
+after INSERT, from the last (the optimiser's spread sweeps) back to the first
+(the measures of T+'s mesh): the run, compiling them from the first, meets
+the warmer halfway instead of following it.  Whatever the warmer finished,
+the run loads; whatever it did not, the run compiles as before.  A second process only helps on a CPU that would
 otherwise idle, so none is started when the system's load leaves none idle.
 
 A kernel is cached per argument types (dtypes, layouts, int32 against int64),
 so the warmer makes its calls with the library's own code on tiny inputs (a
 lattice mesh loaded as the optimiser loads one; INSERT's queues as INSERT makes
-them), not with signatures written out; ``tests/test_warmer.py`` checks that a
-run after it compiles none of its kernels again.
+them), and where a call cannot run on those, with signatures made of the real
+objects' types; ``tests/test_warmer.py`` checks that a run after it compiles
+none of its kernels again.
 
 The warmer prints nothing and writes nothing but numba's cache (each file to a
 temporary name, then renamed: stopping it at any moment leaves no torn entry,
@@ -47,7 +47,6 @@ def warm() -> None:
     """Compile, into numba's cache, kernels a :func:`uniform2d.uniform_mesh` run
     compiles late, by running the library's code on tiny inputs, in the order
     the module docstring gives."""
-    import numpy as np
     from numba import typeof, types
 
     from .._kernel import cdt, heap
@@ -59,32 +58,23 @@ def warm() -> None:
     from ..optimize.seed import target_size, variants
     from .._kernel.edges import edges_by_vertex
 
-    # the distance to P's edges the optimiser's start measures (nothing the run
-    # compiles first is needed for it), while the run compiles the predicates
-    # INSERT's selection steps need too
-    polygon, points, triangles, edges = _lattice(4)
-    n = len(points) - len(polygon.vertices)
-    pipeline._start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
-
-    # INSERT's two selection steps, typed as its loop calls them, on empty queues
+    # INSERT's steps, in the order its loop types them but the cavity's
+    # insertion (long to compile) early: the run meanwhile compiles the exact
+    # triangulation of P and INSERT's queues.  The selection steps run on empty
+    # queues; the others cannot, so they are typed from the queues' own types,
+    # as the loop passes them
     m, _ = cdt.allocate(4, 4)
     M, P = heap.new_heap(16), kinsert.new_pool(64)
-    W = kinsert._gather(m, M, P, 0.0)[0]
-    kinsert._choose(m, M, P, W, 0.0)
-    # and its insertion steps, last first; not callable on empty queues, so typed
-    # from the queues' own types, as the loop passes them
     tm, i64, f64 = typeof(m), types.int64, types.float64
-    kinsert.push_new.compile((tm, typeof(M), i64, types.boolean))
-    kinsert._insert_nearby.compile((tm, f64, f64, i64, i64))
+    W = kinsert._gather(m, M, P, 0.0)[0]
     insert_point.compile((tm, f64, f64, i64, i64))
+    kinsert._choose(m, M, P, W, 0.0)
+    kinsert._insert_nearby.compile((tm, f64, f64, i64, i64))
+    kinsert.push_new.compile((tm, typeof(M), i64, types.boolean))
 
-    # the measures of the finished mesh (the run's last step), then the
-    # optimiser's stages, the last first, on the lattice mesh
-    # the run measures read-only triangles (a Mesh's) and writable ones, in an
-    # order in which numba types each once; called here, a read-only array would
-    # be passed to the writable specialisation: so both written out
-    for readonly in (True, False):
-        edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=readonly), types.int64))
+    # then what the run compiles after INSERT, from its end back: the
+    # optimiser's stages, the last first, on a lattice mesh ...
+    polygon, points, triangles, edges = _lattice(4)
     st = moves._load(polygon, points, triangles, None, None, None, edges)
     obj = objective_code("balanced")
     none = moves.default_schedule(len(st.xy), False)._replace(
@@ -93,9 +83,16 @@ def warm() -> None:
                   dict(spring_rounds=1)):
         moves.advance(st, none._replace(**stage), obj)
         moves.rank(st, obj)
-
-    # the optimiser's start: the mesh of its sites, checked
+    # ... its start (the distance to P's edges) and the start's check ...
+    n = len(points) - len(polygon.vertices)
+    pipeline._start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
     moves.finish(polygon, moves.unload(polygon, st), moves.Progress())
+    # ... and the measures of T+'s mesh: the run measures read-only triangles
+    # (a Mesh's) and writable ones, in an order in which numba types each once;
+    # called here, a read-only array would be passed to the writable
+    # specialisation: so both written out
+    for readonly in (True, False):
+        edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=readonly), types.int64))
 
 
 def _lattice(k: int):
@@ -130,15 +127,43 @@ def spare_cpus() -> int:
 
 
 def busy(cpus: int) -> bool:
-    """Whether the system's load (its last minute's average) leaves no CPU of
-    ``cpus`` idle besides this run's: then a second compiling process takes CPU
-    from the run itself (with per-session scheduling, as Linux's autogroups, the
-    command's share of the machine does not grow with its processes).  False
-    where there is no load average."""
+    """Whether other work leaves fewer than two of ``cpus`` idle, one for this
+    run and one for the warmer: then a second compiling process takes CPU from
+    the run itself (with per-session scheduling, as Linux's autogroups, the
+    command's share of the machine does not grow with its processes).
+
+    Measured over a tenth of a second where the system says how busy its CPUs
+    are (Linux's ``/proc/stat``): the last minute's load average, the fallback,
+    still counts work that has just ended (the ``pip install`` before a first
+    run).  False where neither can be read."""
+    idle = _idle_cpus(0.1)
+    if idle is not None:
+        return idle < min(cpus, 2) - 0.5
     try:
         return os.getloadavg()[0] > cpus - 1
     except (AttributeError, OSError):
         return False
+
+
+def _idle_cpus(interval: float) -> float | None:
+    """How many CPUs (of all the system's) idled over the next ``interval``
+    seconds, from ``/proc/stat``'s totals; None where it cannot be read."""
+    import time
+
+    def totals():
+        with open("/proc/stat", encoding="ascii") as f:
+            ticks = [int(t) for t in f.readline().split()[1:]]
+        return ticks[3] + ticks[4], sum(ticks)  # idle + iowait, all
+
+    try:
+        idle0, all0 = totals()
+        time.sleep(interval)
+        idle1, all1 = totals()
+    except (OSError, ValueError, IndexError):
+        return None
+    if all1 <= all0:
+        return None
+    return (idle1 - idle0) / (all1 - all0) * (os.cpu_count() or 1)
 
 
 def start() -> subprocess.Popen | None:
