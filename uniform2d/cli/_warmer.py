@@ -58,17 +58,16 @@ def warm() -> None:
     from ..optimize.seed import target_size, variants
     from .._kernel.edges import edges_by_vertex
 
-    # INSERT's steps, in the order its loop types them but the cavity's
-    # insertion (long to compile) early: the run meanwhile compiles the exact
-    # triangulation of P and INSERT's queues.  The selection steps run on empty
-    # queues; the others cannot, so they are typed from the queues' own types,
-    # as the loop passes them
+    # INSERT's steps, in the order its loop types them, while the run compiles
+    # the exact triangulation of P and INSERT's queues.  The selection steps
+    # run on empty queues; the others cannot, so they are typed from the
+    # queues' own types, as the loop passes them
     m, _ = cdt.allocate(4, 4)
     M, P = heap.new_heap(16), kinsert.new_pool(64)
     tm, i64, f64 = typeof(m), types.int64, types.float64
     W = kinsert._gather(m, M, P, 0.0)[0]
-    insert_point.compile((tm, f64, f64, i64, i64))
     kinsert._choose(m, M, P, W, 0.0)
+    insert_point.compile((tm, f64, f64, i64, i64))
     kinsert._insert_nearby.compile((tm, f64, f64, i64, i64))
     kinsert.push_new.compile((tm, typeof(M), i64, types.boolean))
 
