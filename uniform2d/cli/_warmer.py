@@ -9,7 +9,7 @@ another.  So when the command finds the kernels cold, :func:`start` starts one
 background process that runs :func:`warm`, which compiles in an order chosen
 against the order the run needs the kernels in.  The run first compiles the
 exact triangulation of P and INSERT's queues; the warmer meanwhile compiles
-INSERT's steps, which the run types next.  Then the kernels the run needs
+INSERT's first step, which the run types next.  Then the kernels the run needs
 after INSERT, from the last (the optimiser's spread sweeps) back to the first
 (the measures of T+'s mesh): the run, compiling them from the first, meets
 the warmer halfway instead of following it.  Whatever the warmer finished,
@@ -19,8 +19,8 @@ otherwise idle, so none is started when the system's load leaves none idle.
 A kernel is cached per argument types (dtypes, layouts, int32 against int64),
 so the warmer makes its calls with the library's own code on tiny inputs (a
 lattice mesh loaded as the optimiser loads one; INSERT's queues as INSERT makes
-them), and where a call cannot run on those, with signatures made of the real
-objects' types; ``tests/test_warmer.py`` checks that a run after it compiles
+them), and where a call cannot run on those, with signatures written out;
+``tests/test_warmer.py`` checks that a run after it compiles
 none of its kernels again.
 
 The warmer prints nothing and writes nothing but numba's cache (each file to a
@@ -47,10 +47,9 @@ def warm() -> None:
     """Compile, into numba's cache, kernels a :func:`uniform2d.uniform_mesh` run
     compiles late, by running the library's code on tiny inputs, in the order
     the module docstring gives."""
-    from numba import typeof, types
+    from numba import types
 
     from .._kernel import cdt, heap
-    from .._kernel.cavity import insert_point
     from .._kernel import insert as kinsert
     from ..optimize import moves, pipeline
     from ..optimize import schedule as S
@@ -58,18 +57,12 @@ def warm() -> None:
     from ..optimize.seed import target_size, variants
     from .._kernel.edges import edges_by_vertex
 
-    # INSERT's steps, in the order its loop types them, while the run compiles
-    # the exact triangulation of P and INSERT's queues.  The selection steps
-    # run on empty queues; the others cannot, so they are typed from the
-    # queues' own types, as the loop passes them
+    # INSERT's first step, which brings most of its predicates, while the run
+    # compiles the exact triangulation of P and INSERT's queues (its later
+    # steps the run reaches before the warmer could finish them)
     m, _ = cdt.allocate(4, 4)
     M, P = heap.new_heap(16), kinsert.new_pool(64)
-    tm, i64, f64 = typeof(m), types.int64, types.float64
-    W = kinsert._gather(m, M, P, 0.0)[0]
-    kinsert._choose(m, M, P, W, 0.0)
-    insert_point.compile((tm, f64, f64, i64, i64))
-    kinsert._insert_nearby.compile((tm, f64, f64, i64, i64))
-    kinsert.push_new.compile((tm, typeof(M), i64, types.boolean))
+    kinsert._gather(m, M, P, 0.0)
 
     # then what the run compiles after INSERT, from its end back: the
     # optimiser's stages, the last first, on a lattice mesh ...
