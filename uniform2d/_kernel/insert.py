@@ -415,8 +415,8 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
     is placed on that subsegment (it is numerically on the boundary; inside it
     would only make a sliver).  Every point is rounded to what the caller's
     coordinates hold (:func:`cdt.snap`) before it is located and inserted, so the
-    exact predicates decide on the coordinates actually returned.  On failure ``out_*[j]`` describe the failing
-    point and the status is ``code - 100 * j``.
+    exact predicates decide on the coordinates actually returned.  On failure
+    ``out_*[j]`` describe the failing point and the status is ``code - 100 * j``.
     """
     pv, lo, wx, wy = P.pv, P.lo, P.wx, P.wy
     room = _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.e, wx.e, wy.e)

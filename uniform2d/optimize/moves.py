@@ -272,9 +272,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     """:func:`improve` from the best of several starts, found by successive halving.
 
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
-    arguments.  Every start is built in the kernel once (:func:`load_built`) and
-    runs the first schedule of ``schedule.TRIALS``; the best ``schedule.KEEP`` of them (by :func:`rank`;
-    ``KEEP_LARGE`` above ``KEEP_MAX`` points) run the next, and so on; the
+    arguments.  Every start is built in the kernel once (:func:`load_built`)
+    and runs the first schedule of ``schedule.TRIALS``; the best
+    ``schedule.KEEP`` of them (by :func:`rank`; ``KEEP_LARGE`` above
+    ``KEEP_MAX`` points) run the next, and so on; the
     winner's kernel state goes on into the full schedule (overridden as
     :func:`improve`'s) without being loaded again, from the stage
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
