@@ -6,6 +6,15 @@ functions to C, but each wrapper would be compiled, optimised and linked into
 every caller's machine code all the same, which lengthens the first run's
 compile.  The Python-callable wrapper stays: any kernel function may be called
 from Python.
+
+The same cost decides which functions are ``inline="always"``: numba turns
+every compiled function into machine code together with a copy of all its
+callees, so a function called from one place only, above a large call tree
+(INSERT's steps, the cavity's split and flip, the relaxation sweeps), would
+have that tree optimised and generated once more for itself.  Inlined into
+its caller, its body is typed there instead and the copy is not made.  Small
+functions with many callers, or whose callee trees would be copied into
+several callers, stay separate.
 """
 
 from __future__ import annotations

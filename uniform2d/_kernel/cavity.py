@@ -84,7 +84,7 @@ def insert_point(m, x, y, t0, hs):
     return nb
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _grow_cavity(m, x, y, t0, hs, tag):
     """Triangles whose circumcircle holds (x, y), reached from t0 across edges the
     point sees and that are not constraints; ``cav[:k]``, marked with ``tag``."""
@@ -243,7 +243,7 @@ def _flag_split(m, a, b, nb):
             m.vcs[p] = g
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _split_and_flip(m, x, y, t0, hs):
     """Insert (x, y) into t0 (and the neighbour across an unconstrained edge of t0
     it lies on), then Lawson-flip from the new triangles' outer edges.
@@ -278,7 +278,7 @@ def _split_and_flip(m, x, y, t0, hs):
     return _flip_fan(m, nb)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _flip_fan(m, nb):
     """Lawson flips from every edge of the fan ``cav[:nb]``, spokes included (with
     the point not in its first triangle's circle, a spoke need not be Delaunay);

@@ -318,7 +318,7 @@ def flip(m, h):
     m.tc[3 * u + 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _not_delaunay(m, h):
     g = m.tw[h]
     if g < 0 or m.tc[h]:
@@ -347,7 +347,7 @@ def legalize_all(m):
     return legalize_stack(m, todo, np.int64(sp))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def legalize_stack(m, todo, sp):
     """Lawson flips starting from the half-edges ``todo[:sp]`` (each edge that
     becomes suspect is pushed); returns the flip count.  ``todo`` grows as needed."""
@@ -435,7 +435,7 @@ def _same_edge(m, h, g):
 SHORT_RUN = 32
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _edge_order(m, nt):
     """The half-edges of the first nt triangles sorted by their (smaller, larger)
     vertex, equal edges in index order: the order a stable sort of the keys

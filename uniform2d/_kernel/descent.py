@@ -160,7 +160,7 @@ def _measure_weights(m, hv, href, k, objective, slots, alive, dead):
     return lmax, lmin, pmax, 2.0 / s_len, 1.0 / s_short, 1.0 / s_per
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
                  w_len, w_short, w_per, g2, E0, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
@@ -177,7 +177,7 @@ def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR,
     return False, x0, y0, t[v], st
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved, k,
            w_len, w_short, w_per, floor, flat, movers, slots):  # fmt: skip
     """One sweep of :func:`descend` over the active vertices, in order; returns

@@ -179,7 +179,7 @@ def _lift(px, py):
     return z, ex == 0.0 and ey == 0.0 and ez == 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     """incircle by exact arithmetic (called only when the filter cannot decide)."""
     ok, k, ax, ay, bx, by, cx, cy, dx, dy = scaled4(ax, ay, bx, by, cx, cy, dx, dy, TARGET_DEG4)

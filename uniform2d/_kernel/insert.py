@@ -89,7 +89,7 @@ def _centre(xy, tv, tw, tc, t):
     return True, cx, cy, r
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def triangle_key(m, t):
     """Its value (circumradius / size there) if t's circumcentre is a candidate (see
     the module doc), else -1."""
@@ -99,7 +99,7 @@ def triangle_key(m, t):
     return r / size_at(m, cx, cy)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _push_triangle(m, M, t):
     r = triangle_key(m, t)
     if r > 0.0:
@@ -132,7 +132,7 @@ def _subsegment(m, h):
     return constrained(m, h)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def push_new(m, M, k, split):
     """Entries for the k new triangles cav[:k] and, after a split, the two new halves."""
     p = m.nv - 1
@@ -271,7 +271,7 @@ def _gather(m, M, P, xtol):
     return W, -1, -1, 0.0, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _lclean(m, M, P, L, loc, thr, xtol):
     """Drop stale or invalid entries from the top of L (an (x, y) heap whose members
     have ploc == loc); returns the top x, or inf when L is empty."""
@@ -406,7 +406,7 @@ def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
     return j
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
     """Insert points j0..n-1; returns n, or a negative status on failure, or
     the next step once a buffer has grown (see :func:`run`).
@@ -495,7 +495,7 @@ def _between(m, h, x, y):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _insert_nearby(m, x, y, t0, hs):
     """Insert at one of the 8 points the caller's coordinates hold next to (x, y).
 

@@ -53,7 +53,7 @@ def _visible(m, ne, x, y, q):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _collect(m, h, mx, my, r2, near2):
     """Search from the triangle on h across unconstrained edges that meet the disk
     (centre (mx, my), squared radius r2): the sites strictly inside it on the
@@ -109,7 +109,7 @@ def _collect(m, h, mx, my, r2, near2):
     return nv, ne
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _nearest_visible(m, sites, ne, x, y):
     """Squared distance from (x, y) on the subsegment to the nearest visible site
     (sites[0], sites[1] are its ends, always visible)."""
@@ -123,7 +123,7 @@ def _nearest_visible(m, sites, ne, x, y):
     return wmin
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _envelope_max(m, h, nv, ne, mx, my, xtol):
     """(value, x, y) of the best point of h equidistant from two of its ends and
     the nv collected sites, by the visible distance and the tie rule; value < 0
@@ -160,7 +160,7 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     return bv, bx_, by_
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def eval_segment(m, h, xtol, bound):
     """Largest visible distance on constrained subsegment h and where: (value, x, y),
     value = distance / size field (the distance itself without a field).

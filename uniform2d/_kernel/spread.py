@@ -67,7 +67,7 @@ def _star_spread(x, y, ns, nt, SP, TR, L, cbar, grad, ext, want):
     return E
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
                  g2, ext, E0, lmax, lmin, pmax, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
@@ -85,7 +85,7 @@ def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR,
     return False, x0, y0, t[v], st
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, lmin, pmax,
            flat, movers, slots, alive, dead):  # fmt: skip
     """One sweep of :func:`spread` over the movable vertices, in order, each move

@@ -133,7 +133,7 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
     return biggest
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _commit(m, role, t, new, newt, moved, hv, flat2, slots, movers):
     """Apply the trial places, undoing those that would invert a triangle (exact)
     or flatten one below ``flat2 * mean(hv)**2`` (see :func:`spring`); only the
