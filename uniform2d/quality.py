@@ -71,8 +71,12 @@ def _unique_edges(tri: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarra
 
     The same as :func:`uniform2d.geometry.unique_edges` with counts, bucketed by
     the smaller vertex instead of sorted as a whole (each bucket holds a vertex's
-    few larger neighbours): at 1e6 points a tenth of the sort's time."""
-    return edges_by_vertex(np.ascontiguousarray(tri, dtype=np.int64), np.int64(n_points))
+    few larger neighbours): at 1e6 points a tenth of the sort's time.  The
+    kernel always gets a read-only view, so it is compiled once, not once for
+    read-only triangles (a Mesh's) and once for writable ones."""
+    view = np.ascontiguousarray(tri, dtype=np.int64).view()
+    view.flags.writeable = False
+    return edges_by_vertex(view, np.int64(n_points))
 
 
 def edge_lengths(points, triangles) -> tuple[np.ndarray, np.ndarray]:

@@ -79,12 +79,8 @@ def warm() -> None:
     n = len(points) - len(polygon.vertices)
     pipeline._start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
     moves.finish(polygon, moves.unload(polygon, st), moves.Progress())
-    # ... and the measures of T+'s mesh: the run measures read-only triangles
-    # (a Mesh's) and writable ones, in an order in which numba types each once;
-    # called here, a read-only array would be passed to the writable
-    # specialisation: so both written out
-    for readonly in (True, False):
-        edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=readonly), types.int64))
+    # ... and the measures of T+'s mesh (always on read-only triangles)
+    edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=True), types.int64))
 
 
 def _lattice(k: int):
