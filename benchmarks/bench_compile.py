@@ -76,6 +76,31 @@ def _one_cpu() -> None:
     os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
 
 
+def first_run(n: int = 400, one_cpu: bool = False, ignore_load: bool = False) -> dict | None:
+    """README command 1 (``mesh -n n``) in a fresh process on an empty numba cache:
+    {"wall", "cpu" (with the warmer's), "code", "own", "count"} (own compile
+    seconds and compilations per function), or None (its stderr printed) if the
+    command's compile record cannot be read."""
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        if ignore_load:
+            env["BENCH_IGNORE_LOAD"] = "1"
+        cmd = [sys.executable, "-c", CHILD, "mesh", str(ROOT / "data" / "plate_bolts.json"),
+               "-n", str(n), "-o", str(Path(out) / "plate.vtu"), "--stats",
+               "--plot", str(Path(out) / "plate.png")]
+        cpu0, t0 = _cpu_of_children(), time.perf_counter()
+        run = subprocess.run(cmd, env=env, cwd=out, capture_output=True, text=True, check=False,
+                             preexec_fn=_one_cpu if one_cpu else None)
+        wall, cpu = time.perf_counter() - t0, _cpu_of_children() - cpu0
+    tail = run.stderr[run.stderr.rfind('{"code"'):]
+    try:
+        res = json.loads(tail)
+    except ValueError:
+        print(run.stderr, file=sys.stderr)
+        return None
+    return {"wall": wall, "cpu": cpu, **res}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=400)
@@ -88,23 +113,10 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.one_cpu and not hasattr(os, "sched_setaffinity"):
         ap.error("--one-cpu needs os.sched_setaffinity (Linux)")
-    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
-        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
-        if args.ignore_load:
-            env["BENCH_IGNORE_LOAD"] = "1"
-        cmd = [sys.executable, "-c", CHILD, "mesh", str(ROOT / "data" / "plate_bolts.json"),
-               "-n", str(args.n), "-o", str(Path(out) / "plate.vtu"), "--stats",
-               "--plot", str(Path(out) / "plate.png")]
-        cpu0, t0 = _cpu_of_children(), time.perf_counter()
-        run = subprocess.run(cmd, env=env, cwd=out, capture_output=True, text=True, check=False,
-                             preexec_fn=_one_cpu if args.one_cpu else None)
-        wall, cpu = time.perf_counter() - t0, _cpu_of_children() - cpu0
-    tail = run.stderr[run.stderr.rfind('{"code"'):]
-    try:
-        res = json.loads(tail)
-    except ValueError:
-        print(run.stderr, file=sys.stderr)
+    res = first_run(args.n, one_cpu=args.one_cpu, ignore_load=args.ignore_load)
+    if res is None:
         return 1
+    wall, cpu = res["wall"], res["cpu"]
     own, count = res["own"], res["count"]
     modules: dict[str, float] = {}
     for name, t in own.items():
