@@ -233,3 +233,20 @@ def test_hex_lattice_does_not_depend_on_its_row_blocks(monkeypatch):
     step = got[j[:, 1]] - got
     ang = np.degrees(np.arctan2(step[:, 1], step[:, 0])) - np.degrees(0.3)
     assert np.allclose((ang + 30.0) % 60.0 - 30.0, 0.0, atol=1e-6)
+
+
+@pytest.mark.parametrize("given", [False, True])
+def test_fallback_returns_tplus_exactly(monkeypatch, given):
+    # an objective that ranks every mesh by its edge ratio, reversed: the
+    # optimised mesh (a lower ratio than T+'s) loses, and T+ is returned, the
+    # caller's or made again
+    from uniform2d.optimize import pipeline
+
+    monkeypatch.setattr(pipeline, "quality_objective", lambda objective, q, h: -q.edge_ratio)
+    p = BENCH["square"]
+    tp = uniform2d.tplus(p, 200)
+    m = optimize_mesh(p, 200, start=tp if given else None)
+    assert m.info["fallback"] == "tplus" and m.info["start"]["method"] == "paper"
+    np.testing.assert_array_equal(m.points, tp.points)
+    np.testing.assert_array_equal(m.triangles, tp.triangles)
+    assert m.info["d_n"] == tp.info["d_n"] and m.info["theorem_applies"] == tp.info["theorem_applies"]

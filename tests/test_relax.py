@@ -6,6 +6,7 @@ independent reference here is a fresh exact CDT of the same points
 triangles, and the full invariant checker on both.
 """
 
+import numba
 import numpy as np
 import pytest
 import shapely
@@ -61,14 +62,12 @@ def _live(st, k, restrict):
     return slots, alive, kstar.dead_part(st.m, alive, st.hv, st.href, k)
 
 
-@pytest.mark.parametrize("k", range(6))
-@pytest.mark.parametrize("stage", ["spring", "descend", "spread"])
-@pytest.mark.parametrize("restrict", [False, True])
-def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage, restrict):
+def _scattered(k, restrict):
+    """Polygon k of :func:`_polygons` with a scattered start (many moves and
+    flips) loaded, jittered off INSERT's exact symmetries so that the Delaunay
+    triangulation is unique and can be compared; with ``restrict``, half frozen."""
     p = _polygons()[k]
     n = 120
-    # a scattered start (many moves and flips), jittered off INSERT's exact
-    # symmetries so that the Delaunay triangulation is unique and can be compared
     ins = uniform2d.insert(p, n)
     rng = np.random.default_rng(k)
     h = target_size(p, n)
@@ -79,30 +78,30 @@ def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage, restrict)
     sites[np.flatnonzero(inner)[ok]] = jit[ok]
     res = uniform2d.insert(p, 0, sites=sites)
     st = _load(p, res.mesh_points, res.triangles, None, None, None)
-    nV = len(p.vertices)
     if restrict:  # the passes skip the triangles of the frozen half, and must still keep the CDT
-        _half_frozen(st, nV)
+        _half_frozen(st, len(p.vertices))
+    return p, st
+
+
+@pytest.mark.parametrize("k", range(6))
+@pytest.mark.parametrize("stage", ["spring", "descend", "spread"])
+@pytest.mark.parametrize("restrict", [False, True])
+def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage, restrict):
+    p, st = _scattered(k, restrict)
+    nV = len(p.vertices)
     fixed = st.role == relax.FIXED
     before = st.xy.copy()
     args = (st.m, st.role, st.eid, st.t, st.ea, st.ed, st.hv, st.href)
     if stage == "spring":
         made = relax.spring(*args, 30, 0.2, 1.02, 1e-4, 0.3, FLAT, restrict)
-    elif stage == "descend":
-        bx, bt = st.xy.copy(), st.t.copy()
-        btv = cdt.triangle_list(st.m).astype(np.int32).ravel()
-        made, _ = relax.descend(*args, 0, 10, 4, 0.05, bx, bt, btv, FLAT, restrict)
+    elif stage == "descend":  # both end in their best state, which may be the start
+        made, _ = relax.descend(*args, 0, 10, 4, 0.05, FLAT, restrict)
     else:
-        bx, bt = st.xy.copy(), st.t.copy()
-        btv = cdt.triangle_list(st.m).astype(np.int32).ravel()
-        made = relax.spread(*args, 0, 10, 0.05, bx, bt, btv, FLAT, restrict)
-        if made < 10:  # stopped early: the kernel state is one sweep past the kept one
-            st.xy[:] = bx
-            st.t[:] = bt
-            cdt.build_adjacency(st.m, btv.reshape(-1, 3))
-            cdt.legalize_all(st.m)
+        made = relax.spread(*args, 0, 10, 0.05, FLAT, restrict)
     assert made >= 1
     moved = np.abs(st.xy - before).max(axis=1) > 0
-    assert moved[nV:].any() and not moved[fixed].any()  # FIXED vertices stay
+    assert not moved[fixed].any()  # FIXED vertices stay
+    assert moved[nV:].any() or stage != "spring"
     # the kernel's triangulation (normalised coordinates) vs a fresh exact CDT
     pts = _unload(p, st)
     fresh = uniform2d.insert(p, 0, sites=pts[nV:])
@@ -383,3 +382,36 @@ def test_improve_rejects_bad_input_with_typed_errors():
         improve(p, [(0.5, 0.5)], objective="nope")
     with pytest.raises(uniform2d.InvalidSitesError, match="outside the polygon"):
         improve(p, [(5.0, 5.0)])
+
+
+@numba.njit
+def _tri_arrays(m):
+    return m.xy.copy(), m.tv.copy(), m.tw.copy(), m.tc.copy(), m.vseg.copy(), m.vcs.copy(), m.tstamp.copy()
+
+
+def _state(st):
+    """The points, edge parameters and triangulation of a loaded mesh, then its slots' rewrite counters."""
+    xy, *rest = _tri_arrays(st.m)
+    return [xy, st.t.copy(), *rest]
+
+
+@pytest.mark.parametrize("restrict", [False, True])
+def test_descend_ends_exactly_in_its_best_state(restrict):
+    # the flips made after the best sweep are undone and its points put back:
+    # the state is bit for bit that of a run stopped right after that sweep
+    undone = 0
+    for k in range(6):
+        def run(sweeps):
+            _, st = _scattered(k, restrict)
+            args = (st.m, st.role, st.eid, st.t, st.ea, st.ed, st.hv, st.href)
+            made, best = relax.descend(*args, 0, sweeps, 4, 0.05, FLAT, restrict)
+            return made, best, _state(st)
+
+        made, best, final = run(10)
+        # the first run that reaches the same best value stopped at the best sweep
+        j = next(s for s in range(made + 1) if run(s)[1] == best)
+        ref = run(j)[2]
+        for a, b in zip(final[:-1], ref[:-1]):
+            np.testing.assert_array_equal(a, b)
+        undone += bool((final[-1] != ref[-1]).any())  # flips after sweep j (and undone)
+    assert undone

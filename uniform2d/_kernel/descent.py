@@ -10,7 +10,8 @@ from ._jit import njit
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
 from .star import FIXED, TRIES, accept, counted, dead_part, edge, gather, initial_steps
-from .star import keep_state, legalize_live, live_slots, measure_live, objective_of, place_at
+from .star import keep_state, kept_state, legalize_live, live_slots, measure_live, objective_of
+from .star import place_at, restore_state
 from .star import pw as _pw
 from .star import refresh_sizes, refuse, ring_neighbours, search, stars, star_ok
 
@@ -219,13 +220,14 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
 
 
 @njit(cache=True)
-def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best_xy, best_t,
-            best_tv, flat, restrict=False):  # fmt: skip
+def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, flat,
+            restrict=False):  # fmt: skip
     """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``, p = 2**k.
 
-    After each sweep the mesh is legalised and measured; the best state by the
-    true objective is written to ``best_*`` (which must hold the starting state)
-    and its value returned with the number of sweeps made.  Each vertex keeps its
+    After each sweep the mesh is legalised and measured; the run ends in the
+    best state by the true objective (the start's, if no sweep beat it; kept
+    and put back by :func:`.star.keep_state` and :func:`.star.restore_state`),
+    whose value it returns with the number of sweeps made.  Each vertex keeps its
     own step, starting at ``step0 * href * hv[v]``: grown 1.5x after an accepted
     move, halved after a refused one.  A vertex whose line search fails rests
     until a neighbour moves (an active set: converged regions cost nothing).  A
@@ -245,6 +247,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
     lmax, lmin, pmax, w_len, w_short, w_per = _measure_weights(
         m, hv, href, k, objective, slots, alive, dead)
     best = objective_of(objective, lmax, lmin, pmax)
+    best_xy, best_t, undo, nu = kept_state(m, t, movers)
     step = initial_steps(m, hv, href, step0)
     active = np.ones(m.nv, np.bool_)
     moved = np.ones(m.nv, np.bool_)  # moved in the last sweep (all, before the first)
@@ -264,7 +267,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
             m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved, k,
             w_len, w_short, w_per, RELEVANT * emax, flat, movers, slots,
         )  # fmt: skip
-        todo, slots, woke = legalize_live(m, moved, todo, alive, slots)
+        todo, slots, woke, undo, nu = legalize_live(m, moved, todo, alive, slots, undo, nu)
         if woke:
             dead = dead_part(m, alive, hv, href, k)
         done = sweep + 1
@@ -276,7 +279,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
         val = objective_of(objective, lmax, lmin, pmax)
         if val < best:
             best = val
-            keep_state(m, t, best_xy, best_t, best_tv)
+            nu = keep_state(m, t, movers, best_xy, best_t)
         if val < mark * (1.0 - GAIN):
             mark = val
             stale = 0
@@ -284,4 +287,5 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, best
             stale += 1
         if moves == 0 or stale >= PATIENCE:
             break
+    restore_state(m, t, movers, best_xy, best_t, undo, nu)
     return done, best

@@ -10,7 +10,8 @@ from ._jit import njit
 
 from .cdt import snap
 from .star import FIXED, TRIES, accept, counted, dead_part, edge, gather, initial_steps
-from .star import keep_state, legalize_live, live_slots, measure_live, objective_of, place_at
+from .star import keep_state, kept_state, legalize_live, live_slots, measure_live, objective_of
+from .star import place_at, restore_state
 from .star import refresh_sizes, refuse, ring_neighbours, search, stars, star_ok
 
 __all__ = ["spread"]
@@ -121,8 +122,8 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, l
 
 
 @njit(cache=True)
-def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy, best_t,
-           best_tv, flat, restrict=False):  # fmt: skip
+def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, flat,
+           restrict=False):  # fmt: skip
     """Gauss-Seidel sweeps on the spread ``sum (l - mean l)**2`` that cannot make
     ``objective`` worse.
 
@@ -130,15 +131,17 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
     longest and shortest edge and largest perimeter within the mesh's present
     extremes, so the objective can only change through the flips of the
     legalisation; a sweep after which it is worse than at the start ends the
-    run, and ``best_*`` (which must hold the starting state) keep the last state
-    that was not.  Returns the number of sweeps kept.  With ``restrict`` the
-    passes cover only the triangles the moves can change (:func:`.star.live_slots`).
+    run in the last state that was not (kept and put back by
+    :func:`.star.keep_state` and :func:`.star.restore_state`).  Returns the
+    number of sweeps kept.  With ``restrict`` the passes cover only the
+    triangles the moves can change (:func:`.star.live_slots`).
     """
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
     alive, slots, movers = live_slots(m, role, restrict)
     dead = dead_part(m, alive, hv, href, 0)
     lmax, lmin, pmax = measure_live(m, hv, href, slots, dead)
     start = objective_of(objective, lmax, lmin, pmax)
+    best_xy, best_t, undo, nu = kept_state(m, t, movers)
     step = initial_steps(m, hv, href, step0)
     moved = np.ones(m.nv, np.bool_)  # moved in the last sweep (all, before the first)
     todo = np.empty(64, np.int32)
@@ -149,7 +152,7 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
         moved[:] = False
         moves = _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved,
                        lmax, lmin, pmax, flat, movers, slots, alive, dead)  # fmt: skip
-        todo, slots, woke = legalize_live(m, moved, todo, alive, slots)
+        todo, slots, woke, undo, nu = legalize_live(m, moved, todo, alive, slots, undo, nu)
         if woke:
             dead = dead_part(m, alive, hv, href, 0)
         a, b, c = measure_live(m, hv, href, slots, dead)
@@ -157,7 +160,8 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, best_xy,
             break  # a flip made it worse: keep the state before this sweep
         lmax, lmin, pmax = a, b, c
         kept = sweep + 1
-        keep_state(m, t, best_xy, best_t, best_tv)
+        nu = keep_state(m, t, movers, best_xy, best_t)
         if moves == 0:
             break
+    restore_state(m, t, movers, best_xy, best_t, undo, nu)
     return kept

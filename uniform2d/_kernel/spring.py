@@ -82,7 +82,8 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
             m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved, movers
         )
         _commit(m, role, t, new, newt, moved, hv, flat * href * href, slots, movers)
-        todo, slots, woke = legalize_live(m, moved, todo, alive, slots)
+        # no flip recorded (a negative count): spring rounds keep no best state
+        todo, slots, woke, _, _ = legalize_live(m, moved, todo, alive, slots, todo, np.int64(-1))
         if woke:
             dead = dead_part(m, alive, hv, href, 0)
         if biggest < tol * href:

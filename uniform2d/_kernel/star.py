@@ -19,7 +19,7 @@ ends at -1)::
 import numpy as np
 from ._jit import njit
 
-from .cdt import _lawson, new_tag, nxt, prv
+from .cdt import UNDO, lawson_recorded, new_tag, nxt, prv, undo_flips
 from .heap import grown
 from .objective import combine
 from .predicates import orient2d
@@ -403,13 +403,15 @@ def place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, s):
 
 
 @njit(cache=True)
-def legalize_live(m, moved, todo, alive, slots):
+def legalize_live(m, moved, todo, alive, slots, undo, nu):
     """Make every edge around the moved vertices locally Delaunay again
     (:func:`suspects`, then Lawson flips), and wake every dead slot a flip
-    rewrote.  Returns (todo, grown if needed; slots; whether a slot woke: the
-    caller's :func:`dead_part` is then stale)."""
+    rewrote.  With ``nu`` >= 0 the flips are recorded in ``undo`` from record nu
+    on (:func:`.cdt.record_flip`).  Returns (todo, grown if needed; slots;
+    whether a slot woke: the caller's :func:`dead_part` is then stale; undo;
+    the new record count)."""
     todo, sp = suspects(m, moved, todo, alive, slots)
-    k = _lawson(m, todo, sp, new_tag(m), np.int64(0))
+    k, undo, nu = lawson_recorded(m, todo, sp, new_tag(m), np.int64(0), undo, nu)
     woke = False
     for i in range(k):
         t = m.cav[i]
@@ -418,7 +420,7 @@ def legalize_live(m, moved, todo, alive, slots):
             woke = True
     if woke:
         slots = slot_list(alive)
-    return todo, slots, woke
+    return todo, slots, woke, undo, nu
 
 
 @njit(cache=True)
@@ -448,53 +450,38 @@ def refuse(step, v, href, hvv):
 
 
 @njit(cache=True)
-def keep_state(m, t, best_xy, best_t, best_tv):
-    """Copy the present points, edge parameters and triangles into ``best_*``.
-
-    ``best_tv`` holds the triangles ``tv`` (3 nt entries) or, if it has
-    :func:`state_size` entries, the whole triangulation: then ``tw``, ``tc``,
-    ``vseg`` and ``vcs`` follow, and :func:`restore_state` puts it back by
-    copying (no adjacency rebuilt from a triangle list)."""
-    # loops: slice copies compile numba's shape-error code
-    for i in range(best_xy.shape[0]):
-        best_xy[i, 0] = m.xy[i, 0]
-        best_xy[i, 1] = m.xy[i, 1]
-    for i in range(best_t.shape[0]):
-        best_t[i] = t[i]
-    n3 = 3 * m.nt
-    for i in range(min(best_tv.shape[0], n3)):
-        best_tv[i] = m.tv[i]
-    if best_tv.shape[0] > n3:
-        for i in range(n3):
-            best_tv[n3 + i] = m.tw[i]
-            best_tv[2 * n3 + i] = m.tc[i]
-        for v in range(m.nv):
-            best_tv[3 * n3 + v] = m.vseg[v]
-            best_tv[3 * n3 + m.nv + v] = m.vcs[v]
+def kept_state(m, t, movers):
+    """(xy, t, undo, nu) holding the present state of a run whose moves are
+    those of ``movers`` (:func:`keep_state`)."""
+    best_xy = np.empty((movers.shape[0], 2))
+    best_t = np.empty(movers.shape[0])
+    undo = np.empty(64 * UNDO, np.int32)
+    return best_xy, best_t, undo, keep_state(m, t, movers, best_xy, best_t)
 
 
 @njit(cache=True)
-def state_size(m):
-    """Entries of a ``best_tv`` that holds the whole triangulation (:func:`keep_state`)."""
-    return 9 * m.nt + 2 * m.nv
+def keep_state(m, t, movers, best_xy, best_t):
+    """Keep the present state in ``best_*``: the points and edge parameters of
+    the ``movers`` (no other vertex moves) and, for the triangulation, nothing
+    but an empty flip record (the count returned, 0): every flip from here on
+    is recorded (:func:`legalize_live`), and :func:`restore_state` undoes
+    them.  A copy of the whole triangulation would cost what the mesh costs;
+    the flips of a run touch only its live slots."""
+    for i in range(movers.shape[0]):
+        v = movers[i]
+        best_xy[i, 0] = m.xy[v, 0]
+        best_xy[i, 1] = m.xy[v, 1]
+        best_t[i] = t[v]
+    return 0
 
 
 @njit(cache=True)
-def restore_state(m, t, best_xy, best_t, best_tv):
-    """Put back what :func:`keep_state` kept in a ``best_tv`` of :func:`state_size`
-    entries.  The same triangulation a rebuild from its triangles gives (twins,
-    boundary half-edges and flags are fixed by the triangles; ``vcs`` is any
-    flagged half-edge, here the one kept), without the sort a rebuild makes."""
-    for i in range(best_xy.shape[0]):
-        m.xy[i, 0] = best_xy[i, 0]
-        m.xy[i, 1] = best_xy[i, 1]
-    for i in range(best_t.shape[0]):
-        t[i] = best_t[i]
-    n3 = 3 * m.nt
-    for i in range(n3):
-        m.tv[i] = best_tv[i]
-        m.tw[i] = best_tv[n3 + i]
-        m.tc[i] = best_tv[2 * n3 + i]
-    for v in range(m.nv):
-        m.vseg[v] = best_tv[3 * n3 + v]
-        m.vcs[v] = best_tv[3 * n3 + m.nv + v]
+def restore_state(m, t, movers, best_xy, best_t, undo, nu):
+    """Put back what :func:`keep_state` kept, the ``nu`` flips recorded since in
+    ``undo`` undone: exactly the triangulation and points of then."""
+    undo_flips(m, undo, nu)
+    for i in range(movers.shape[0]):
+        v = movers[i]
+        m.xy[v, 0] = best_xy[i, 0]
+        m.xy[v, 1] = best_xy[i, 1]
+        t[v] = best_t[i]

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._kernel import cdt, relax, star
+from .._kernel import cdt, relax
 from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon
@@ -191,37 +191,18 @@ def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progr
             tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT, restrict=restrict,
         )
     for k in sched.exponents:
-        best = _snapshot(st)
+        # each stage ends in its best state, the next goes on from there
         made, value = relax.descend(
             *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
-            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT, restrict=restrict,
+            flat=S.FLAT, restrict=restrict,
         )
         done += made
-        _restore(st, best)  # continue from the best state of this stage
-        del best  # before the next stage's copy (at 1e6 points, ~100 MB each)
     if sched.spread_sweeps:
-        best = _snapshot(st)
         relax.spread(
-            *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP,
-            best_xy=best[0], best_t=best[1], best_tv=best[2], flat=S.FLAT, restrict=restrict,
+            *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP, flat=S.FLAT,
+            restrict=restrict,
         )
-        _restore(st, best)
     return Progress(rounds, done, value)
-
-
-def _snapshot(st: "_Loaded"):
-    """(points, edge parameters, triangulation) of a loaded mesh, copied
-    (:func:`uniform2d._kernel.star.keep_state` with the whole triangulation)."""
-    best = np.empty_like(st.xy), np.empty_like(st.t), np.empty(star.state_size(st.m), np.int32)
-    star.keep_state(st.m, st.t, *best)
-    return best
-
-
-def _restore(st: "_Loaded", best) -> None:
-    """Put a :func:`_snapshot` back: by copying, not by rebuilding the
-    triangulation from its triangles (the same mesh, without a sort of its
-    edges that costs a quarter of a second and ~50 MB at 1e6 points)."""
-    star.restore_state(st.m, st.t, *best)
 
 
 def unload(polygon: Polygon, st: "_Loaded") -> tuple:

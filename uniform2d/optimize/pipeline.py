@@ -103,7 +103,12 @@ def _reporter(progress):
 
 
 def _reference(polygon: Polygon, n: int, start):
-    """(T+ mesh or None, its quality or None, d_n) to compare the optimised mesh with."""
+    """(T+'s info or None, its quality or None, d_n) to compare the optimised mesh with.
+
+    Only T+'s measures are compared and reported (:func:`_summary`), not its
+    bounds; a T+ made here is not kept (at 1e6 points its arrays would stand
+    through the whole optimisation): the rare fallback makes it again
+    (:func:`_tplus_again`)."""
     tp = start
     if tp is None:
         tp = tplus_if_feasible(polygon, n)
@@ -111,8 +116,16 @@ def _reference(polygon: Polygon, n: int, start):
             log.info("uniform: n = %d is too small for T+; nothing to compare with", n)
     if tp is None:  # d_n for the certificates comes from INSERT alone
         return None, None, min_distance_after(polygon, n)
-    # only the measures are compared and reported (:func:`_summary`), not the bounds
-    return tp, quality(tp.points, tp.triangles), tp.info.get("d_n")
+    return tp.info, quality(tp.points, tp.triangles), tp.info.get("d_n")
+
+
+def _tplus_again(polygon: Polygon, n: int, start) -> Mesh:
+    """The T+ :func:`_reference` compared with: the caller's, or made again
+    (T+ is deterministic: the same mesh)."""
+    tp = start if start is not None else tplus_if_feasible(polygon, n)
+    if tp is None:
+        raise InternalError(f"uniform: T+ for n = {n} could not be made again {PLEASE_REPORT}")
+    return tp
 
 
 def _summary(q):
@@ -138,7 +151,8 @@ def optimize_mesh(
 ) -> Mesh:
     """The most uniform mesh with exactly ``n`` Steiner points (see :mod:`uniform2d.optimize`).
 
-    ``start`` is the T+ mesh to beat (computed if not given); ``options`` go to
+    ``start`` is the T+ mesh to beat (computed if not given, and then made
+    again only if it is returned); ``options`` go to
     :func:`~uniform2d.optimize.improve`.  If n is too small for T+
     (:func:`uniform2d.tplus` raises
     :class:`~uniform2d.errors.InsufficientPointsError`), there is nothing to
@@ -159,7 +173,7 @@ def optimize_mesh(
     nV = len(polygon.vertices)
     report = _reporter(progress)
     report("T+", 0, 1)
-    tp, q_tp, d_n = _reference(polygon, n, start)
+    tp_info, q_tp, d_n = _reference(polygon, n, start)
     report("T+", 1, 1)
 
     h = target_size(polygon, n)
@@ -191,21 +205,22 @@ def optimize_mesh(
         "relocated": moved,
         "start": (
             None
-            if tp is None
-            else {"method": tp.info.get("method"), **_summary(q_tp), "objective": v_tp}
+            if tp_info is None
+            else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}
         ),
         "before": _summary(q_tp),
         "after": _summary(q_new),
         "objective_value": v_new,
     }
     if not (v_new <= v_tp) or len(pts) != nV + n:  # v_tp is inf without a T+
-        if tp is None:
+        if tp_info is None:
             raise InternalError(
                 f"uniform: {len(pts) - nV} Steiner points instead of {n} {PLEASE_REPORT}")
         info["fallback"] = "tplus"
         info["after"] = _summary(q_tp)
         info["objective_value"] = v_tp
         log.info("uniform: optimised mesh (%g) not better than T+ (%g); returning T+", v_new, v_tp)
-        return Mesh(np.array(tp.points), np.array(tp.triangles), polygon, n, {**tp.info, **info})
+        tp = _tplus_again(polygon, n, start)
+        return Mesh(np.array(tp.points), np.array(tp.triangles), polygon, n, {**tp_info, **info})
     info["fallback"] = None
     return Mesh(pts, tri, polygon, n, info)
