@@ -21,7 +21,7 @@ log = logging.getLogger(__name__)
 
 #: What the command line prints, once, before a run that compiles the kernels.
 COMPILE_NOTICE = (
-    "compiling the numba kernels: the first run takes 20 to 40 s longer "
+    "compiling the numba kernels: the first run takes 25 to 50 s longer "
     "(they are cached for later runs)"
 )
 
