@@ -22,7 +22,7 @@ Rows (NAME in brackets), each measured now, its peer in the same run:
 
 The table at the end gives each figure, the peer's, their ratio, the target and
 whether it is met.  ``--quick`` runs small stand-ins (n = 200 and 1000, 1e4
-and 3e4 vertices, INSERT on 1e5 points, no first run) in about two minutes, to
+and 3e4 vertices, INSERT on 1e5 points, no first run) in about a minute, to
 check the script: their targets read "n/a (quick)".  Timings are of this
 machine as it is now: run it with nothing else running.
 """
