@@ -236,9 +236,10 @@ def main(argv=None):
             speed(polys["square"], N, args.objective, not args.no_gmsh)
 
 
-def speed_run(N: int, objective: str) -> dict:
+def speed_run(N: int, objective: str, tplus: bool = True) -> dict:
     """uniform_mesh on the square with N vertices, in a fresh process: its time, the
-    process's peak RSS up to its end and its quality row; then T+ alone, timed."""
+    process's peak RSS up to its end and its quality row; then, with ``tplus``,
+    T+ alone, timed (``t_tp`` is None without)."""
     code = f"""
         import json, resource, sys, time
         sys.path[:0] = [{str(ROOT / "tests")!r}, {str(ROOT / "benchmarks")!r}]
@@ -252,9 +253,11 @@ def speed_run(N: int, objective: str) -> dict:
         ours = uniform2d.uniform_mesh(p, n, objective={objective!r})
         t_ours = time.perf_counter() - t
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-        t = time.perf_counter()
-        uniform2d.tplus(p, n)
-        t_tp = time.perf_counter() - t
+        t_tp = None
+        if {tplus!r}:
+            t = time.perf_counter()
+            uniform2d.tplus(p, n)
+            t_tp = time.perf_counter() - t
         q = ours.quality(d_n=ours.info["d_n"])
         print(json.dumps(dict(t_tp=t_tp, t_ours=t_ours, peak=peak, d_n=ours.info["d_n"],
                               row=row(q))))
