@@ -250,3 +250,23 @@ def test_fallback_returns_tplus_exactly(monkeypatch, given):
     np.testing.assert_array_equal(m.points, tp.points)
     np.testing.assert_array_equal(m.triangles, tp.triangles)
     assert m.info["d_n"] == tp.info["d_n"] and m.info["theorem_applies"] == tp.info["theorem_applies"]
+
+
+def test_fallback_refuses_if_tplus_cannot_be_made_again(monkeypatch):
+    # T+ is deterministic, so this cannot happen unless the library is broken:
+    # then an InternalError that asks for a report, not a wrong mesh
+    from uniform2d.errors import InternalError
+    from uniform2d.optimize import pipeline
+
+    monkeypatch.setattr(pipeline, "quality_objective", lambda objective, q, h: -q.edge_ratio)
+    made = []
+    real = pipeline.tplus_if_feasible
+
+    def once(polygon, n):
+        made.append(n)
+        return real(polygon, n) if len(made) == 1 else None
+
+    monkeypatch.setattr(pipeline, "tplus_if_feasible", once)
+    with pytest.raises(InternalError, match="could not be made again.*report"):
+        optimize_mesh(BENCH["square"], 200)
+    assert made == [200, 200]
