@@ -6,7 +6,7 @@ The pipeline (see ``docs/surface.md``)::
           --boundary_domain--> Polygon (corners kept, boundary even in 3-D length
                                within a chord-height tolerance)
           --compensation_field--> SizeField h * sqrt(area scale)
-          --_mesh_domain--> planar mesh with exactly n_vertices points
+          --chart_mesh.mesh_domain--> planar mesh with exactly n_vertices points
           --lift--> 3-D mesh on the input surface --report--> measures + cross-check
 """
 
@@ -19,12 +19,11 @@ import time
 
 import numpy as np
 
-from uniform2d import insert
-from uniform2d.errors import InsufficientPointsError, InternalError, InvalidArgumentError
+from uniform2d.errors import InsufficientPointsError, InvalidArgumentError
 from uniform2d.geometry import boundary_edges, nearest_segment, segment_distance
-from uniform2d.optimize import improve, lattice_seed
 
 from . import _igl, _meshlab
+from .chart_mesh import mesh_domain, size_field
 from .domain import CORNER_ANGLE, Domain, boundary_domain
 from .features import constrain, find_chains, lift_points
 from .lift import lift
@@ -34,20 +33,12 @@ from .parameterize import parameterize
 from .patch import Patch
 from .report import Report, cross_check, size_trend
 from .sizing import (
-    compensation_field, size_variation, target_size, vertex_count, vertex_scale
+    target_size, vertex_count
 )
 
 __all__ = ["RemeshResult", "remesh"]
 
 log = logging.getLogger(__name__)
-
-#: Compensation is skipped where the size it asks for, ``h * sqrt(area scale)``,
-#: varies by less than this fraction over the patch (see
-#: :func:`surface.sizing.size_variation`): developable patches (plates,
-#: cylinders, cones) vary only by discretisation, orders of magnitude below it,
-#: curved ones (spherical caps) by orders of magnitude more.
-UNIFORM_SIZE = 1e-3
-
 
 @dataclasses.dataclass(frozen=True)
 class RemeshResult:
@@ -80,53 +71,6 @@ class RemeshResult:
         from .io import write_patch
 
         return write_patch(path, self.vertices, self.faces)
-
-
-def _mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
-    """Mesh a polygon with exactly ``len(polygon.vertices) + n_interior`` points.
-
-    The one 2-D meshing step.  Default: a hexagonal lattice
-    (:func:`uniform2d.optimize.lattice_seed`) that
-    :func:`uniform2d.optimize.improve` moves, in the metric of ``size_field``,
-    towards equal size-normalised edges, keeping the mesh constrained Delaunay
-    and the count exact.  With ``optimize=False``: the paper's Algorithm INSERT,
-    graded by ``size_field`` (its candidates ranked by distance / size).
-    Relaxing INSERT's points ends far less uniform than relaxing the lattice:
-    the lattice gives the structure that point moves alone cannot.
-
-    Parameters
-    ----------
-    polygon : uniform2d.Polygon
-    n_interior : int
-    size_field : uniform2d.SizeField or None
-    optimize : bool
-        Move the points (default) or keep INSERT's.
-
-    Returns
-    -------
-    points : (N, 2) float64
-        ``polygon.vertices`` first, then the inserted points.
-    triangles : (M, 3) int64
-        Counter-clockwise.
-    mesher : str
-        What produced the mesh (goes into the report).
-    """
-    graded = "" if size_field is None else " with size field"
-    if optimize and n_interior:
-        P, T, _ = improve(polygon, lattice_seed(polygon, n_interior), size=size_field)
-        desc = "lattice + uniform2d.optimize.improve" + graded
-    else:
-        res = insert(polygon, n_interior, size=size_field)
-        P = np.asarray(res.mesh_points, dtype=np.float64)
-        T = np.asarray(res.triangles, dtype=np.int64)
-        desc = "uniform2d.insert" + graded
-    K = len(polygon.vertices)
-    if len(P) != K + n_interior or not np.array_equal(P[:K], polygon.vertices):
-        raise InternalError(
-            f"planar mesher broke its contract: {len(P)} points for {K} + {n_interior} "
-            "(a bug in uniform2d: please report it with the patch)"
-        )
-    return P, T, desc
 
 
 def _as_count(n) -> int:
@@ -252,11 +196,11 @@ def remesh(
         raise _too_few(P, N, size, K, domain.n_corners, domain_at)
 
     t = time.perf_counter()
-    field = _size_field(P, prm, h)
+    field = size_field(P, prm, h)
     times["size_field"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    pts, tris, mesher = _mesh_domain(
+    pts, tris, mesher = mesh_domain(
         domain.polygon, N - K, field if compensate else None, optimize=optimize
     )
     times["mesh_2d"] = time.perf_counter() - t
@@ -285,14 +229,6 @@ def remesh(
     for arr in (xyz, tris, pts, bmask):
         arr.setflags(write=False)
     return RemeshResult(xyz, tris, pts, bmask, report, domain)
-
-
-def _size_field(P: Patch, prm, h: float):
-    """The compensation field, or None where the size it asks for is constant."""
-    sv = vertex_scale(P.vertices, P.faces, prm.area_scale)
-    if not size_variation(sv) > UNIFORM_SIZE:  # a constant size: no field
-        return None
-    return compensation_field(P.vertices, P.faces, prm.uv, prm.area_scale, h, scale=sv)
 
 
 def _count_and_size(P: Patch, n_vertices, size) -> tuple[int, float]:

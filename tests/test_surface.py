@@ -21,7 +21,7 @@ from surface.domain import CHORD_TOL, boundary_domain, turning_angles  # noqa: E
 from surface.errors import CrossCheckError, InvalidPatchError, ParameterizationError  # noqa: E402
 from surface.parameterize import check_map, parameterize  # noqa: E402
 from surface.report import cross_check  # noqa: E402
-from surface.remesh import UNIFORM_SIZE  # noqa: E402
+from surface.chart_mesh import UNIFORM_SIZE  # noqa: E402
 from surface.sizing import (  # noqa: E402
     compensation_field, size_variation, target_size, vertex_count, vertex_scale
 )
@@ -501,7 +501,7 @@ def test_points_on_polygon_edges_are_lifted_onto_the_boundary(monkeypatch):
     import importlib
 
     rm = importlib.import_module("surface.remesh")  # the module, not the function
-    real = rm._mesh_domain
+    real = rm.mesh_domain
 
     def split_one_boundary_edge(polygon, n, field, **kw):
         P, T, desc = real(polygon, n - 1, field, **kw)
@@ -521,7 +521,7 @@ def test_points_on_polygon_edges_are_lifted_onto_the_boundary(monkeypatch):
             break
         return P, np.array(T), desc
 
-    monkeypatch.setattr(rm, "_mesh_domain", split_one_boundary_edge)
+    monkeypatch.setattr(rm, "mesh_domain", split_one_boundary_edge)
     p = surface.read_patch(patch_path("cap60"))
     r = surface.remesh(p, 300, check=True, hausdorff=False)
     k = 299

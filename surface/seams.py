@@ -1,0 +1,242 @@
+"""Seams of an atlas: the curves where charts meet, sampled once in 3-D.
+
+Every model edge between two charts, and every model boundary edge, is a seam
+edge.  The seam edges form a graph whose **nodes** are the vertices where three
+or more charts (or two charts and the model boundary) meet, where the graph
+branches or ends, where a crease seam meets a smooth one, and where a crease
+or the boundary turns by more than the corner angle; a cycle with no node gets
+one at its smallest vertex.  Between nodes the seam edges form **chains**.
+
+Each chain is sampled once, evenly in 3-D arc length, into ``m`` pieces with
+``m`` the chain's straightened length over the spacing (a chain that zigzags
+along the input's edges is measured by the chords of its samples, not by its
+zigzag); its samples lie on the chain's model edges.  Both charts that meet on
+a chain take exactly those samples as boundary vertices, so the stitched mesh
+is conforming by construction.  The ring of a chart is its boundary loops
+walked in order, nodes and samples as they come.
+
+Seam points on a crease or on the model boundary keep their place when the
+stitched mesh is relaxed (:mod:`surface.seam_relax`); those on a smooth seam
+are free: the seam is a cut of the atlas, not of the surface.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from . import _trimesh
+
+__all__ = ["Seams", "build_seams"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Seams:
+    """The sampled seams of an atlas.
+
+    Attributes
+    ----------
+    xyz : (S, 3) float64
+        Every seam point, nodes first.
+    edge : (S, 2) int64
+        The model edge ``(u, v)`` holding the point (``(v, v)`` for a node).
+    t : (S,) float64
+        Fraction along it: ``xyz = (1 - t) V[u] + t V[v]``.
+    fixed : (S,) bool
+        On a crease or the model boundary (kept in place by the relaxation).
+    chains : list of (k,) int64
+        The points of every chain in order, its two nodes at the ends.
+    rings : list of list of (k,) int64
+        Per chart: the seam points of each boundary loop, in loop order.
+    n_nodes : int
+    """
+
+    xyz: np.ndarray
+    edge: np.ndarray
+    t: np.ndarray
+    fixed: np.ndarray
+    chains: list
+    rings: list
+    n_nodes: int
+
+    @property
+    def n_points(self) -> int:
+        return len(self.xyz)
+
+    def length(self) -> float:
+        """Total 3-D length of the sampled chains."""
+        return float(sum(np.linalg.norm(np.diff(self.xyz[c], axis=0), axis=1).sum() for c in self.chains))
+
+
+def _seam_edges(F, label, pairs, edges, crease, loops):
+    """Seam edges (E, 2) and whether each is fixed (crease or boundary)."""
+    across = label[pairs[:, 0]] != label[pairs[:, 1]]
+    e = [edges[across]]
+    fixed = [crease[across]]
+    for lp in loops:
+        b = np.stack([lp, np.roll(lp, -1)], axis=1)
+        e.append(np.sort(b, axis=1))
+        fixed.append(np.ones(len(b), dtype=bool))
+    return np.concatenate(e), np.concatenate(fixed)
+
+
+def _nodes(V, F, label, E, fixed, on_boundary, corner):
+    """Seam vertices that end chains (see the module notes)."""
+    n = len(V)
+    deg = np.bincount(E.ravel(), minlength=n)
+    pairs = np.unique(np.stack([F.ravel(), np.repeat(label, 3)], axis=1), axis=0)
+    charts = np.bincount(pairs[:, 0], minlength=n) + on_boundary
+    nodes = set(np.flatnonzero(((deg > 0) & (deg != 2)) | ((deg > 0) & (charts >= 3))).tolist())
+    nf = np.bincount(E[fixed].ravel(), minlength=n)
+    nodes |= set(np.flatnonzero((deg == 2) & (nf == 1)).tolist())  # crease meets smooth seam
+    adj: dict[int, list[int]] = {}
+    for a, b in E.tolist():
+        adj.setdefault(a, []).append(b)
+        adj.setdefault(b, []).append(a)
+    cos_corner = np.cos(np.radians(corner))
+    for v in np.flatnonzero((deg == 2) & (nf == 2)).tolist():
+        a, b = adj[v]
+        u, w = V[v] - V[a], V[b] - V[v]
+        if u @ w < cos_corner * np.linalg.norm(u) * np.linalg.norm(w):
+            nodes.add(v)
+    return nodes, adj
+
+
+def _chains(adj, nodes) -> list[list[int]]:
+    """The seam graph cut at its nodes: vertex chains, node to node."""
+    used: set = set()
+    out = []
+
+    def follow(a, b):
+        chain = [a, b]
+        used.add((min(a, b), max(a, b)))
+        while chain[-1] not in nodes:
+            v = chain[-1]
+            step = [w for w in adj[v] if (min(v, w), max(v, w)) not in used]
+            if not step:
+                break
+            used.add((min(v, step[0]), max(v, step[0])))
+            chain.append(step[0])
+        return chain
+
+    for v in sorted(nodes):
+        for w in sorted(adj[v]):
+            if (min(v, w), max(v, w)) not in used:
+                out.append(follow(v, w))
+    for v in sorted(adj):  # cycles without a node: one at their smallest vertex
+        for w in sorted(adj[v]):
+            if (min(v, w), max(v, w)) not in used:
+                nodes.add(v)
+                out.append(follow(v, w))
+    return out
+
+
+def _pieces(V, chain, h) -> int:
+    """Pieces of a chain: its length measured along the chords of an even sampling."""
+    c = np.asarray(chain)
+    L = np.linalg.norm(np.diff(V[c], axis=0), axis=1).sum()
+    m = max(1, int(round(L / h)))
+    for _ in range(2):  # straighten: the chords of m pieces, then m again
+        P = _positions(V, c, m)[0]
+        m = max(1, int(round(np.linalg.norm(np.diff(P, axis=0), axis=1).sum() / h)))
+    return max(m, 3) if chain[0] == chain[-1] else m
+
+
+def _positions(V, c, m):
+    """m + 1 points evenly spaced in arc length along chain ``c``: (xyz, edge index, t)."""
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(V[c], axis=0), axis=1))])
+    s = cum[-1] * np.arange(m + 1) / m
+    i = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(c) - 2)
+    t = np.clip((s - cum[i]) / (cum[i + 1] - cum[i]), 0.0, 1.0)
+    P = (1 - t)[:, None] * V[c[i]] + t[:, None] * V[c[i + 1]]
+    return P, i, t
+
+
+def build_seams(V, F, loops, charts, crease_edges, *, spacing, corner_angle=30.0, refine=None) -> Seams:
+    """Sample the seams of ``charts`` at ``spacing``.
+
+    Parameters
+    ----------
+    V, F : the model's vertices and faces.
+    loops : sequence of (k,) int64
+        The model's boundary loops.
+    charts : list of :class:`surface.charts.Chart`
+    crease_edges : (C, 2) int64
+        Edges (smaller vertex first) whose seam points stay put.
+    spacing : float
+        3-D distance between consecutive samples.
+    corner_angle : float
+        A crease or boundary turning more than this (degrees) has a node there.
+    refine : dict, optional
+        Chain index -> factor multiplying its number of pieces (used when a
+        chart's ring is not simple at the plain sampling).
+
+    Returns
+    -------
+    Seams
+    """
+    label = np.empty(len(F), dtype=np.int64)
+    for i, c in enumerate(charts):
+        label[c.faces] = i
+    pairs, edges, _ = _trimesh.face_adjacency(V, F)
+    ckey = crease_edges[:, 0] * len(V) + crease_edges[:, 1] if len(crease_edges) else np.zeros(0, np.int64)
+    crease = np.isin(edges[:, 0] * len(V) + edges[:, 1], ckey)
+    E, fixed = _seam_edges(F, label, pairs, edges, crease, loops)
+    on_boundary = np.zeros(len(V), dtype=np.int64)
+    for lp in loops:
+        on_boundary[lp] = 1
+    nodes, adj = _nodes(V, F, label, E, fixed, on_boundary, corner_angle)
+    chains = _chains(adj, nodes)
+    fkey = set(map(tuple, E[fixed].tolist()))
+    node_list = sorted(nodes)
+    node_id = {v: k for k, v in enumerate(node_list)}
+    xyz, edge, t, fix = [V[node_list]], [np.stack([node_list, node_list], axis=1)], [np.zeros(len(node_list))], [
+        np.array([any((min(v, w), max(v, w)) in fkey for w in adj[v]) for v in node_list], dtype=bool)
+    ]
+    on_edge: dict = {}
+    point_chains = []
+    count = len(node_list)
+    refine = refine or {}
+    for k, chain in enumerate(chains):
+        c = np.asarray(chain, dtype=np.int64)
+        m = max(1, int(np.ceil(_pieces(V, chain, spacing) * refine.get(k, 1.0))))
+        P, i, tt = _positions(V, c, m)
+        ids = [node_id[chain[0]]] + list(range(count, count + m - 1)) + [node_id[chain[-1]]]
+        for j in range(1, m):
+            on_edge.setdefault((int(c[i[j]]), int(c[i[j] + 1])), []).append((float(tt[j]), count + j - 1))
+        xyz.append(P[1:m])
+        edge.append(np.stack([c[i[1:m]], c[i[1:m] + 1]], axis=1))
+        t.append(tt[1:m])
+        fix.append(np.full(m - 1, (min(chain[0], chain[1]), max(chain[0], chain[1])) in fkey))
+        point_chains.append(np.asarray(ids, dtype=np.int64))
+        count += m - 1
+    rings = [_chart_rings(c, node_id, on_edge) for c in charts]
+    return Seams(
+        np.concatenate(xyz), np.concatenate(edge).astype(np.int64), np.concatenate(t),
+        np.concatenate(fix), point_chains, rings, len(node_list),
+    )
+
+
+def _chart_rings(chart, node_id, on_edge) -> list[np.ndarray]:
+    """The seam points of each boundary loop of ``chart``, in loop order."""
+    rings = []
+    for lp in chart.patch.boundary_loops:
+        g = chart.vertices[lp]
+        ring = []
+        for x, y in zip(g.tolist(), np.roll(g, -1).tolist()):
+            if x in node_id:
+                ring.append(node_id[x])
+            fwd = on_edge.get((x, y), [])
+            back = [(1.0 - s, p) for s, p in on_edge.get((y, x), [])]
+            ring.extend(p for _, p in sorted(fwd + back))
+        rings.append(np.asarray(ring, dtype=np.int64))
+    return rings
+
+
+def chain_of_points(seams: Seams) -> np.ndarray:
+    """(S,) int64: the chain holding each non-node seam point (-1 for nodes)."""
+    out = np.full(seams.n_points, -1, dtype=np.int64)
+    for k, c in enumerate(seams.chains):
+        out[c[1:-1]] = k
+    return out
