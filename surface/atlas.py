@@ -187,9 +187,9 @@ def chart_counts(atlas: Atlas, n_vertices: int, spacing: float) -> np.ndarray:
 
 def _mesh_chart(item):
     """Mesh one chart (a module-level function: batch workers import it by name)."""
-    chart, polygon, count, spacing, optimize = item
-    field = size_field(chart.patch, chart.param, spacing)
-    P, T, _ = mesh_domain(polygon, int(count), field, optimize=optimize)
+    chart, polygon, count, spacing, compensate = item
+    field = size_field(chart.patch, chart.param, spacing) if compensate else None
+    P, T, _ = mesh_domain(polygon, int(count), field)
     K = len(polygon.vertices)
     if (boundary_edges(T, len(P)) >= K).any():
         raise InternalError("the planar mesher put a point on a chart's ring (a bug: please report it)")
@@ -197,18 +197,18 @@ def _mesh_chart(item):
     return P, T, xyz
 
 
-def mesh_atlas(atlas: Atlas, n_vertices: int, spacing: float, *, optimize: bool = True,
+def mesh_atlas(atlas: Atlas, n_vertices: int, spacing: float, *, compensate: bool = True,
                jobs: int = 1, scheduler=None):
-    """Mesh every chart and stitch them: ``(xyz (n_vertices, 3), faces, uv parts)``.
+    """Mesh every chart and stitch them: ``xyz (n_vertices, 3), faces (M, 3)``.
 
     Charts run through uniform2d's batch engine (``jobs`` local processes or a
     Dask ``scheduler``); the result does not depend on which.
     """
     counts = chart_counts(atlas, n_vertices, spacing)
-    items = [(c, p, k, spacing, optimize) for c, p, k in zip(atlas.charts, atlas.polygons, counts)]
+    items = [(c, p, k, spacing, compensate) for c, p, k in zip(atlas.charts, atlas.polygons, counts)]
     done = list(ordered_map(_mesh_chart, items, jobs=jobs, scheduler=scheduler))
     parts = [(idx, xyz, T) for idx, (_, T, xyz) in zip(atlas.index, done)]
     xyz, faces = stitch(atlas.seams.xyz, parts)
     if len(xyz) != n_vertices:
         raise InternalError(f"the stitched mesh has {len(xyz)} vertices, not {n_vertices} (a bug)")
-    return xyz, faces, [(P, T) for P, T, _ in done]
+    return xyz, faces

@@ -8,7 +8,7 @@ say what is wrong and what to do about it.
 
 from uniform2d.errors import Uniform2dError
 
-__all__ = ["InvalidPatchError", "ParameterizationError", "CrossCheckError"]
+__all__ = ["InvalidPatchError", "ParameterizationError", "CrossCheckError", "RemeshQualityError"]
 
 
 class InvalidPatchError(Uniform2dError):
@@ -16,7 +16,8 @@ class InvalidPatchError(Uniform2dError):
 
     The attribute :attr:`reason` names the failed check, one of
     ``"not_triangle_mesh"``, ``"non_manifold"``, ``"closed"``, ``"components"``,
-    ``"topology"`` (not a disk with holes), ``"degenerate"``.
+    ``"topology"`` (not a disk with holes), ``"degenerate"``, ``"charts"`` (a model
+    that cannot be cut into charts that flatten).
     """
 
     def __init__(self, message: str, reason: str = "invalid"):
@@ -30,3 +31,8 @@ class ParameterizationError(Uniform2dError):
 
 class CrossCheckError(Uniform2dError):
     """pymeshlab's measures of the output mesh disagree with ours (a bug: report it)."""
+
+
+class RemeshQualityError(Uniform2dError):
+    """The remesh came out worse than the library accepts (see
+    :mod:`surface.quality_gate`); the message says why and what to try."""

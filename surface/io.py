@@ -20,9 +20,10 @@ import numpy as np
 from uniform2d.errors import FileFormatError, UnsupportedFormatError
 
 from .errors import InvalidPatchError
+from .model import Model
 from .patch import Patch
 
-__all__ = ["read_patch", "write_patch", "as_patch", "WRITE_FORMATS"]
+__all__ = ["read_patch", "read_model", "write_patch", "as_patch", "as_model", "WRITE_FORMATS"]
 
 log = logging.getLogger(__name__)
 
@@ -39,7 +40,15 @@ def _suffix(path: Path) -> str:
 
 
 def read_patch(path) -> Patch:
-    """Read a triangle mesh file and check it as a patch.
+    """Read a triangle mesh file and check it as a patch (a disk with holes).
+
+    See :func:`read_model` for what is read; the checks are :class:`Patch`'s.
+    """
+    return Patch(*_load(path))
+
+
+def read_model(path) -> Model:
+    """Read a triangle mesh file and check it as a whole model.
 
     Parameters
     ----------
@@ -51,7 +60,7 @@ def read_patch(path) -> Patch:
 
     Returns
     -------
-    Patch
+    Model
 
     Raises
     ------
@@ -62,8 +71,13 @@ def read_patch(path) -> Patch:
     FileFormatError
         If trimesh fails to parse the file.
     InvalidPatchError
-        If the file holds no triangles or fails a patch check.
+        If the file holds no triangles or fails a check of :class:`Model`.
     """
+    return Model(*_load(path))
+
+
+def _load(path) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices and faces of a mesh file, bit-identical duplicates merged."""
     import trimesh
 
     path = Path(path)
@@ -97,7 +111,7 @@ def read_patch(path) -> Patch:
         rank[np.argsort(first)] = np.arange(len(uniq))
         V = V[np.sort(first)]
         F = rank[inv.ravel()][F]
-    return Patch(V, F)
+    return V, F
 
 
 def _default_mode(path: Path) -> int:
@@ -198,12 +212,26 @@ def as_patch(obj) -> Patch:
     """
     if isinstance(obj, Patch):
         return obj
+    return Patch(*_arrays(obj))
+
+
+def as_model(obj) -> Model:
+    """Convert a path, a ``(vertices, faces)`` pair, a trimesh, a :class:`Patch`
+    or a :class:`Model` (returned as is) to a :class:`Model`."""
+    if isinstance(obj, Model):
+        return obj
+    if isinstance(obj, Patch):
+        return Model(obj.vertices, obj.faces)
+    return Model(*_arrays(obj))
+
+
+def _arrays(obj):
     if isinstance(obj, (str, os.PathLike)):
-        return read_patch(obj)
+        return _load(obj)
     if hasattr(obj, "vertices") and hasattr(obj, "faces"):
-        return Patch(obj.vertices, obj.faces)
+        return obj.vertices, obj.faces
     if isinstance(obj, (tuple, list)) and len(obj) == 2:
-        return Patch(obj[0], obj[1])
+        return obj[0], obj[1]
     raise InvalidPatchError(
         f"cannot read a patch from a {type(obj).__name__}; pass a mesh file path, a "
         "(vertices, faces) pair of arrays or a trimesh.Trimesh",

@@ -14,12 +14,12 @@ from uniform2d.errors import UnsupportedFormatError
 
 from . import _igl
 from ._figures import plot_result
-from .io import WRITE_FORMATS, _suffix, read_patch
+from .io import WRITE_FORMATS, _suffix, read_model, read_patch
 from .measure import edge_stats, face_edge_lengths, unique_edges
 from .remesh import remesh
 
 __all__ = [
-    "read_patch", "remesh", "WRITE_FORMATS", "check_output", "measures", "deviation", "plot_result",
+    "read_patch", "read_model", "remesh", "WRITE_FORMATS", "check_output", "measures", "deviation", "plot_result",
     "warm_up",
 ]
 

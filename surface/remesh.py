@@ -12,7 +12,6 @@ The pipeline (see ``docs/surface.md``)::
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import numbers
 import time
@@ -22,16 +21,23 @@ import numpy as np
 from uniform2d.errors import InsufficientPointsError, InvalidArgumentError
 from uniform2d.geometry import boundary_edges, nearest_segment, segment_distance
 
-from . import _igl, _meshlab
+from . import _igl
 from .chart_mesh import mesh_domain, size_field
-from .domain import CORNER_ANGLE, Domain, boundary_domain
+from .domain import CORNER_ANGLE, boundary_domain
 from .features import constrain, find_chains, lift_points
 from .lift import lift
-from .io import as_patch
+from .io import as_model
 from .measure import edge_stats, unique_edges
+from .atlas_remesh import remesh_atlas
+from .charts import MAX_AREA_SCALE_RATIO
+from .errors import ParameterizationError
+from .fidelity import meshlab_checks
+from .model import Model
 from .parameterize import parameterize
 from .patch import Patch
-from .report import Report, cross_check, size_trend
+from .quality_gate import check_quality
+from .result import RemeshResult
+from .report import Report, size_trend
 from .sizing import (
     target_size, vertex_count
 )
@@ -39,39 +45,6 @@ from .sizing import (
 __all__ = ["RemeshResult", "remesh"]
 
 log = logging.getLogger(__name__)
-
-@dataclasses.dataclass(frozen=True)
-class RemeshResult:
-    """A remeshed patch.
-
-    Attributes
-    ----------
-    vertices : (N, 3) float64
-        On the input surface; boundary vertices on input boundary edges.
-    faces : (M, 3) int64
-        Oriented like the input faces.
-    uv : (N, 2) float64
-        The planar mesh the faces were built on, in the parameter plane.
-    boundary : (N,) bool
-        Vertices on the boundary.
-    report : Report
-    domain : Domain
-        The polygon that was meshed and where its vertices lie on the input.
-    """
-
-    vertices: np.ndarray
-    faces: np.ndarray
-    uv: np.ndarray
-    boundary: np.ndarray
-    report: Report
-    domain: Domain
-
-    def write(self, path):
-        """Write the 3-D mesh (see :func:`surface.write_patch`)."""
-        from .io import write_patch
-
-        return write_patch(path, self.vertices, self.faces)
-
 
 def _as_count(n) -> int:
     if isinstance(n, bool) or not isinstance(n, numbers.Integral):
@@ -99,13 +72,22 @@ def remesh(
     feature_angle: float | None = None,
     features=(),
     fixed=(),
+    jobs: int = 1,
+    scheduler=None,
 ) -> RemeshResult:
-    """Remesh a disk-like surface patch with near-equal 3-D edges.
+    """Remesh a surface with near-equal 3-D edges and exactly ``n_vertices`` vertices.
+
+    A disk (holes allowed) whose flattening has low distortion is flattened in one
+    piece; every other model -- closed, of any genus, in several parts, or too
+    curved -- is cut into an atlas of such charts (:mod:`surface.atlas`), whose
+    seams are sampled once and shared, and the charts' meshes are stitched and
+    relaxed across the seams.
 
     Parameters
     ----------
-    patch : path, (V, F) pair, trimesh.Trimesh or Patch
-        A triangle mesh that is a disk, possibly with holes (see :class:`surface.Patch`).
+    patch : path, (V, F) pair, trimesh.Trimesh, Patch or Model
+        Any manifold, consistently oriented triangle mesh (see :class:`surface.Model`):
+        open or closed, of any genus, in one or several parts.
     n_vertices : int, optional
         Exact number of vertices of the output.  Default: the input's vertex count
         (unless ``size`` is given).
@@ -142,11 +124,18 @@ def remesh(
     feature_angle : float, optional
         Keep creases: interior edges whose faces' normals differ by more than this
         (degrees) become feature lines (see :mod:`surface.features`): chains of
-        output edges lying on the input's feature edges.  Default: none.
+        output edges lying on the input's feature edges.  Default: none (an atlas
+        still cuts its charts along edges bent more than
+        :data:`surface.charts.CREASE_ANGLE`, which keeps them).
     features : sequence of sequences of int
         More feature lines, as chains of consecutive input vertex indices.
     fixed : sequence of int
-        Input vertices that must be output vertices (kept exactly where they are).
+        Input vertices that must be output vertices (kept exactly where they are;
+        single-chart patches only).
+    jobs : int
+        Local processes meshing an atlas's charts (the result does not depend on it).
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler meshing the charts instead (the ``dask`` extra).
 
     Returns
     -------
@@ -155,9 +144,11 @@ def remesh(
     Raises
     ------
     InvalidPatchError
-        If the patch fails a check.
+        If the mesh fails a check of :class:`surface.Model`.
     ParameterizationError
         If no flip-free, non-overlapping flattening was found.
+    RemeshQualityError
+        If the result's edge ratio exceeds :data:`surface.quality_gate.EDGE_RATIO_LIMIT`.
     InsufficientPointsError
         If ``n_vertices`` is too small to place the boundary points.
     CrossCheckError
@@ -165,14 +156,60 @@ def remesh(
     """
     times = {}
     t0 = time.perf_counter()
-    P: Patch = as_patch(patch)
+    M: Model = as_model(patch)
     times["check"] = time.perf_counter() - t0
-
+    N, h = _count_and_size(M, n_vertices, size)
     t = time.perf_counter()
-    prm = parameterize(P, param)
+    P, prm = _one_chart(M, param)
     times["parameterize"] = time.perf_counter() - t
+    if P is None:
+        if len(fixed):
+            raise InvalidArgumentError(
+                "fixed vertices are supported on patches that flatten in one piece; this model "
+                "is remeshed as an atlas of charts (closed, several parts, a handle or too curved)"
+            )
+        if not optimize:
+            raise InvalidArgumentError(
+                "optimize=False (INSERT alone) is for patches that flatten in one piece; this "
+                "model is remeshed as an atlas of charts"
+            )
+        result = remesh_atlas(
+            M, N, h, feature_angle=feature_angle, features=features, corner_angle=corner_angle,
+            compensate=compensate, check=check, hausdorff=hausdorff, jobs=jobs,
+            scheduler=scheduler, times=times, t0=t0,
+        )
+    else:
+        result = _remesh_patch(
+            P, prm, N, h, size=size, compensate=compensate, corner_angle=corner_angle,
+            chord_tol=chord_tol, check=check, hausdorff=hausdorff, optimize=optimize,
+            feature_angle=feature_angle, features=features, fixed=fixed, times=times, t0=t0,
+        )
+    check_quality(result.report)
+    return result
 
-    N, h = _count_and_size(P, n_vertices, size)
+
+def _one_chart(M: Model, param: str):
+    """``(Patch, Parameterization)`` when ``M`` is a disk whose flattening has an
+    area-scale ratio within :data:`surface.charts.MAX_AREA_SCALE_RATIO`, else
+    ``(None, None)``: the model is remeshed as an atlas."""
+    P = M.as_patch()
+    if P is None:
+        return None, None
+    try:
+        prm = parameterize(P, param)
+    except ParameterizationError as exc:
+        log.info("the patch does not flatten in one piece (%s): remeshing it as an atlas", exc)
+        return None, None
+    s = prm.area_scale
+    if not s.max() <= MAX_AREA_SCALE_RATIO * s.min():
+        log.info("flattening's area scale varies %.3g-fold: remeshing as an atlas", s.max() / s.min())
+        return None, None
+    return P, prm
+
+
+def _remesh_patch(P: Patch, prm, N, h, *, size, compensate, corner_angle, chord_tol, check,
+                  hausdorff, optimize, feature_angle, features, fixed, times, t0) -> RemeshResult:
+    """The single-chart remesh: ``P`` flattened in one piece by ``prm``."""
     t = time.perf_counter()
     measure = "3d" if compensate else "uv"
     chains, fixed = find_chains(P, feature_angle, features, fixed, corner_angle)
@@ -213,7 +250,7 @@ def remesh(
     stats = edge_stats(xyz, tris)
     fidelity = _fidelity(P, xyz, tris, bmask, lifted)
     times["measure"] = time.perf_counter() - t
-    meshlab = _meshlab_checks(P, xyz, tris, stats, fidelity, times, check, hausdorff)
+    meshlab = meshlab_checks(P, xyz, tris, stats, fidelity, times, check, hausdorff)
     times["total"] = time.perf_counter() - t0
 
     dist = prm.distortion(P.face_areas)
@@ -330,28 +367,3 @@ def _fidelity(P: Patch, xyz, tris, bmask, lifted) -> dict:
         "boundary_distance_max": float(bdist.max()),
         "uv_outside_max": float(lifted.uv_distance.max()) if lifted.uv_distance.size else 0.0,
     }
-
-
-def _meshlab_checks(P: Patch, xyz, tris, stats, fidelity, times, check, hausdorff):
-    """pymeshlab's cross-check of the edge measures (returned) and its Hausdorff
-    distances (added to ``fidelity``), with their timings; then the relative figures."""
-    meshlab = None
-    V, F = P.vertices, P.faces
-    if check:
-        t = time.perf_counter()
-        meshlab = cross_check(stats, _meshlab.edge_measures(xyz, tris))
-        times["cross_check"] = time.perf_counter() - t
-    if hausdorff:
-        t = time.perf_counter()
-        ns = int(min(200_000, 10 * (len(F) + len(tris))))
-        fidelity["hausdorff_out_in"] = _meshlab.hausdorff(xyz, tris, V, F, ns)
-        fidelity["hausdorff_in_out"] = _meshlab.hausdorff(V, F, xyz, tris, ns)
-        times["hausdorff"] = time.perf_counter() - t
-    diag = P.diagonal
-    for key in list(fidelity):
-        if isinstance(fidelity[key], float):
-            fidelity[key + "_rel"] = fidelity[key] / diag
-    for key in ("hausdorff_out_in", "hausdorff_in_out"):
-        if key in fidelity:
-            fidelity[key + "_max_rel"] = fidelity[key]["max"] / diag
-    return meshlab

@@ -139,6 +139,12 @@ class Report:
         Seconds per step.
     mesher : str
         What produced the planar mesh.
+    compensate : bool
+        Whether the planar mesh was graded to be uniform in 3-D.
+    atlas : dict or None
+        For a model remeshed as an atlas: charts (faces, area, area-scale ratio),
+        seams (points, nodes, chains, length), the edge CV near seams and away from
+        them before and after the seam relaxation, and the flips it made.
     """
 
     n_vertices: int
@@ -156,6 +162,7 @@ class Report:
     timings: dict
     mesher: str
     compensate: bool
+    atlas: dict | None = None
 
     def as_dict(self) -> dict:
         """A JSON-serialisable dict."""
@@ -179,6 +186,14 @@ class Report:
             lines.append(
                 f"Hausdorff (pymeshlab): out->in {f['hausdorff_out_in']['max'] / self.diagonal:.2e}, "
                 f"in->out {f['hausdorff_in_out']['max'] / self.diagonal:.2e} of the diagonal"
+            )
+        if self.atlas:
+            a, sm = self.atlas, self.atlas["seams"]
+            lines.append(
+                f"atlas: {a['n_charts']} charts (area scale ratio up to "
+                f"{max(c['area_scale_ratio'] for c in a['charts']):.2f}), {a['n_seam_chains']} seams, "
+                f"{a['n_seam_points']} seam points; edge cv near seams {sm['cv_near_seams']:.4f}, "
+                f"away {sm['cv_away']:.4f}"
             )
         if self.meshlab:
             lines.append(

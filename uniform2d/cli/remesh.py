@@ -1,4 +1,4 @@
-"""``uniform2d remesh``: remesh disk-like surface patches with near-equal 3-D edges.
+"""``uniform2d remesh``: remesh surfaces with near-equal 3-D edges and exactly N vertices.
 
 Wraps the ``remesh`` of the registered surface-patch layer (the ``surface``
 extra: trimesh, libigl, pymeshlab; found through :mod:`uniform2d.plugins`).
@@ -34,10 +34,12 @@ PARAMS = ("lscm", "arap", "harmonic")
 def add_parser(subparsers):
     p = subparsers.add_parser(
         "remesh",
-        help="remesh surface patches (needs the 'surface' extra)",
-        description="Remesh disk-like triangulated surface patches (possibly with holes) "
-        "with exactly N vertices and near-equal 3-D edges: flatten it (libigl), mesh "
-        "the flat domain with uniform2d, lift the mesh back.",
+        help="remesh surfaces: patches and whole models (needs the 'surface' extra)",
+        description="Remesh triangulated surfaces with exactly N vertices and near-equal "
+        "3-D edges: a patch that flattens well is flattened (libigl), its flat domain meshed "
+        "with uniform2d and lifted back; any other model (closed, any genus, several parts, "
+        "strongly curved) is cut into an atlas of such charts sharing their seams. With one "
+        "input, --jobs/--scheduler mesh its charts in parallel (same output bytes).",
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="surface mesh file(s) (.obj, .off, .ply, .stl, ...)")
@@ -129,10 +131,11 @@ def _process(args, job) -> dict:
     layer = patch_layer()
     if not src.exists():
         raise FileNotFoundError(2, "input file not found", str(src))
-    patch = layer.read_patch(src)
-    log.info("%s: %r", src, patch)
-    result = layer.remesh(patch, n_vertices=args.n, size=args.size, param=args.param,
-                          feature_angle=args.feature_angle)
+    model = layer.read_model(src)
+    log.info("%s: %r", src, model)
+    inner = getattr(args, "chart_jobs", {})  # one input: its charts in parallel instead
+    result = layer.remesh(model, n_vertices=args.n, size=args.size, param=args.param,
+                          feature_angle=args.feature_angle, **inner)
     dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
     result.write(dst)
     if fig is not None:
@@ -161,5 +164,8 @@ def run(args) -> int:
     plan = _plan(args, patch_layer())
     if len(plan) == 1 and not plan[0][0].exists():
         raise FileNotFoundError(2, "input file not found", str(plan[0][0]))
+    if len(plan) == 1 and (args.jobs > 1 or args.scheduler is not None):
+        args.chart_jobs = {"jobs": args.jobs, "scheduler": args.scheduler}
+        args.jobs, args.scheduler = 1, None
     return run_batch(args, _process, plan, "remeshing", _show,
                      lambda doc: {k: doc[k] for k in ("input", "output", "report")})

@@ -1,0 +1,200 @@
+"""Relaxing a stitched atlas mesh across its seams, on the input surface.
+
+Each chart is meshed as well as the planar optimiser can, but its ring is
+fixed: along a seam the two charts' rows meet as they come, with vertices of
+valence 5 and 7 and triangles squeezed or stretched.  The seam is a cut of the
+atlas, not of the surface, so here it stops being one: in a band of
+:data:`BAND_RINGS` rings around every seam point that is not on a crease or
+the model boundary,
+
+1. **flips** make valences regular: an edge is flipped when that brings the
+   valences of its four vertices closer to 6 (fixed vertices do not count),
+   the two new triangles face the way the old ones did, and the smallest angle
+   of the pair does not drop below :data:`FLIP_MIN_ANGLE` or below what it was
+   (Botsch and Kobbelt's isotropic remeshing step, without splits and
+   collapses, which would change the count);
+2. **tangential smoothing** moves every free vertex of the band towards the
+   average of its neighbours, within the input's tangent plane, and back onto
+   the input surface (its closest point, libigl).
+
+Seam points on creases and on the model boundary do not move, so creases and
+boundaries stay exactly where the seam sampling put them.  A round that would
+fold a triangle against the input surface is undone and the relaxation stops.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from . import _igl
+from .measure import corner_angles, unique_edges
+
+__all__ = ["relax", "band", "BAND_RINGS"]
+
+log = logging.getLogger(__name__)
+
+#: Rings of neighbours around the free seam points that are relaxed.
+BAND_RINGS = 1000
+
+#: Outer rounds (one flip pass and :data:`SMOOTH_STEPS` smoothing steps each).
+ROUNDS = 4
+SMOOTH_STEPS = 8
+
+#: Fraction of the mean spring force a vertex moves by in one step.
+STEP = 0.5
+
+#: A flip may not make the pair's smallest angle smaller than this (degrees).
+FLIP_MIN_ANGLE = 25.0
+
+#: A flip may not make the edge farther from the mean length than this fraction of
+#: it, unless the flipped edge was farther still.
+FLIP_SLACK = 0.15
+
+#: A face whose normal turns more than this from the input's (degrees) is a fold.
+FOLD_ANGLE = 60.0
+
+
+def band(faces, seeds, n: int, rings: int = BAND_RINGS) -> np.ndarray:
+    """(n,) bool: the vertices within ``rings`` edges of the ``seeds``."""
+    E = unique_edges(faces)
+    inside = np.zeros(n, dtype=bool)
+    inside[np.asarray(seeds, dtype=np.int64)] = True
+    for _ in range(rings):
+        grow = inside[E[:, 0]] | inside[E[:, 1]]
+        inside[E[grow].ravel()] = True
+    return inside
+
+
+def _normals(X, F):
+    n = np.cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
+    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+
+
+def _surface_normals(P, V0, F0, N0):
+    _, face, closest = _igl.closest_points(P, V0, F0)
+    return closest, N0[face]
+
+
+def _folded(X, F, V0, F0, N0) -> bool:
+    c = X[F].mean(axis=1)
+    _, nin = _surface_normals(c, V0, F0, N0)
+    return bool((np.einsum("ij,ij->i", _normals(X, F), nin) < np.cos(np.radians(FOLD_ANGLE))).any())
+
+
+def _smooth(X, F, move, V0, F0, N0, steps: int):
+    """Spring steps of the ``move`` vertices towards edges of the mean length,
+    within the input's tangent plane, projected back onto the input."""
+    E = unique_edges(F)
+    n = len(X)
+    deg = np.bincount(E.ravel(), minlength=n).astype(np.float64)
+    idx = np.flatnonzero(move)
+    for _ in range(steps):
+        d = X[E[:, 1]] - X[E[:, 0]]
+        L = np.linalg.norm(d, axis=1)
+        pull = ((L - L.mean()) / L)[:, None] * d
+        s = np.zeros_like(X)
+        np.add.at(s, E[:, 0], pull)
+        np.add.at(s, E[:, 1], -pull)
+        step = STEP * s[idx] / deg[idx, None]
+        _, nrm = _surface_normals(X[idx], V0, F0, N0)
+        step -= np.einsum("ij,ij->i", step, nrm)[:, None] * nrm
+        closest, _ = _surface_normals(X[idx] + step, V0, F0, N0)
+        X[idx] = closest
+    return X
+
+
+def _flip_pass(X, F, free, locked) -> int:
+    """One pass of valence-equalising flips over edges with a free end; in place."""
+    F_list = F.tolist()
+    edge_faces: dict = {}
+    for f, (a, b, c) in enumerate(F_list):
+        for u, v in ((a, b), (b, c), (c, a)):
+            edge_faces.setdefault((min(u, v), max(u, v)), []).append(f)
+    E = unique_edges(F)
+    val = np.bincount(E.ravel(), minlength=len(X))
+    mean = np.linalg.norm(X[E[:, 1]] - X[E[:, 0]], axis=1).mean()
+    flips = 0
+    for (u, v), fs in sorted(edge_faces.items()):
+        if len(fs) != 2 or not (free[u] or free[v]) or (u, v) in locked:
+            continue
+        f, g = fs
+        c = _opposite(F_list[f], u, v)
+        d = _opposite(F_list[g], u, v)
+        if c is None or d is None or (min(c, d), max(c, d)) in edge_faces:
+            continue
+        w = free[[u, v, c, d]].astype(np.float64)
+        before = np.array([val[u], val[v], val[c], val[d]]) - 6
+        after = before + np.array([-1, -1, 1, 1])
+        if not (w * after**2).sum() < (w * before**2).sum():
+            continue
+        if abs(np.linalg.norm(X[c] - X[d]) - mean) > max(abs(np.linalg.norm(X[u] - X[v]) - mean), FLIP_SLACK * mean):
+            continue
+        new_f, new_g = _flipped(F_list[f], u, v, c, d)
+        if not _flip_ok(X, [F_list[f], F_list[g]], [new_f, new_g]):
+            continue
+        F_list[f], F_list[g] = new_f, new_g
+        del edge_faces[(u, v)]
+        edge_faces[(min(c, d), max(c, d))] = [f, g]
+        for x, y in ((u, c), (u, d), (v, c), (v, d)):  # the quad's sides: which face now
+            lst = edge_faces[(min(x, y), max(x, y))]
+            here, there = (f, g) if x in new_f and y in new_f else (g, f)
+            lst[lst.index(there if there in lst else here)] = here
+        val[[u, v]] -= 1
+        val[[c, d]] += 1
+        flips += 1
+    F[:] = np.asarray(F_list, dtype=np.int64)
+    return flips
+
+
+def _opposite(tri, u, v):
+    rest = [x for x in tri if x != u and x != v]
+    return rest[0] if len(rest) == 1 else None
+
+
+def _flipped(tri_f, u, v, c, d):
+    """The two triangles after flipping (u, v) to (c, d), with the orientation of
+    ``tri_f`` = (.., u, v, c in cyclic order) kept."""
+    i = tri_f.index(u)
+    if tri_f[(i + 1) % 3] == v:  # f runs u -> v -> c: g runs v -> u -> d
+        return [u, d, c], [v, c, d]
+    return [v, d, c], [u, c, d]
+
+
+def _flip_ok(X, old, new) -> bool:
+    n_old = _normals(X, np.asarray(old))
+    n_new = _normals(X, np.asarray(new))
+    ref = n_old.sum(axis=0)
+    if not (n_new @ ref > 0.5 * np.linalg.norm(ref)).all():
+        return False
+    a_old = np.degrees(corner_angles(X, np.asarray(old))).min()
+    a_new = np.degrees(corner_angles(X, np.asarray(new))).min()
+    return a_new >= min(a_old, FLIP_MIN_ANGLE)
+
+
+def relax(X, F, free_seeds, fixed, V0, F0):
+    """Relax the band around ``free_seeds`` (free seam points); ``fixed`` (n,) bool
+    vertices never move and edges between two of them never flip.
+
+    Returns new ``(X, F)`` (the inputs are not changed) and the number of flips.
+    """
+    X = np.array(X, dtype=np.float64)
+    F = np.array(F, dtype=np.int64)
+    V0 = np.asarray(V0, dtype=np.float64)
+    F0 = np.asarray(F0, dtype=np.int64)
+    N0 = _normals(V0, F0)
+    if not len(free_seeds):
+        return X, F, 0
+    E = unique_edges(F)
+    locked = set(map(tuple, E[fixed[E[:, 0]] & fixed[E[:, 1]]].tolist()))
+    flips = 0
+    for _ in range(ROUNDS):
+        move = band(F, free_seeds, len(X)) & ~fixed
+        X0, F_0 = X.copy(), F.copy()
+        flips += _flip_pass(X, F, move, locked)
+        X = _smooth(X, F, move, V0, F0, N0, SMOOTH_STEPS)
+        if _folded(X, F, V0, F0, N0):
+            log.info("seam relaxation stopped: a round would fold a triangle")
+            return X0, F_0, flips
+    return X, F, flips
