@@ -143,10 +143,67 @@ def _pieces(V, chain, h) -> int:
     return max(m, 3) if chain[0] == chain[-1] else m
 
 
-def _positions(V, c, m):
-    """m + 1 points evenly spaced in arc length along chain ``c``: (xyz, edge index, t)."""
-    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(V[c], axis=0), axis=1))])
+def _at(X, cum, s):
+    """The point at arc position ``s`` of the polyline X (arc positions ``cum``)."""
+    i = int(np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(X) - 2))
+    t = float(np.clip((s - cum[i]) / (cum[i + 1] - cum[i]), 0.0, 1.0))
+    return (1 - t) * X[i] + t * X[i + 1]
+
+
+def _walk_chord(X, cum, s0, c):
+    """The first arc position after ``s0`` at straight distance ``c`` from the point
+    at ``s0``, or None past the polyline's end."""
+    p = _at(X, cum, s0)
+    i = int(np.searchsorted(cum, s0, side="right"))
+    j = np.flatnonzero(np.linalg.norm(X[i:] - p, axis=1) >= c)
+    if not len(j):
+        return None
+    k = i + int(j[0])  # the crossing lies between s_a and vertex k
+    s_a = max(cum[k - 1], s0)
+    a = _at(X, cum, s_a)
+    u = X[k] - a
+    # |a + x u - p| = c for x in [0, 1]: the larger root
+    A, B, C = u @ u, 2.0 * u @ (a - p), (a - p) @ (a - p) - c * c
+    x = (-B + np.sqrt(max(B * B - 4 * A * C, 0.0))) / (2 * A) if A > 0 else 1.0
+    return s_a + float(np.clip(x, 0.0, 1.0)) * (cum[k] - s_a)
+
+
+def _equal_chords(X, cum, m):
+    """Arc positions of m + 1 points along the polyline X, ends included, whose m
+    chords are equal (to 1e-9), or None where the polyline folds back too much."""
+    lo, hi = 0.0, 1.5 * cum[-1] / m
+    best = None
+    for _ in range(60):  # bisection on the chord: the last piece ends exactly at the end
+        chord = 0.5 * (lo + hi)
+        s = [0.0]
+        while len(s) < m:
+            nxt = _walk_chord(X, cum, s[-1], chord)
+            if nxt is None:
+                break
+            s.append(nxt)
+        if len(s) < m:  # ran out: the chord is too long
+            hi = chord
+            continue
+        last = np.linalg.norm(X[-1] - _at(X, cum, s[-1]))
+        best = np.asarray(s + [cum[-1]])
+        if abs(last - chord) <= 1e-9 * chord:
+            break
+        lo, hi = (chord, hi) if last > chord else (lo, chord)
+    return best
+
+
+def _positions(V, c, m, equal_chords=False):
+    """m + 1 points along chain ``c``, ends included: (xyz, edge index, t).  Evenly
+    spaced in arc length, or, with ``equal_chords``, with equal straight distances
+    between neighbours, so a seam that zigzags along the input's edges is not
+    sampled more densely than a straight one."""
+    X = V[c]
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(X, axis=0), axis=1))])
     s = cum[-1] * np.arange(m + 1) / m
+    if equal_chords and m > 1:
+        eq = _equal_chords(X, cum, m)
+        if eq is not None and np.all(np.diff(eq) > 0):
+            s = eq
     i = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(c) - 2)
     t = np.clip((s - cum[i]) / (cum[i + 1] - cum[i]), 0.0, 1.0)
     P = (1 - t)[:, None] * V[c[i]] + t[:, None] * V[c[i + 1]]
@@ -201,7 +258,7 @@ def build_seams(V, F, loops, charts, crease_edges, *, spacing, corner_angle=30.0
     for k, chain in enumerate(chains):
         c = np.asarray(chain, dtype=np.int64)
         m = max(1, int(np.ceil(_pieces(V, chain, spacing) * refine.get(k, 1.0))))
-        P, i, tt = _positions(V, c, m)
+        P, i, tt = _positions(V, c, m, equal_chords=True)
         ids = [node_id[chain[0]]] + list(range(count, count + m - 1)) + [node_id[chain[-1]]]
         for j in range(1, m):
             on_edge.setdefault((int(c[i[j]]), int(c[i[j] + 1])), []).append((float(tt[j]), count + j - 1))
