@@ -8,11 +8,12 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
-from uniform2d.errors import InternalError
+from uniform2d.errors import InsufficientPointsError, InternalError
 from uniform2d.geometry import segment_distance
 
 from . import _igl
 from .atlas import build_atlas, mesh_atlas
+from .errors import InvalidPatchError
 from .fidelity import meshlab_checks
 from .measure import edge_stats, unique_edges
 from .model import Model
@@ -40,9 +41,15 @@ def seam_uniformity(xyz, faces, seam_xyz, h: float) -> dict:
     return {"cv_near_seams": cv(L[near]), "cv_away": cv(L[~near]), "near_edges": int(near.sum())}
 
 
-def _fidelity(M: Model, xyz, faces) -> tuple[dict, np.ndarray]:
+def _fidelity(M: Model, xyz, faces, n_charts: int) -> tuple[dict, np.ndarray]:
     d2, _, _ = _igl.closest_points(xyz, M.vertices, M.faces)
-    out = Model(xyz, faces)
+    try:
+        out = Model(xyz, faces)
+    except InvalidPatchError as exc:  # a few points on many charts: two faces coincide
+        raise InsufficientPointsError(
+            f"{len(xyz)} vertices are too few for this model's {n_charts} charts (the stitched "
+            f"mesh is not a surface: {exc}); ask for more vertices"
+        ) from None
     bmask = np.zeros(len(xyz), dtype=bool)
     for lp in out.boundary_loops:
         bmask[lp] = True
@@ -78,7 +85,7 @@ def remesh_atlas(M: Model, N: int, h: float, *, feature_angle, features, corner_
     times["relax"] = time.perf_counter() - t
     t = time.perf_counter()
     stats = edge_stats(xyz, faces)
-    fidelity, bmask = _fidelity(M, xyz, faces)
+    fidelity, bmask = _fidelity(M, xyz, faces, len(atlas.charts))
     times["measure"] = time.perf_counter() - t
     meshlab = meshlab_checks(M, xyz, faces, stats, fidelity, times, check, hausdorff)
     times["total"] = time.perf_counter() - t0
