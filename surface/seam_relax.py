@@ -7,12 +7,16 @@ atlas, not of the surface, so here it stops being one: in a band of
 :data:`BAND_RINGS` rings around every seam point that is not on a crease or
 the model boundary,
 
-1. **flips** make valences regular: an edge is flipped when that brings the
-   valences of its four vertices closer to 6 (fixed vertices do not count),
-   the two new triangles face the way the old ones did, and the smallest angle
-   of the pair does not drop below :data:`FLIP_MIN_ANGLE` or below what it was
-   (Botsch and Kobbelt's isotropic remeshing step, without splits and
-   collapses, which would change the count);
+1. **flips**: first where an edge's two opposite angles (in 3-D) sum to more
+   than 180 degrees and flipping raises the pair's smallest angle (a Delaunay
+   pass: it removes the flat triangles a chord of a ring can leave), then
+   where that brings the valences of the four vertices closer to 6 (fixed
+   vertices do not count), the new edge is no farther from the mean length
+   than :data:`FLIP_SLACK`, and the pair's smallest angle does not drop below
+   :data:`FLIP_MIN_ANGLE` or below what it was (Botsch and Kobbelt's isotropic
+   remeshing step, without splits and collapses, which would change the
+   count); a flip is made only where the two new triangles face the way the
+   old ones did;
 2. **tangential smoothing** moves every free vertex of the band towards the
    average of its neighbours, within the input's tangent plane, and back onto
    the input surface (its closest point, libigl).
@@ -105,8 +109,27 @@ def _smooth(X, F, move, V0, F0, N0, steps: int):
     return X
 
 
-def _flip_pass(X, F, free, locked) -> int:
-    """One pass of valence-equalising flips over edges with a free end; in place."""
+def _angle(X, at, p, q) -> float:
+    a, b = X[p] - X[at], X[q] - X[at]
+    return float(np.arctan2(np.linalg.norm(np.cross(a, b)), a @ b))
+
+
+def _wants(rule, X, u, v, c, d, val, free, mean) -> bool:
+    """Whether ``rule`` asks to flip (u, v) to (c, d)."""
+    if rule == "delaunay":  # the opposite angles sum to more than pi: not Delaunay
+        return _angle(X, c, u, v) + _angle(X, d, u, v) > np.pi
+    w = free[[u, v, c, d]].astype(np.float64)
+    before = np.array([val[u], val[v], val[c], val[d]]) - 6
+    after = before + np.array([-1, -1, 1, 1])
+    if not (w * after**2).sum() < (w * before**2).sum():
+        return False
+    slack = max(abs(np.linalg.norm(X[u] - X[v]) - mean), FLIP_SLACK * mean)
+    return abs(np.linalg.norm(X[c] - X[d]) - mean) <= slack
+
+
+def _flip_pass(X, F, free, locked, rule: str) -> int:
+    """One pass of flips over the edges with a free end, in place: ``"delaunay"``
+    (3-D angles) or ``"valence"`` (towards valence 6)."""
     F_list = F.tolist()
     edge_faces: dict = {}
     for f, (a, b, c) in enumerate(F_list):
@@ -124,15 +147,10 @@ def _flip_pass(X, F, free, locked) -> int:
         d = _opposite(F_list[g], u, v)
         if c is None or d is None or (min(c, d), max(c, d)) in edge_faces:
             continue
-        w = free[[u, v, c, d]].astype(np.float64)
-        before = np.array([val[u], val[v], val[c], val[d]]) - 6
-        after = before + np.array([-1, -1, 1, 1])
-        if not (w * after**2).sum() < (w * before**2).sum():
-            continue
-        if abs(np.linalg.norm(X[c] - X[d]) - mean) > max(abs(np.linalg.norm(X[u] - X[v]) - mean), FLIP_SLACK * mean):
+        if not _wants(rule, X, u, v, c, d, val, free, mean):
             continue
         new_f, new_g = _flipped(F_list[f], u, v, c, d)
-        if not _flip_ok(X, [F_list[f], F_list[g]], [new_f, new_g]):
+        if not _flip_ok(X, [F_list[f], F_list[g]], [new_f, new_g], rule == "delaunay"):
             continue
         F_list[f], F_list[g] = new_f, new_g
         del edge_faces[(u, v)]
@@ -162,7 +180,7 @@ def _flipped(tri_f, u, v, c, d):
     return [v, d, c], [u, c, d]
 
 
-def _flip_ok(X, old, new) -> bool:
+def _flip_ok(X, old, new, strict=False) -> bool:
     n_old = _normals(X, np.asarray(old))
     n_new = _normals(X, np.asarray(new))
     ref = n_old.sum(axis=0)
@@ -170,7 +188,7 @@ def _flip_ok(X, old, new) -> bool:
         return False
     a_old = np.degrees(corner_angles(X, np.asarray(old))).min()
     a_new = np.degrees(corner_angles(X, np.asarray(new))).min()
-    return a_new >= min(a_old, FLIP_MIN_ANGLE)
+    return a_new > a_old if strict else a_new >= min(a_old, FLIP_MIN_ANGLE)
 
 
 def relax(X, F, free_seeds, fixed, V0, F0):
@@ -192,7 +210,8 @@ def relax(X, F, free_seeds, fixed, V0, F0):
     for _ in range(ROUNDS):
         move = band(F, free_seeds, len(X)) & ~fixed
         X0, F_0 = X.copy(), F.copy()
-        flips += _flip_pass(X, F, move, locked)
+        flips += _flip_pass(X, F, move, locked, "delaunay")
+        flips += _flip_pass(X, F, move, locked, "valence")
         X = _smooth(X, F, move, V0, F0, N0, SMOOTH_STEPS)
         if _folded(X, F, V0, F0, N0):
             log.info("seam relaxation stopped: a round would fold a triangle")
