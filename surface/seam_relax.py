@@ -40,7 +40,7 @@ __all__ = ["relax", "band", "BAND_RINGS"]
 log = logging.getLogger(__name__)
 
 #: Rings of neighbours around the free seam points that are relaxed.
-BAND_RINGS = 1000
+BAND_RINGS = 3
 
 #: Outer rounds (one flip pass and :data:`SMOOTH_STEPS` smoothing steps each).
 ROUNDS = 4
@@ -130,14 +130,18 @@ def _wants(rule, X, u, v, c, d, val, free, mean) -> bool:
 def _flip_pass(X, F, free, locked, rule: str) -> int:
     """One pass of flips over the edges with a free end, in place: ``"delaunay"``
     (3-D angles) or ``"valence"`` (towards valence 6)."""
-    F_list = F.tolist()
-    edge_faces: dict = {}
-    for f, (a, b, c) in enumerate(F_list):
-        for u, v in ((a, b), (b, c), (c, a)):
-            edge_faces.setdefault((min(u, v), max(u, v)), []).append(f)
     E = unique_edges(F)
     val = np.bincount(E.ravel(), minlength=len(X))
     mean = np.linalg.norm(X[E[:, 1]] - X[E[:, 0]], axis=1).mean()
+    # the faces within one ring of a free vertex: every face a flip reads or makes
+    near = free.copy()
+    near[E[free[E[:, 0]] | free[E[:, 1]]].ravel()] = True
+    rows = np.flatnonzero(near[F].any(axis=1))
+    F_list = {int(f): F[f].tolist() for f in rows}
+    edge_faces: dict = {}
+    for f, (a, b, c) in F_list.items():
+        for u, v in ((a, b), (b, c), (c, a)):
+            edge_faces.setdefault((min(u, v), max(u, v)), []).append(f)
     flips = 0
     for (u, v), fs in sorted(edge_faces.items()):
         if len(fs) != 2 or not (free[u] or free[v]) or (u, v) in locked:
@@ -162,7 +166,7 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
         val[[u, v]] -= 1
         val[[c, d]] += 1
         flips += 1
-    F[:] = np.asarray(F_list, dtype=np.int64)
+    F[rows] = np.asarray([F_list[int(f)] for f in rows], dtype=np.int64).reshape(-1, 3)
     return flips
 
 
