@@ -37,6 +37,7 @@ Examples
 
 from __future__ import annotations
 
+import itertools
 import math
 import numbers
 
@@ -152,7 +153,7 @@ def _revolve(profile, h, closed=False):
         V.append(np.column_stack([r * np.cos(t), r * np.sin(t), np.full(m, z)]))
         rings.append((start, m, off))
         start += m
-    pairs = list(zip(rings[:-1], rings[1:])) + ([(rings[-1], rings[0])] if closed else [])
+    pairs = list(itertools.pairwise(rings)) + ([(rings[-1], rings[0])] if closed else [])
     F = [t for (a, m, oa), (b, n, ob) in pairs for t in _zip_rings(a, b, m, n, oa, ob)]
     return _clean(np.concatenate(V), np.array(F, dtype=np.int64))
 

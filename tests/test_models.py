@@ -15,9 +15,9 @@ pytest.importorskip("igl")
 pytest.importorskip("pymeshlab")
 trimesh = pytest.importorskip("trimesh")
 
-from surface import models  # noqa: E402
-from surface.models import MODELS, model_facts  # noqa: E402
-from uniform2d.errors import InvalidArgumentError  # noqa: E402
+from surface import models
+from surface.models import MODELS, model_facts
+from uniform2d.errors import InvalidArgumentError
 
 # name: (components, euler, boundary loops, genus per component)
 EXPECTED = {
