@@ -527,6 +527,24 @@ def _signed_volumes(V, F, comp, k: int) -> np.ndarray:
     return np.bincount(comp, weights=vol, minlength=k)
 
 
+def _mesh_arrays(V, F):
+    """(V float64 (N, 3), F int64 (M, 3)) or InvalidArgumentError saying what is wrong."""
+    V, F = np.asarray(V), np.asarray(F)
+    if V.ndim != 2 or V.shape[1] != 3 or not np.issubdtype(V.dtype, np.number):
+        raise InvalidArgumentError(
+            f"vertices must be an (N, 3) array of numbers, got shape {V.shape}"
+        )
+    if F.ndim != 2 or F.shape[1] != 3 or len(F) == 0 or not np.issubdtype(F.dtype, np.integer):
+        raise InvalidArgumentError(
+            f"faces must be a non-empty (M, 3) array of vertex indices, got shape {F.shape}"
+        )
+    if F.min() < 0 or F.max() >= len(V):
+        raise InvalidArgumentError(
+            f"face indices must be in [0, {len(V) - 1}] (indices of the vertices given)"
+        )
+    return V.astype(np.float64), F.astype(np.int64)
+
+
 def model_facts(V, F) -> dict:
     """Topology and validity of a triangle mesh, with numpy and scipy alone.
 
@@ -559,8 +577,7 @@ def model_facts(V, F) -> dict:
     >>> model_facts(V, F[1:])["boundary_loops"]
     1
     """
-    V = np.asarray(V, dtype=np.float64)
-    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    V, F = _mesh_arrays(V, F)
     D, eid, cnt = _edge_table(F)
     vlab = _labels(len(V), D)
     order = np.unique(vlab[F[:, 0]], return_index=True)[1]

@@ -159,6 +159,20 @@ def test_facts_of_bad_meshes():
     assert model_facts(V, flat)["degenerate_faces"] == 1
 
 
+@pytest.mark.parametrize(
+    "V, F",
+    [
+        (np.zeros((3, 2)), [[0, 1, 2]]),
+        (np.zeros((3, 3)), np.zeros((0, 3), int)),
+        (np.zeros((3, 3)), [[0, 1, 3]]),
+        (np.zeros((3, 3)), [[0.0, 1.0, 2.0]]),
+    ],
+)
+def test_facts_refuse_bad_arrays(V, F):
+    with pytest.raises(InvalidArgumentError):
+        model_facts(V, F)
+
+
 def test_facts_of_two_open_parts():
     V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0]], float)
     f = model_facts(V, [[0, 1, 2], [3, 4, 5]])
