@@ -1,9 +1,9 @@
 """Example whole models: closed, open, any genus, one or several components.
 
-Every function returns ``(vertices (N, 3) float64, faces (M, 3) int64)``: a
-clean triangle mesh (duplicate vertices merged, no unused vertex, no degenerate
-face, every edge in one or two faces) whose faces are consistently oriented
-with their normals pointing out of the body.  The default resolutions give a
+Every model function returns ``(vertices (N, 3) float64, faces (M, 3) int64)``
+(see :func:`sphere`): a clean triangle mesh (duplicate vertices merged, no
+unused vertex, no degenerate face, every edge in one or two faces) whose faces
+are consistently oriented with their normals pointing out of the body.  The default resolutions give a
 few thousand faces, as inputs to :func:`surface.remesh` and to the benchmark
 ``benchmarks/bench_models.py``.  The output is deterministic.
 
@@ -253,11 +253,6 @@ def capsule(radius=0.5, length=1.0, segments=48):
         Edges around the equator (8 to 1000); sets the spacing ``2 pi radius /
         segments`` everywhere.  The default gives 2996 faces.
 
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
-
     Examples
     --------
     >>> V, F = capsule()
@@ -285,11 +280,6 @@ def tank(radius=0.5, height=1.0, segments=48):
     segments : int
         Edges around the rims (8 to 1000), which sets the spacing.  The default
         gives 2304 faces.
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
 
     Examples
     --------
@@ -321,11 +311,6 @@ def box(extents=(1.0, 1.0, 1.0), divisions=16):
         Grid cells along the longest side (1 to 1000); the others get as many
         cells of at most that size.  The default gives 3072 faces on a cube.
 
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
-
     Examples
     --------
     >>> V, F = box()
@@ -352,11 +337,6 @@ def torus(major_radius=1.0, minor_radius=0.35, segments=24):
     segments : int
         Edges around the tube (6 to 1000), which sets the spacing everywhere
         (fewer edges on the inner rings).  The default gives 3300 faces.
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
 
     Examples
     --------
@@ -390,11 +370,6 @@ def two_hole_plate(size=1.0, voxels=10):
         Voxels per unit of ``size`` (5 to 200, a multiple of 5 so the holes fall
         on voxel faces).  The default gives 2752 faces.
 
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
-
     Examples
     --------
     >>> V, F = two_hole_plate()
@@ -417,6 +392,8 @@ def two_hole_plate(size=1.0, voxels=10):
 def two_bodies(gap=1.0, subdivisions=3, divisions=12):
     """A sphere of radius 1 and a unit cube beside it: two closed components.
 
+    The sphere's faces come first.
+
     Parameters
     ----------
     gap : float
@@ -425,12 +402,6 @@ def two_bodies(gap=1.0, subdivisions=3, divisions=12):
         Of the sphere (see :func:`sphere`); default 1280 faces.
     divisions : int
         Of the cube (see :func:`box`); default 1728 faces.
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
-        The sphere's faces first.
 
     Examples
     --------
@@ -453,11 +424,6 @@ def pierced_sphere(radius=1.0, subdivisions=4):
     radius : float
     subdivisions : int
         See :func:`sphere`.
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
 
     Examples
     --------
@@ -484,11 +450,6 @@ def open_with_holes(radius=1.0, hole_angle=30.0, segments=96):
     segments : int
         Edges around the equator (8 to 2000), which sets the spacing.  The
         default gives 2538 faces.
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-    faces : (M, 3) int64
 
     Examples
     --------
