@@ -5,7 +5,8 @@ Run from the repository root::
     python -m surface._figures docs/img
 
 Writes ``surface_cap60_3d.png``, ``surface_cap60_uv.png`` and
-``surface_gallery.png`` from the patches in ``data/patches``.
+``surface_gallery.png`` from the patches in ``data/patches``, and
+``surface_atlas.png`` from the example models of :mod:`surface.models`.
 """
 
 from __future__ import annotations
@@ -53,7 +54,7 @@ def _edges3d(ax, V, F, colour=None, values=None, lw=0.4, zoom=1.4):
     return lc
 
 
-def _save_trimmed(fig, path, dpi=130, pad=12):
+def _save_trimmed(fig, path, dpi=130, pad=12, colours=None):
     """Save ``fig`` cropped to what is drawn: a 3-D axes keeps room for any view of
     its box, which for a flat or low patch is mostly empty."""
     from PIL import Image
@@ -65,12 +66,32 @@ def _save_trimmed(fig, path, dpi=130, pad=12):
     (top, left), (bottom, right) = ink.min(axis=0), ink.max(axis=0)
     box = (max(left - pad, 0), max(top - pad, 0), min(right + pad + 1, img.width),
            min(bottom + pad + 1, img.height))
-    img.crop(box).save(path, optimize=True)
+    img = img.crop(box)
+    if colours:  # an adaptive palette: a quarter of the bytes for shaded faces
+        img = img.convert("P", palette=Image.ADAPTIVE, colors=colours)
+    img.save(path, optimize=True)
+
+
+def _charts3d(ax, V, F, chart, zoom=1.0):
+    """The faces coloured by chart (an atlas's), seams drawn where colours meet."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    colours = plt_colormap("tab20")(np.asarray(chart) % 20)
+    pc = Poly3DCollection(V[F], facecolors=colours, edgecolors="none", linewidths=0)
+    ax.add_collection3d(pc)
+    _edges3d(ax, V, F, colour="0.25", lw=0.15, zoom=zoom)
+
+
+def plt_colormap(name):
+    from matplotlib import colormaps
+
+    return colormaps[name]
 
 
 def plot_result(result, path) -> None:
     """The figure of ``uniform2d remesh --plot``: the 3-D mesh with its edges
-    coloured by length / mean, beside their histogram; written atomically."""
+    coloured by length / mean, beside their histogram, and for an atlas the
+    faces coloured by chart first; written atomically."""
     import mpl_toolkits.mplot3d  # noqa: F401  (registers the 3-D projection)
     from matplotlib.figure import Figure
 
@@ -80,13 +101,19 @@ def plot_result(result, path) -> None:
     E = unique_edges(F)
     length = np.linalg.norm(V[E[:, 1]] - V[E[:, 0]], axis=1)
     rel = length / length.mean()
-    fig = Figure(figsize=(11, 4.6), layout="constrained")
-    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    atlas = getattr(result, "chart", None) is not None
+    k = 3 if atlas else 2
+    fig = Figure(figsize=(5.5 * k, 4.6), layout="constrained")
+    if atlas:
+        ax = fig.add_subplot(1, k, 1, projection="3d")
+        _charts3d(ax, V, F, result.chart)
+        ax.set_title(f"atlas: {len(result.atlas.charts)} charts")
+    ax = fig.add_subplot(1, k, k - 1, projection="3d")
     lw = float(np.clip(40.0 / np.sqrt(len(E)), 0.2, 1.0))
     # A box shaped like the patch frames it tightly; zoom 1 keeps every view of it inside.
     lc = _edges3d(ax, V, F, values=lambda _E: rel, lw=lw, zoom=1.0)
     fig.colorbar(lc, ax=ax, shrink=0.7, label="3-D edge length / mean")
-    h = fig.add_subplot(1, 2, 2)
+    h = fig.add_subplot(1, k, k)
     counts, bins = np.histogram(rel, bins=40)
     h.bar(bins[:-1], counts, width=np.diff(bins), align="edge", edgecolor="0.35", linewidth=0.4,
           color=lc.cmap(lc.norm(0.5 * (bins[:-1] + bins[1:]))))
@@ -180,6 +207,34 @@ def main(outdir="docs/img", n=1000):
         ax.set_title(f"{name}\nratio {e['ratio']:.2f}, cv {e['cv']:.3f}", fontsize=10)
     fig.colorbar(lc, ax=fig.axes, shrink=0.6, label="3-D edge length / target")
     _save_trimmed(fig, out / "surface_gallery.png")
+    plt.close(fig)
+    atlas_gallery(out)
+
+
+def atlas_gallery(out, n=2000):
+    """``surface_atlas.png``: whole models, charts coloured above, edges below."""
+    import matplotlib.pyplot as plt
+
+    from . import models
+
+    names = ["sphere", "torus", "tank", "two_hole_plate"]
+    fig = plt.figure(figsize=(16, 8))
+    fig.subplots_adjust(left=0, right=0.92, bottom=0, top=0.92, wspace=0.05, hspace=0.05)
+    for i, name in enumerate(names):
+        V, F = models.MODELS[name]()
+        res = remesh((V, F), n, feature_angle=30, hausdorff=False)
+        ax = fig.add_subplot(2, len(names), i + 1, projection="3d")
+        _charts3d(ax, res.vertices, res.faces, res.chart, zoom=1.2)
+        ax.view_init(25, -60)
+        ax.set_title(f"{name}: {len(res.atlas.charts)} charts", fontsize=10)
+        ax = fig.add_subplot(2, len(names), len(names) + i + 1, projection="3d")
+        lc = _edges3d(ax, res.vertices, res.faces, values=_len3d(res), lw=0.3, zoom=1.2)
+        ax.view_init(25, -60)
+        e = res.report.edges
+        ax.set_title(f"ratio {e['ratio']:.2f}, cv {e['cv']:.3f}, worst angle {e['angle_min']:.0f} deg",
+                     fontsize=10, y=0.95)
+    fig.colorbar(lc, ax=fig.axes, shrink=0.5, label="3-D edge length / target")
+    _save_trimmed(fig, Path(out) / "surface_atlas.png", colours=128)
     plt.close(fig)
 
 

@@ -199,7 +199,8 @@ def _mesh_chart(item):
 
 def mesh_atlas(atlas: Atlas, n_vertices: int, spacing: float, *, compensate: bool = True,
                jobs: int = 1, scheduler=None):
-    """Mesh every chart and stitch them: ``xyz (n_vertices, 3), faces (M, 3)``.
+    """Mesh every chart and stitch them: ``xyz (n_vertices, 3), faces (M, 3)`` and
+    the chart of every face, ``(M,) int64``.
 
     Charts run through uniform2d's batch engine (``jobs`` local processes or a
     Dask ``scheduler``); the result does not depend on which.
@@ -211,4 +212,5 @@ def mesh_atlas(atlas: Atlas, n_vertices: int, spacing: float, *, compensate: boo
     xyz, faces = stitch(atlas.seams.xyz, parts)
     if len(xyz) != n_vertices:
         raise InternalError(f"the stitched mesh has {len(xyz)} vertices, not {n_vertices} (a bug)")
-    return xyz, faces
+    chart = np.repeat(np.arange(len(done), dtype=np.int64), [len(T) for _, T, _ in done])
+    return xyz, faces, chart

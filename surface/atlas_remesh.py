@@ -74,7 +74,7 @@ def remesh_atlas(M: Model, N: int, h: float, *, feature_angle, features, corner_
     atlas = build_atlas(M, h, feature_angle=feature_angle, features=features, corner_angle=corner_angle)
     times["atlas"] = time.perf_counter() - t
     t = time.perf_counter()
-    xyz, faces = mesh_atlas(atlas, N, h, compensate=compensate, jobs=jobs, scheduler=scheduler)
+    xyz, faces, chart = mesh_atlas(atlas, N, h, compensate=compensate, jobs=jobs, scheduler=scheduler)
     times["mesh_2d"] = time.perf_counter() - t
     t = time.perf_counter()
     S = atlas.seams
@@ -103,6 +103,6 @@ def remesh_atlas(M: Model, N: int, h: float, *, feature_angle, features, corner_
         mesher="atlas: lattice + uniform2d.optimize.improve per chart, 3-D seam relaxation",
         compensate=bool(compensate), atlas=info,
     )
-    for arr in (xyz, faces, bmask):
+    for arr in (xyz, faces, bmask, chart):
         arr.setflags(write=False)
-    return RemeshResult(xyz, faces, None, bmask, report, None, atlas)
+    return RemeshResult(xyz, faces, None, bmask, report, None, atlas, chart)

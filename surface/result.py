@@ -35,6 +35,9 @@ class RemeshResult:
         (None for an atlas).
     atlas : surface.atlas.Atlas or None
         The charts and seams, when the model was remeshed as an atlas.
+    chart : (M,) int64 or None
+        The chart each face was meshed in (an atlas only; a face flipped across a
+        seam by the relaxation keeps the chart it had).
     """
 
     vertices: np.ndarray
@@ -44,6 +47,7 @@ class RemeshResult:
     report: Report
     domain: Domain | None
     atlas: Atlas | None = None
+    chart: np.ndarray | None = None
 
     def write(self, path):
         """Write the 3-D mesh (see :func:`surface.write_patch`)."""
