@@ -176,9 +176,7 @@ class Report:
             f"{self.n_corners}), faces {self.n_faces}",
             f"3-D edges: ratio {e['ratio']:.3f}, cv {e['cv']:.4f}, mean {e['mean']:.6g} "
             f"(target {self.target_size:.6g}), angles {e['angle_min']:.1f}..{e['angle_max']:.1f} deg",
-            f"parameterisation: {self.parameterization['method']}, area scale "
-            f"{self.parameterization['area_scale_min']:.3f}..{self.parameterization['area_scale_max']:.3f}, "
-            + self._trend_text(),
+            self._param_text(),
             f"fidelity: vertices off surface {f['surface_distance_max_rel']:.2e}, boundary "
             f"{f['boundary_distance_max_rel']:.2e} of the diagonal",
         ]
@@ -201,6 +199,13 @@ class Report:
                 f"{self.meshlab['max_rel_diff']:.1e})"
             )
         return "\n".join(lines)
+
+    def _param_text(self) -> str:
+        p = self.parameterization
+        if self.atlas:
+            return f"parameterisation: {p['method']}, area-scale ratio per chart up to {p['area_scale_ratio']:.3f}"
+        return (f"parameterisation: {p['method']}, area scale {p['area_scale_min']:.3f}.."
+                f"{p['area_scale_max']:.3f}, " + self._trend_text())
 
     def _trend_text(self) -> str:
         if not np.isfinite(self.size_trend):
