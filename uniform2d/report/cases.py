@@ -91,7 +91,7 @@ class Input:
 
 
 def load_input(path, name: str | None = None) -> Input:
-    """Read a polygon file or a surface patch (by extension, see :data:`SURFACE_SUFFIXES`).
+    """Read a polygon file or a surface model (by extension, see :data:`SURFACE_SUFFIXES`).
 
     Raises
     ------
@@ -101,7 +101,7 @@ def load_input(path, name: str | None = None) -> Input:
     p = Path(path)
     name = name or p.name.split(".")[0]
     if p.suffix.lower() in SURFACE_SUFFIXES:
-        patch = patch_layer().read_patch(p)
+        patch = patch_layer().read_model(p)
         geom = {"vertices": np.asarray(patch.vertices).tolist(), "faces": np.asarray(patch.faces).tolist()}
         return Input(name, str(path), "surface", geom)
     from ..io import read_polygon
