@@ -25,7 +25,10 @@ import numpy as np
 
 import igl
 
-__all__ = ["lscm", "arap", "harmonic_disk", "closest_faces", "closest_points", "face_neighbours"]
+__all__ = [
+    "lscm", "arap", "harmonic_disk", "closest_faces", "closest_points", "SurfaceTree",
+    "face_neighbours",
+]
 
 
 def _V(V) -> np.ndarray:
@@ -192,3 +195,19 @@ def closest_points(P, V, F):
     """
     d2, idx, c = igl.point_mesh_squared_distance(_V(P).reshape(-1, 3), _V(V), _F(F))
     return np.asarray(d2), np.asarray(idx, dtype=np.int64), np.asarray(c)
+
+
+class SurfaceTree:
+    """A 3-D mesh's AABB tree, built once for many closest-point queries (the
+    relaxation of an atlas asks dozens of times; :func:`closest_points` builds a
+    tree every call)."""
+
+    def __init__(self, V, F):
+        self._V, self._F = _V(V), _F(F)
+        self._tree = igl.AABB()
+        self._tree.init(self._V, self._F)
+
+    def closest(self, P):
+        """Like :func:`closest_points`: ``(dist2, face, closest)``."""
+        d2, idx, c = self._tree.squared_distance(self._V, self._F, _V(P).reshape(-1, 3))
+        return np.asarray(d2), np.asarray(idx, dtype=np.int64), np.asarray(c)

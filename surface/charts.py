@@ -136,20 +136,24 @@ class _Graph:
     def flood(self, faces: np.ndarray, seeds, cost) -> np.ndarray:
         """Competing floods from ``seeds`` over ``faces``: the label (index of a
         seed) of every face, each face taken by the cheapest front reaching it.
-        ``cost(face, label)`` orders the fronts; ties by face index."""
+        ``cost[k][f]`` (one array per seed, over all faces) orders the fronts;
+        ties by face index."""
         inside = np.zeros(len(self.F), dtype=bool)
         inside[faces] = True
-        label = np.full(len(self.F), -1, dtype=np.int64)
+        label = [-1] * len(self.F)
+        costs = [c.tolist() for c in cost]
+        start, nbr, inside = self.start.tolist(), self.nbr.tolist(), inside.tolist()
         heap = [(0.0, int(s), k) for k, s in enumerate(seeds)]
         while heap:
             _, f, k = heapq.heappop(heap)
             if label[f] >= 0:
                 continue
             label[f] = k
-            for g in self.neighbours(f):
+            ck = costs[k]
+            for g in nbr[start[f] : start[f + 1]]:
                 if inside[g] and label[g] < 0:
-                    heapq.heappush(heap, (cost(int(g), k), int(g), k))
-        return label[faces]
+                    heapq.heappush(heap, (ck[g], g, k))
+        return np.asarray(label, dtype=np.int64)[faces]
 
 
 def _accept(V, F, faces: np.ndarray, bound: float) -> Chart | None:
@@ -178,7 +182,7 @@ def _split(g: _Graph, faces: np.ndarray) -> list[np.ndarray]:
         return _split_by_distance(g, faces)
     seeds, proxies = [faces[s1], faces[s2]], [N[s1], N[s2]]
     for _ in range(SPLIT_ROUNDS):
-        lab = g.flood(faces, seeds, lambda f, k: float(np.sum((g.normal[f] - proxies[k]) ** 2)))
+        lab = g.flood(faces, seeds, [np.sum((g.normal - p) ** 2, axis=1) for p in proxies])
         proxies = []
         for k in range(2):
             m = (A[lab == k, None] * N[lab == k]).sum(axis=0)
@@ -191,11 +195,7 @@ def _split_by_distance(g: _Graph, faces: np.ndarray) -> list[np.ndarray]:
     C = g.centre[faces]
     a = int(np.argmax(np.linalg.norm(C - C[0], axis=1)))
     b = int(np.argmax(np.linalg.norm(C - C[a], axis=1)))
-    ca, cb = g.centre[faces[a]], g.centre[faces[b]]
-
-    def cost(f, k):
-        return float(np.linalg.norm(g.centre[f] - (ca if k == 0 else cb)))
-
+    cost = [np.linalg.norm(g.centre - g.centre[faces[k]], axis=1) for k in (a, b)]
     lab = g.flood(faces, [faces[a], faces[b]], cost)
     return [faces[lab == 0], faces[lab == 1]]
 

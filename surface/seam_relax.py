@@ -29,6 +29,7 @@ fold a triangle against the input surface is undone and the relaxation stops.
 from __future__ import annotations
 
 import logging
+import math
 
 import numpy as np
 
@@ -76,18 +77,18 @@ def _normals(X, F):
     return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
 
 
-def _surface_normals(P, V0, F0, N0):
-    _, face, closest = _igl.closest_points(P, V0, F0)
+def _surface_normals(P, tree, N0):
+    _, face, closest = tree.closest(P)
     return closest, N0[face]
 
 
-def _folded(X, F, V0, F0, N0) -> bool:
+def _folded(X, F, tree, N0) -> bool:
     c = X[F].mean(axis=1)
-    _, nin = _surface_normals(c, V0, F0, N0)
+    _, nin = _surface_normals(c, tree, N0)
     return bool((np.einsum("ij,ij->i", _normals(X, F), nin) < np.cos(np.radians(FOLD_ANGLE))).any())
 
 
-def _smooth(X, F, move, V0, F0, N0, steps: int):
+def _smooth(X, F, move, tree, N0, steps: int):
     """Spring steps of the ``move`` vertices towards edges of the mean length,
     within the input's tangent plane, projected back onto the input."""
     E = unique_edges(F)
@@ -102,29 +103,34 @@ def _smooth(X, F, move, V0, F0, N0, steps: int):
         np.add.at(s, E[:, 0], pull)
         np.add.at(s, E[:, 1], -pull)
         step = STEP * s[idx] / deg[idx, None]
-        _, nrm = _surface_normals(X[idx], V0, F0, N0)
+        _, nrm = _surface_normals(X[idx], tree, N0)
         step -= np.einsum("ij,ij->i", step, nrm)[:, None] * nrm
-        closest, _ = _surface_normals(X[idx] + step, V0, F0, N0)
+        closest, _ = _surface_normals(X[idx] + step, tree, N0)
         X[idx] = closest
     return X
 
 
 def _angle(X, at, p, q) -> float:
-    a, b = X[p] - X[at], X[q] - X[at]
-    return float(np.arctan2(np.linalg.norm(np.cross(a, b)), a @ b))
+    """The angle at ``at`` between ``p`` and ``q`` (plain floats: called per edge)."""
+    ox, oy, oz = X[at]
+    ax, ay, az = X[p][0] - ox, X[p][1] - oy, X[p][2] - oz
+    bx, by, bz = X[q][0] - ox, X[q][1] - oy, X[q][2] - oz
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    return math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), ax * bx + ay * by + az * bz)
 
 
 def _wants(rule, X, u, v, c, d, val, free, mean) -> bool:
     """Whether ``rule`` asks to flip (u, v) to (c, d)."""
     if rule == "delaunay":  # the opposite angles sum to more than pi: not Delaunay
-        return _angle(X, c, u, v) + _angle(X, d, u, v) > np.pi
-    w = free[[u, v, c, d]].astype(np.float64)
-    before = np.array([val[u], val[v], val[c], val[d]]) - 6
-    after = before + np.array([-1, -1, 1, 1])
-    if not (w * after**2).sum() < (w * before**2).sum():
+        return _angle(X, c, u, v) + _angle(X, d, u, v) > math.pi
+    change = 0  # in the sum of squared valence defects of the free vertices
+    for x, step in ((u, -1), (v, -1), (c, 1), (d, 1)):
+        if free[x]:
+            change += (val[x] - 6 + step) ** 2 - (val[x] - 6) ** 2
+    if change >= 0:
         return False
-    slack = max(abs(np.linalg.norm(X[u] - X[v]) - mean), FLIP_SLACK * mean)
-    return abs(np.linalg.norm(X[c] - X[d]) - mean) <= slack
+    slack = max(abs(math.dist(X[u], X[v]) - mean), FLIP_SLACK * mean)
+    return abs(math.dist(X[c], X[d]) - mean) <= slack
 
 
 def _flip_pass(X, F, free, locked, rule: str) -> int:
@@ -143,6 +149,8 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
         for u, v in ((a, b), (b, c), (c, a)):
             edge_faces.setdefault((min(u, v), max(u, v)), []).append(f)
     flips = 0
+    Xl = X.tolist()  # per-edge reads in plain floats
+    val = val.tolist()
     for (u, v), fs in sorted(edge_faces.items()):
         if len(fs) != 2 or not (free[u] or free[v]) or (u, v) in locked:
             continue
@@ -151,7 +159,7 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
         d = _opposite(F_list[g], u, v)
         if c is None or d is None or (min(c, d), max(c, d)) in edge_faces:
             continue
-        if not _wants(rule, X, u, v, c, d, val, free, mean):
+        if not _wants(rule, Xl, u, v, c, d, val, free, mean):
             continue
         new_f, new_g = _flipped(F_list[f], u, v, c, d)
         if not _flip_ok(X, [F_list[f], F_list[g]], [new_f, new_g], rule == "delaunay"):
@@ -163,8 +171,10 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
             lst = edge_faces[(min(x, y), max(x, y))]
             here, there = (f, g) if x in new_f and y in new_f else (g, f)
             lst[lst.index(there if there in lst else here)] = here
-        val[[u, v]] -= 1
-        val[[c, d]] += 1
+        val[u] -= 1
+        val[v] -= 1
+        val[c] += 1
+        val[d] += 1
         flips += 1
     F[rows] = np.asarray([F_list[int(f)] for f in rows], dtype=np.int64).reshape(-1, 3)
     return flips
@@ -208,6 +218,7 @@ def relax(X, F, free_seeds, fixed, V0, F0):
     N0 = _normals(V0, F0)
     if not len(free_seeds):
         return X, F, 0
+    tree = _igl.SurfaceTree(V0, F0)
     E = unique_edges(F)
     locked = set(map(tuple, E[fixed[E[:, 0]] & fixed[E[:, 1]]].tolist()))
     flips = 0
@@ -216,8 +227,8 @@ def relax(X, F, free_seeds, fixed, V0, F0):
         X0, F_0 = X.copy(), F.copy()
         flips += _flip_pass(X, F, move, locked, "delaunay")
         flips += _flip_pass(X, F, move, locked, "valence")
-        X = _smooth(X, F, move, V0, F0, N0, SMOOTH_STEPS)
-        if _folded(X, F, V0, F0, N0):
+        X = _smooth(X, F, move, tree, N0, SMOOTH_STEPS)
+        if _folded(X, F, tree, N0):
             log.info("seam relaxation stopped: a round would fold a triangle")
             return X0, F_0, flips
     return X, F, flips

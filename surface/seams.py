@@ -155,7 +155,12 @@ def _walk_chord(X, cum, s0, c):
     at ``s0``, or None past the polyline's end."""
     p = _at(X, cum, s0)
     i = int(np.searchsorted(cum, s0, side="right"))
-    j = np.flatnonzero(np.linalg.norm(X[i:] - p, axis=1) >= c)
+    w = 16
+    while True:  # a growing window: the crossing is usually a few vertices on
+        j = np.flatnonzero(np.linalg.norm(X[i : i + w] - p, axis=1) >= c)
+        if len(j) or i + w >= len(X):
+            break
+        w *= 4
     if not len(j):
         return None
     k = i + int(j[0])  # the crossing lies between s_a and vertex k
