@@ -252,6 +252,7 @@ def segment(V, F, barrier_edges, *, bound: float = MAX_AREA_SCALE_RATIO) -> list
 
 def _merge(g: _Graph, V, F, charts: list[Chart], bound: float) -> list[Chart]:
     """Merge neighbouring charts whose union is a chart, longest shared seam first."""
+    refused: set = set()  # pairs tried in vain (a chart known by first face and size)
     while True:
         label = np.empty(len(F), dtype=np.int64)
         for i, c in enumerate(charts):
@@ -267,9 +268,14 @@ def _merge(g: _Graph, V, F, charts: list[Chart], bound: float) -> list[Chart]:
         merged = None
         for k in np.lexsort((key, -shared)):
             i, j = divmod(int(key[k]), len(charts))
+            pair = tuple((int(charts[t].faces[0]), len(charts[t].faces)) for t in (i, j))
+            if pair in refused:
+                continue
             union = np.sort(np.concatenate([charts[i].faces, charts[j].faces]))
             merged = _accept(V, F, union, bound)
-            if merged is not None:
+            if merged is None:
+                refused.add(pair)
+            else:
                 charts = [c for t, c in enumerate(charts) if t not in (i, j)] + [merged]
                 break
         if merged is None:
