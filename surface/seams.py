@@ -173,27 +173,52 @@ def _walk_chord(X, cum, s0, c):
     return s_a + float(np.clip(x, 0.0, 1.0)) * (cum[k] - s_a)
 
 
+def _chord_walk(X, cum, m, chord):
+    """Walk m - 1 chords of length ``chord`` from the start: (arc positions, excess),
+    the excess being the straight distance left to the end minus the chord
+    (negative when the walk ran out: minus the chords it could not take)."""
+    s = [0.0]
+    while len(s) < m:
+        nxt = _walk_chord(X, cum, s[-1], chord)
+        if nxt is None:
+            return s, -chord * (m - len(s))
+        s.append(nxt)
+    return s, float(np.linalg.norm(X[-1] - _at(X, cum, s[-1]))) - chord
+
+
 def _equal_chords(X, cum, m):
     """Arc positions of m + 1 points along the polyline X, ends included, whose m
-    chords are equal (to 1e-9), or None where the polyline folds back too much."""
+    chords are equal (to 1e-9 where possible), or None where the polyline folds
+    back too much.
+
+    The chord is the root of the walk's excess (:func:`_chord_walk`), which falls
+    as the chord grows: regula falsi (Illinois) between a chord too short and one
+    too long, bisecting when the walk runs out.  Where the excess jumps (a
+    chord's end switching between two arms of a zigzag) no chord is exact: the
+    complete walk of least excess found is taken."""
     lo, hi = 0.0, 1.5 * cum[-1] / m
-    best = None
-    for _ in range(60):  # bisection on the chord: the last piece ends exactly at the end
-        chord = 0.5 * (lo + hi)
-        s = [0.0]
-        while len(s) < m:
-            nxt = _walk_chord(X, cum, s[-1], chord)
-            if nxt is None:
-                break
-            s.append(nxt)
-        if len(s) < m:  # ran out: the chord is too long
-            hi = chord
-            continue
-        last = np.linalg.norm(X[-1] - _at(X, cum, s[-1]))
-        best = np.asarray(s + [cum[-1]])
-        if abs(last - chord) <= 1e-9 * chord:
+    f_lo, f_hi = cum[-1], _chord_walk(X, cum, m, hi)[1]
+    side, best, best_f = 0, None, np.inf
+    for _ in range(100):
+        if f_hi < 0 and f_lo > 0 and -f_hi < hi * m:  # a usable secant
+            chord = hi - f_hi * (hi - lo) / (f_hi - f_lo)
+        else:
+            chord = 0.5 * (lo + hi)
+        s, f = _chord_walk(X, cum, m, chord)
+        if len(s) == m and abs(f) < best_f:
+            best, best_f = np.asarray(s + [cum[-1]]), abs(f)
+        if best_f <= 1e-9 * chord:
+            return best
+        if f > 0:
+            lo, f_lo = chord, f
+            f_hi = f_hi / 2 if side == 1 else f_hi  # Illinois: the stale end counts half
+            side = 1
+        else:
+            hi, f_hi = chord, f
+            f_lo = f_lo / 2 if side == -1 else f_lo
+            side = -1
+        if hi - lo <= 1e-12 * hi:
             break
-        lo, hi = (chord, hi) if last > chord else (lo, chord)
     return best
 
 
