@@ -17,9 +17,12 @@ the model boundary,
    remeshing step, without splits and collapses, which would change the
    count); a flip is made only where the two new triangles face the way the
    old ones did;
-2. **tangential smoothing** moves every free vertex of the band towards the
-   average of its neighbours, within the input's tangent plane, and back onto
-   the input surface (its closest point, libigl).
+2. **tangential springs** move every free vertex of the band towards edges of
+   the mean length, each edge pulling with a weight that grows as the fourth
+   power of its deviation (:data:`EXTREME`), so the longest and shortest edges
+   move first (a least-squares spring alone leaves the extremes, which set the
+   edge ratio); moves stay in the input's tangent plane and end on the input
+   surface (its closest point, libigl).
 
 Seam points on creases and on the model boundary do not move, so creases and
 boundaries stay exactly where the seam sampling put them.  A round that would
@@ -49,6 +52,10 @@ SMOOTH_STEPS = 8
 
 #: Fraction of the mean spring force a vertex moves by in one step.
 STEP = 0.5
+
+#: Edges off the mean length by this fraction pull twice as hard as a spring;
+#: the weight grows as the deviation's fourth power, so the extremes move first.
+EXTREME = 0.2
 
 #: A flip may not make the pair's smallest angle smaller than this (degrees).
 FLIP_MIN_ANGLE = 25.0
@@ -93,16 +100,18 @@ def _smooth(X, F, move, tree, N0, steps: int):
     within the input's tangent plane, projected back onto the input."""
     E = unique_edges(F)
     n = len(X)
-    deg = np.bincount(E.ravel(), minlength=n).astype(np.float64)
     idx = np.flatnonzero(move)
     for _ in range(steps):
         d = X[E[:, 1]] - X[E[:, 0]]
         L = np.linalg.norm(d, axis=1)
-        pull = ((L - L.mean()) / L)[:, None] * d
+        dev = L / L.mean() - 1.0
+        w = 1.0 + (dev / EXTREME) ** 4  # the far-off edges pull hardest
+        pull = (w * dev * L.mean() / L)[:, None] * d
         s = np.zeros_like(X)
         np.add.at(s, E[:, 0], pull)
         np.add.at(s, E[:, 1], -pull)
-        step = STEP * s[idx] / deg[idx, None]
+        wsum = np.bincount(E.ravel(), weights=np.repeat(w, 2), minlength=n)
+        step = STEP * s[idx] / wsum[idx, None]
         _, nrm = _surface_normals(X[idx], tree, N0)
         step -= np.einsum("ij,ij->i", step, nrm)[:, None] * nrm
         closest, _ = _surface_normals(X[idx] + step, tree, N0)
