@@ -29,7 +29,7 @@ from .lift import lift
 from .io import as_model
 from .measure import edge_stats, unique_edges
 from .atlas_remesh import remesh_atlas
-from .charts import MAX_AREA_SCALE_RATIO
+from .charts import ONE_PIECE_RATIO
 from .errors import ParameterizationError
 from .fidelity import meshlab_checks
 from .model import Model
@@ -190,7 +190,7 @@ def remesh(
 
 def _one_chart(M: Model, param: str):
     """``(Patch, Parameterization)`` when ``M`` is a disk whose flattening has an
-    area-scale ratio within :data:`surface.charts.MAX_AREA_SCALE_RATIO`, else
+    area-scale ratio within :data:`surface.charts.ONE_PIECE_RATIO`, else
     ``(None, None)``: the model is remeshed as an atlas."""
     P = M.as_patch()
     if P is None:
@@ -201,7 +201,7 @@ def _one_chart(M: Model, param: str):
         log.info("the patch does not flatten in one piece (%s): remeshing it as an atlas", exc)
         return None, None
     s = prm.area_scale
-    if not s.max() <= MAX_AREA_SCALE_RATIO * s.min():
+    if not s.max() <= ONE_PIECE_RATIO * s.min():
         log.info("flattening's area scale varies %.3g-fold: remeshing as an atlas", s.max() / s.min())
         return None, None
     return P, prm
