@@ -18,7 +18,7 @@ from scipy.sparse.csgraph import connected_components
 from .errors import InvalidPatchError
 
 __all__ = [
-    "DEGENERATE_RATIO", "as_arrays", "face_areas", "check_degenerate", "check_manifold",
+    "CheckedMesh", "DEGENERATE_RATIO", "as_arrays", "face_areas", "check_degenerate", "check_manifold",
     "check_connected", "components", "boundary_loops",
 ]
 
@@ -234,3 +234,79 @@ def boundary_loops(boundary_next):
             v = nxt[v]
         loops.append(np.array(lp, dtype=np.int64))
     return loops
+
+
+def _ro(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
+class CheckedMesh:
+    """What every checked surface mesh shows (:class:`~surface.patch.Patch`,
+    :class:`~surface.model.Model`): read-only arrays and the measures of them."""
+
+    __slots__ = ("_vertices", "_faces", "_edges", "_loops", "_n_dropped")
+
+    def _keep(self, V, F, edges, loops, dropped) -> None:
+        self._vertices = _ro(V)
+        self._faces = _ro(F)
+        self._edges = _ro(edges)
+        self._loops = tuple(_ro(lp) for lp in loops)
+        self._n_dropped = dropped
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """Vertex positions, (N, 3) float64, read-only."""
+        return self._vertices
+
+    @property
+    def faces(self) -> np.ndarray:
+        """Triangles, (M, 3) int64, read-only, in the input orientation."""
+        return self._faces
+
+    @property
+    def edges(self) -> np.ndarray:
+        """Unique undirected edges, (E, 2) int64 with ``edges[:, 0] < edges[:, 1]``."""
+        return self._edges
+
+    @property
+    def boundary_loops(self) -> tuple[np.ndarray, ...]:
+        """Boundary loops as vertex-index arrays; each follows the face orientation
+        (interior on the left seen from the front side), starting at its smallest index.
+        Ordered by smallest vertex index."""
+        return self._loops
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self._vertices)
+
+    @property
+    def n_faces(self) -> int:
+        return len(self._faces)
+
+    @property
+    def n_dropped_vertices(self) -> int:
+        """How many unreferenced input vertices were dropped."""
+        return self._n_dropped
+
+    @property
+    def face_areas(self) -> np.ndarray:
+        """Area of every face, (M,) float64."""
+        return face_areas(self._vertices, self._faces)
+
+    @property
+    def area(self) -> float:
+        return float(self.face_areas.sum())
+
+    @property
+    def boundary_length(self) -> float:
+        """Total 3-D length of the boundary loops."""
+        V = self._vertices
+        return float(
+            sum(np.linalg.norm(V[np.roll(lp, -1)] - V[lp], axis=1).sum() for lp in self.boundary_loops)
+        )
+
+    @property
+    def diagonal(self) -> float:
+        """Length of the bounding-box diagonal."""
+        return float(np.linalg.norm(self._vertices.max(axis=0) - self._vertices.min(axis=0)))

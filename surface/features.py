@@ -27,6 +27,7 @@ from uniform2d.errors import (
     InsufficientPointsError, InternalError, InvalidArgumentError, InvalidConstraintError)
 
 from ._trimesh import dihedral_edges
+from .graph import walk_chains
 from .patch import Patch
 
 __all__ = ["FeatureLines", "find_chains", "sample_chains"]
@@ -79,39 +80,6 @@ def _turns(V, a, v, b, thr) -> bool:
     return np.arccos(np.clip(c, -1.0, 1.0)) > thr
 
 
-def _walk(adj, nodes, V, thr) -> list[list[int]]:
-    """Split the feature graph into chains between nodes (closed cycles last)."""
-    used: set = set()
-    out = []
-
-    def follow(start, nxt):
-        chain = [start, nxt]
-        used.add((min(start, nxt), max(start, nxt)))
-        while chain[-1] not in nodes:
-            v = chain[-1]
-            step = [w for w in adj[v] if (min(v, w), max(v, w)) not in used]
-            if not step:
-                break
-            if _turns(V, chain[-2], v, step[0], thr):
-                nodes.add(v)
-                break
-            used.add((min(v, step[0]), max(v, step[0])))
-            chain.append(step[0])
-        return chain
-
-    for v in sorted(nodes):
-        for w in sorted(adj[v]):
-            if (min(v, w), max(v, w)) not in used:
-                out.append(follow(v, w))
-    for v in sorted(adj):  # cycles without a node: start at their smallest vertex
-        for w in sorted(adj[v]):
-            if (min(v, w), max(v, w)) not in used:
-                nodes.add(v)
-                out.append(follow(v, w))
-                nodes.discard(v)
-    return out
-
-
 def find_chains(patch: Patch, feature_angle=None, chains=(), fixed=(), corner_angle=30.0):
     """Feature chains (lists of input vertices, a closed one ends at its start)
     and the fixed vertices, from the crease threshold and the caller's chains."""
@@ -130,7 +98,8 @@ def find_chains(patch: Patch, feature_angle=None, chains=(), fixed=(), corner_an
     on_boundary = set(np.concatenate(patch.boundary_loops).tolist())
     nodes = {v for v, w in adj.items() if len(w) != 2 or v in on_boundary}
     nodes |= set(f.tolist()) & set(adj)
-    return _walk(adj, nodes, patch.vertices, np.radians(corner_angle)), f
+    V, thr = patch.vertices, np.radians(corner_angle)
+    return walk_chains(adj, nodes, lambda a, v, b: _turns(V, a, v, b, thr)), f
 
 
 @dataclasses.dataclass(frozen=True)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .checks import (
-    as_arrays, boundary_loops, check_degenerate, check_manifold, components, face_areas,
+    CheckedMesh, as_arrays, boundary_loops, check_degenerate, check_manifold, components,
 )
 from .patch import Patch
 
@@ -28,7 +28,7 @@ def _ro(a: np.ndarray) -> np.ndarray:
     return a
 
 
-class Model:
+class Model(CheckedMesh):
     """A checked manifold, oriented triangle mesh of any topology (immutable).
 
     Parameters
@@ -53,44 +53,20 @@ class Model:
     True
     """
 
-    __slots__ = ("_vertices", "_faces", "_edges", "_loops", "_vlabel", "_flabel", "_chi", "_n_dropped")
+    __slots__ = ("_vlabel", "_flabel", "_chi")
 
     def __init__(self, vertices, faces):
         V, F, dropped = as_arrays(vertices, faces)
         check_degenerate(V, F)
         edges, boundary_next = check_manifold(V, F)
         ncomp, vlabel = components(len(V), edges)
-        self._vertices = _ro(V)
-        self._faces = _ro(F)
-        self._edges = _ro(edges)
-        self._loops = tuple(_ro(lp) for lp in boundary_loops(boundary_next))
+        self._keep(V, F, edges, boundary_loops(boundary_next), dropped)
         self._vlabel = _ro(vlabel)
         self._flabel = _ro(vlabel[F[:, 0]])
         nv = np.bincount(vlabel, minlength=ncomp)
         ne = np.bincount(vlabel[edges[:, 0]], minlength=ncomp)
         nf = np.bincount(self._flabel, minlength=ncomp)
         self._chi = tuple(int(x) for x in nv - ne + nf)
-        self._n_dropped = dropped
-
-    @property
-    def vertices(self) -> np.ndarray:
-        """Vertex positions, (N, 3) float64, read-only."""
-        return self._vertices
-
-    @property
-    def faces(self) -> np.ndarray:
-        """Triangles, (M, 3) int64, read-only, in the input orientation."""
-        return self._faces
-
-    @property
-    def edges(self) -> np.ndarray:
-        """Unique undirected edges, (E, 2) int64 with ``edges[:, 0] < edges[:, 1]``."""
-        return self._edges
-
-    @property
-    def boundary_loops(self) -> tuple[np.ndarray, ...]:
-        """Boundary loops (interior on the left), each from its smallest vertex index."""
-        return self._loops
 
     @property
     def n_components(self) -> int:
@@ -129,35 +105,6 @@ class Model:
     @property
     def is_closed(self) -> bool:
         return not self._loops
-
-    @property
-    def n_vertices(self) -> int:
-        return len(self._vertices)
-
-    @property
-    def n_faces(self) -> int:
-        return len(self._faces)
-
-    @property
-    def n_dropped_vertices(self) -> int:
-        return self._n_dropped
-
-    @property
-    def face_areas(self) -> np.ndarray:
-        return face_areas(self._vertices, self._faces)
-
-    @property
-    def area(self) -> float:
-        return float(self.face_areas.sum())
-
-    @property
-    def boundary_length(self) -> float:
-        V = self._vertices
-        return float(sum(np.linalg.norm(V[np.roll(lp, -1)] - V[lp], axis=1).sum() for lp in self._loops))
-
-    @property
-    def diagonal(self) -> float:
-        return float(np.linalg.norm(self._vertices.max(axis=0) - self._vertices.min(axis=0)))
 
     @property
     def is_disk(self) -> bool:

@@ -18,23 +18,17 @@ Vertices that no face uses are dropped (a logged note, not an error).
 
 from __future__ import annotations
 
-import numpy as np
 
 from .checks import (
-    DEGENERATE_RATIO, as_arrays, boundary_loops, check_connected, check_degenerate,
-    check_manifold, face_areas,
+    DEGENERATE_RATIO, CheckedMesh, as_arrays, boundary_loops, check_connected, check_degenerate,
+    check_manifold,
 )
 from .errors import InvalidPatchError
 
 __all__ = ["Patch", "DEGENERATE_RATIO"]
 
 
-def _ro(a: np.ndarray) -> np.ndarray:
-    a.setflags(write=False)
-    return a
-
-
-class Patch:
+class Patch(CheckedMesh):
     """A checked disk-with-holes triangle mesh (immutable).
 
     Parameters
@@ -65,14 +59,7 @@ class Patch:
     surface.errors.InvalidPatchError: face 0 is degenerate (zero area: its corners are collinear or coincide); remove it or merge its vertices, e.g. trimesh's update_faces(nondegenerate_faces()) then merge_vertices()
     """
 
-    __slots__ = (
-        "_vertices",
-        "_faces",
-        "_loops",
-        "_chi",
-        "_edges",
-        "_n_dropped",
-    )
+    __slots__ = ("_chi",)
 
     def __init__(self, vertices, faces):
         V, F, dropped = as_arrays(vertices, faces)
@@ -98,74 +85,12 @@ class Patch:
                 "handle open along a closed curve that goes around it, then remesh",
                 "topology",
             )
-        self._vertices = _ro(V)
-        self._faces = _ro(F)
-        self._loops = tuple(_ro(lp) for lp in loops)
+        self._keep(V, F, edges, loops, dropped)
         self._chi = chi
-        self._edges = _ro(edges)
-        self._n_dropped = dropped
-
-    # -- views -------------------------------------------------------------------
-    @property
-    def vertices(self) -> np.ndarray:
-        """Vertex positions, (N, 3) float64, read-only."""
-        return self._vertices
-
-    @property
-    def faces(self) -> np.ndarray:
-        """Triangles, (M, 3) int64, read-only, in the input orientation."""
-        return self._faces
-
-    @property
-    def edges(self) -> np.ndarray:
-        """Unique undirected edges, (E, 2) int64 with ``edges[:, 0] < edges[:, 1]``."""
-        return self._edges
-
-    @property
-    def boundary_loops(self) -> tuple[np.ndarray, ...]:
-        """Boundary loops as vertex-index arrays; each follows the face orientation
-        (interior on the left seen from the front side), starting at its smallest index.
-        Ordered by smallest vertex index."""
-        return self._loops
 
     @property
     def euler_characteristic(self) -> int:
         return self._chi
-
-    @property
-    def n_vertices(self) -> int:
-        return len(self._vertices)
-
-    @property
-    def n_faces(self) -> int:
-        return len(self._faces)
-
-    @property
-    def n_dropped_vertices(self) -> int:
-        """How many unreferenced input vertices were dropped."""
-        return self._n_dropped
-
-    @property
-    def face_areas(self) -> np.ndarray:
-        """Area of every face, (M,) float64."""
-        return face_areas(self._vertices, self._faces)
-
-    @property
-    def area(self) -> float:
-        return float(self.face_areas.sum())
-
-    @property
-    def boundary_length(self) -> float:
-        """Total 3-D length of the boundary loops."""
-        V = self._vertices
-        return float(
-            sum(np.linalg.norm(V[np.roll(lp, -1)] - V[lp], axis=1).sum() for lp in self.boundary_loops)
-        )
-
-    @property
-    def diagonal(self) -> float:
-        """Length of the bounding-box diagonal."""
-        return float(np.linalg.norm(self._vertices.max(axis=0) - self._vertices.min(axis=0)))
 
     def __repr__(self) -> str:
         return (

@@ -27,6 +27,7 @@ import dataclasses
 import numpy as np
 
 from . import _trimesh
+from .graph import walk_chains
 
 __all__ = ["Seams", "build_seams"]
 
@@ -101,35 +102,6 @@ def _nodes(V, F, label, E, fixed, on_boundary, corner):
         if u @ w < cos_corner * np.linalg.norm(u) * np.linalg.norm(w):
             nodes.add(v)
     return nodes, adj
-
-
-def _chains(adj, nodes) -> list[list[int]]:
-    """The seam graph cut at its nodes: vertex chains, node to node."""
-    used: set = set()
-    out = []
-
-    def follow(a, b):
-        chain = [a, b]
-        used.add((min(a, b), max(a, b)))
-        while chain[-1] not in nodes:
-            v = chain[-1]
-            step = [w for w in adj[v] if (min(v, w), max(v, w)) not in used]
-            if not step:
-                break
-            used.add((min(v, step[0]), max(v, step[0])))
-            chain.append(step[0])
-        return chain
-
-    for v in sorted(nodes):
-        for w in sorted(adj[v]):
-            if (min(v, w), max(v, w)) not in used:
-                out.append(follow(v, w))
-    for v in sorted(adj):  # cycles without a node: one at their smallest vertex
-        for w in sorted(adj[v]):
-            if (min(v, w), max(v, w)) not in used:
-                nodes.add(v)
-                out.append(follow(v, w))
-    return out
 
 
 def _pieces(V, chain, h) -> int:
@@ -274,7 +246,7 @@ def build_seams(V, F, loops, charts, crease_edges, *, spacing, corner_angle=30.0
     for lp in loops:
         on_boundary[lp] = 1
     nodes, adj = _nodes(V, F, label, E, fixed, on_boundary, corner_angle)
-    chains = _chains(adj, nodes)
+    chains = walk_chains(adj, nodes)
     fkey = set(map(tuple, E[fixed].tolist()))
     node_list = sorted(nodes)
     node_id = {v: k for k, v in enumerate(node_list)}
