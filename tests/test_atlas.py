@@ -263,3 +263,13 @@ def test_genus_two_and_open_with_holes_from_the_example_models():
         out = models.model_facts(r.vertices, r.faces)
         assert out["genus"] == ref["genus"] and out["boundary_loops"] == ref["boundary_loops"]
         assert r.report.edges["ratio"] <= 2.5 and r.report.edges["angle_min"] >= 25.0
+
+
+def test_dask_scheduler_gives_identical_bytes():
+    distributed = pytest.importorskip("distributed")
+    V, F = torus()
+    a = surface.remesh((V, F), 500, check=False, hausdorff=False)
+    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=1,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        b = surface.remesh((V, F), 500, check=False, hausdorff=False, scheduler=client)
+    assert a.vertices.tobytes() == b.vertices.tobytes() and a.faces.tobytes() == b.faces.tobytes()
