@@ -152,23 +152,24 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
     near = free.copy()
     near[E[free[E[:, 0]] | free[E[:, 1]]].ravel()] = True
     rows = np.flatnonzero(near[F].any(axis=1))
-    F_list = {int(f): F[f].tolist() for f in rows}
+    F_list = dict(zip(rows.tolist(), F[rows].tolist()))
     edge_faces: dict = {}
     for f, (a, b, c) in F_list.items():
         for u, v in ((a, b), (b, c), (c, a)):
-            edge_faces.setdefault((min(u, v), max(u, v)), []).append(f)
+            edge_faces.setdefault((u, v) if u < v else (v, u), []).append(f)
     flips = 0
-    Xl = X.tolist()  # per-edge reads in plain floats
+    Xl = X.tolist()  # per-edge reads in plain Python: numpy scalars cost more
     val = val.tolist()
+    free_l = free.tolist()
     for (u, v), fs in sorted(edge_faces.items()):
-        if len(fs) != 2 or not (free[u] or free[v]) or (u, v) in locked:
+        if len(fs) != 2 or not (free_l[u] or free_l[v]) or (u, v) in locked:
             continue
         f, g = fs
-        c = _opposite(F_list[f], u, v)
-        d = _opposite(F_list[g], u, v)
-        if c is None or d is None or (min(c, d), max(c, d)) in edge_faces:
+        c = sum(F_list[f]) - u - v  # the third corner of each face
+        d = sum(F_list[g]) - u - v
+        if c == d or (min(c, d), max(c, d)) in edge_faces:
             continue
-        if not _wants(rule, Xl, u, v, c, d, val, free, mean):
+        if not _wants(rule, Xl, u, v, c, d, val, free_l, mean):
             continue
         new_f, new_g = _flipped(F_list[f], u, v, c, d)
         if not _flip_ok(X, [F_list[f], F_list[g]], [new_f, new_g], rule == "delaunay"):
@@ -187,11 +188,6 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
         flips += 1
     F[rows] = np.asarray([F_list[int(f)] for f in rows], dtype=np.int64).reshape(-1, 3)
     return flips
-
-
-def _opposite(tri, u, v):
-    rest = [x for x in tri if x != u and x != v]
-    return rest[0] if len(rest) == 1 else None
 
 
 def _flipped(tri_f, u, v, c, d):

@@ -22,7 +22,9 @@ are free: the seam is a cut of the atlas, not of the surface.
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
+import math
 
 import numpy as np
 
@@ -116,33 +118,33 @@ def _pieces(V, chain, h) -> int:
 
 
 def _at(X, cum, s):
-    """The point at arc position ``s`` of the polyline X (arc positions ``cum``)."""
-    i = int(np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(X) - 2))
-    t = float(np.clip((s - cum[i]) / (cum[i + 1] - cum[i]), 0.0, 1.0))
-    return (1 - t) * X[i] + t * X[i + 1]
+    """The point at arc position ``s`` of the polyline X (arc positions ``cum``;
+    plain lists: the walk below calls this thousands of times)."""
+    i = min(max(bisect.bisect_right(cum, s) - 1, 0), len(X) - 2)
+    t = min(max((s - cum[i]) / (cum[i + 1] - cum[i]), 0.0), 1.0)
+    a, b = X[i], X[i + 1]
+    return (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2]))
 
 
 def _walk_chord(X, cum, s0, c):
     """The first arc position after ``s0`` at straight distance ``c`` from the point
     at ``s0``, or None past the polyline's end."""
     p = _at(X, cum, s0)
-    i = int(np.searchsorted(cum, s0, side="right"))
-    w = 16
-    while True:  # a growing window: the crossing is usually a few vertices on
-        j = np.flatnonzero(np.linalg.norm(X[i : i + w] - p, axis=1) >= c)
-        if len(j) or i + w >= len(X):
-            break
-        w *= 4
-    if not len(j):
+    k = bisect.bisect_right(cum, s0)
+    while k < len(X) and math.dist(X[k], p) < c:
+        k += 1
+    if k == len(X):
         return None
-    k = i + int(j[0])  # the crossing lies between s_a and vertex k
-    s_a = max(cum[k - 1], s0)
+    s_a = max(cum[k - 1], s0)  # the crossing lies between s_a and vertex k
     a = _at(X, cum, s_a)
-    u = X[k] - a
+    u = [X[k][i] - a[i] for i in range(3)]
+    ap = [a[i] - p[i] for i in range(3)]
     # |a + x u - p| = c for x in [0, 1]: the larger root
-    A, B, C = u @ u, 2.0 * u @ (a - p), (a - p) @ (a - p) - c * c
-    x = (-B + np.sqrt(max(B * B - 4 * A * C, 0.0))) / (2 * A) if A > 0 else 1.0
-    return s_a + float(np.clip(x, 0.0, 1.0)) * (cum[k] - s_a)
+    A = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
+    B = 2.0 * (u[0] * ap[0] + u[1] * ap[1] + u[2] * ap[2])
+    C = ap[0] * ap[0] + ap[1] * ap[1] + ap[2] * ap[2] - c * c
+    x = (-B + math.sqrt(max(B * B - 4 * A * C, 0.0))) / (2 * A) if A > 0 else 1.0
+    return s_a + min(max(x, 0.0), 1.0) * (cum[k] - s_a)
 
 
 def _chord_walk(X, cum, m, chord):
@@ -155,7 +157,7 @@ def _chord_walk(X, cum, m, chord):
         if nxt is None:
             return s, -chord * (m - len(s))
         s.append(nxt)
-    return s, float(np.linalg.norm(X[-1] - _at(X, cum, s[-1]))) - chord
+    return s, math.dist(X[-1], _at(X, cum, s[-1])) - chord
 
 
 def _equal_chords(X, cum, m):
@@ -168,6 +170,7 @@ def _equal_chords(X, cum, m):
     too long, bisecting when the walk runs out.  Where the excess jumps (a
     chord's end switching between two arms of a zigzag) no chord is exact: the
     complete walk of least excess found is taken."""
+    X, cum = X.tolist(), cum.tolist()
     lo, hi = 0.0, 1.5 * cum[-1] / m
     f_lo, f_hi = cum[-1], _chord_walk(X, cum, m, hi)[1]
     side, best, best_f = 0, None, np.inf
