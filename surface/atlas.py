@@ -28,10 +28,9 @@ import math
 import numpy as np
 
 from uniform2d import Polygon
-from uniform2d._parallel import ordered_map
 from uniform2d.errors import InsufficientPointsError, InternalError, InvalidPolygonError
 from uniform2d.geometry import boundary_edges, signed_area
-from uniform2d.parts import allocate, stitch
+from uniform2d.parts import allocate, map_parts, stitch
 
 from ._trimesh import dihedral_edges
 from .chart_mesh import mesh_domain, size_field
@@ -207,7 +206,7 @@ def mesh_atlas(atlas: Atlas, n_vertices: int, spacing: float, *, compensate: boo
     """
     counts = chart_counts(atlas, n_vertices, spacing)
     items = [(c, p, k, spacing, compensate) for c, p, k in zip(atlas.charts, atlas.polygons, counts)]
-    done = list(ordered_map(_mesh_chart, items, jobs=jobs, scheduler=scheduler))
+    done = map_parts(_mesh_chart, items, jobs=jobs, scheduler=scheduler)
     parts = [(idx, xyz, T) for idx, (_, T, xyz) in zip(atlas.index, done)]
     xyz, faces = stitch(atlas.seams.xyz, parts)
     if len(xyz) != n_vertices:
