@@ -273,3 +273,17 @@ def test_dask_scheduler_gives_identical_bytes():
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         b = surface.remesh((V, F), 500, check=False, hausdorff=False, scheduler=client)
     assert a.vertices.tobytes() == b.vertices.tobytes() and a.faces.tobytes() == b.faces.tobytes()
+
+
+@pytest.mark.parametrize("scale, offset", [(1e-6, 0.0), (1e6, 0.0), (1.0, 1e4)])
+def test_scale_and_translation_invariant(scale, offset):
+    """The same model at another scale or far from the origin: the same count and
+    topology, and edge measures within a few percent of the unit model's."""
+    V, F = torus()
+    ref = surface.remesh((V, F), 600, check=False, hausdorff=False).report.edges
+    W = V * scale + offset
+    r = surface.remesh((W, F), 600, check=False, hausdorff=False)
+    assert len(r.vertices) == 600 and facts(r.vertices, r.faces) == facts(W, F)
+    e = r.report.edges
+    assert abs(e["ratio"] / ref["ratio"] - 1) < 0.05 and abs(e["cv"] / ref["cv"] - 1) < 0.1
+    assert abs(e["mean"] / (ref["mean"] * scale) - 1) < 0.01
