@@ -32,10 +32,10 @@ Meshers:
   that, for up to 5 runs in all (the count is not monotone in h).  The got column
   gives the one-run count and the tuned one; the measures are those of the
   mesh closest to n; the time is of one run (all runs in brackets).
-- **cgal** (optional, ``pip install cgal``): CGAL's
+- **cgal** (optional, ``pip install cgal``; :mod:`uniform2d.peers.cgal_peer`): CGAL's
   ``Polygon_mesh_processing::isotropic_remeshing`` (3 iterations, the input's
   crease edges given as constrained edges, not protected), tuned like MeshLab.
-- **pyacvd** (optional, ``pip install pyacvd``): ACVD clustering of the input
+- **pyacvd** (optional, ``pip install pyacvd``; :mod:`uniform2d.peers.pyacvd_peer`): ACVD clustering of the input
   subdivided until it has at least 10 n points; it takes n directly.
 
 The inputs are the models at their default resolutions (1400 to 2600
@@ -65,7 +65,6 @@ import json
 import math
 import sys
 import time
-import warnings
 
 import numpy as np
 
@@ -76,7 +75,6 @@ ALL = ["sphere", "capsule", "tank", "box", "torus", "two_hole_plate", "two_bodie
 QUICK = ["sphere", "box", "torus", "pierced_sphere"]
 FEATURE_ANGLE = 30.0  # degrees, for every mesher and for the crease measure
 RUNS = 5  # size-tuned meshers: runs in all
-CGAL_ITERATIONS = 3
 SAMPLES = 30000  # Hausdorff: area-weighted samples besides the vertices
 GOAL = {"ratio": 1.8, "cv": 0.08, "angle": 35.0, "crease": 0.02, "time_factor": 2.0}
 #: Hausdorff distances (relative) below this count as equal: on flat faces both
@@ -240,60 +238,19 @@ def run_meshlab(model: dict, n: int) -> dict:
     return tuned(lambda h: meshlab_peer.isotropic_remesh(model["V"], model["F"], h), model, n)
 
 
-def cgal_remesh(V, F, h: float, creases):
-    """CGAL isotropic remeshing of (V, F) at edge length h, crease edges constrained."""
-    from CGAL import CGAL_Polygon_mesh_processing as PMP
-    from CGAL.CGAL_Kernel import Point_3
-    from CGAL.CGAL_Polyhedron_3 import Polyhedron_3
-
-    pts, polys, p = PMP.Point_3_Vector(), PMP.Polygon_Vector(), Polyhedron_3()
-    for v in V:
-        pts.append(Point_3(*map(float, v)))
-    for f in F:
-        polys.append(PMP.Int_Vector([int(i) for i in f]))
-    PMP.polygon_soup_to_polygon_mesh(pts, polys, p)
-    if not np.array_equal([[q.x(), q.y(), q.z()] for q in p.points()], V):
-        raise RuntimeError("CGAL reordered the vertices: the crease edges cannot be named")
-    for i, v in enumerate(p.vertices()):
-        v.set_id(i)
-    ends = lambda e: (min(e.vertex().id(), e.opposite().vertex().id()),
-                      max(e.vertex().id(), e.opposite().vertex().id()))  # fmt: skip
-    keep = [e for e in p.halfedges() if ends(e) in creases]
-    PMP.isotropic_remeshing(list(p.facets()), float(h), p, CGAL_ITERATIONS, keep, False)
-    X = np.array([[q.x(), q.y(), q.z()] for q in p.points()])
-    for i, v in enumerate(p.vertices()):
-        v.set_id(i)
-    T = [[(e := f.halfedge()).vertex().id(), e.next().vertex().id(),
-          e.next().next().vertex().id()] for f in p.facets()]  # fmt: skip
-    return X, np.array(T, dtype=np.int64).reshape(-1, 3)
-
-
 def run_cgal(model: dict, n: int) -> dict:
     """CGAL's isotropic remeshing with the crease edges constrained, tuned to n."""
-    import trimesh
+    from uniform2d.peers import cgal_peer
 
-    m = trimesh.Trimesh(model["V"], model["F"], process=False)
-    E = m.face_adjacency_edges[m.face_adjacency_angles > math.radians(FEATURE_ANGLE)]
-    creases = {(int(min(a, b)), int(max(a, b))) for a, b in E}
-    return tuned(lambda h: cgal_remesh(model["V"], model["F"], h, creases), model, n)
+    keep = cgal_peer.creases(model["V"], model["F"], FEATURE_ANGLE)
+    return tuned(lambda h: cgal_peer.remesh(model["V"], model["F"], h, keep), model, n)
 
 
 def run_pyacvd(model: dict, n: int) -> dict:
     """pyacvd clustering to n clusters, on the input subdivided to >= 10 n points."""
-    import pyacvd
-    import pyvista as pv
+    from uniform2d.peers import pyacvd_peer
 
-    def make():
-        V, F = model["V"], model["F"]
-        c = pyacvd.Clustering(pv.PolyData(V, np.column_stack([np.full(len(F), 3), F]).ravel()))
-        c.subdivide(next(k for k in range(10) if len(V) * 4**k >= 10 * n))
-        c.cluster(n)
-        out = c.create_mesh()
-        return np.asarray(out.points, np.float64), np.asarray(out.faces).reshape(-1, 4)[:, 1:]
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        (V, F), t = timed(make)
+    (V, F), t = timed(pyacvd_peer.remesh, model["V"], model["F"], n)
     return {"V": V, "F": F, "time": t}
 
 

@@ -2,12 +2,12 @@
 
 Each peer lives in its own module and is loaded lazily through the registry in
 :mod:`uniform2d.peers.base`, so that importing this package never imports an
-optional dependency (gmsh, triangle, pymeshlab).  A peer whose dependency is
+optional dependency (gmsh, triangle, pymeshlab, CGAL, pyacvd).  A peer whose dependency is
 missing is reported as "not installed" (:func:`available` is False).
 
 >>> from uniform2d import peers
 >>> peers.names()
-('gmsh', 'triangle', 'cvt', 'meshlab')
+('gmsh', 'triangle', 'cvt', 'meshlab', 'cgal', 'pyacvd')
 >>> peers.kind("cvt")
 'planar'
 """

@@ -58,6 +58,8 @@ PEERS: dict[str, str] = {
     "triangle": "uniform2d.peers.triangle_peer",
     "cvt": "uniform2d.peers.cvt_peer",
     "meshlab": "uniform2d.peers.meshlab_peer",
+    "cgal": "uniform2d.peers.cgal_peer",
+    "pyacvd": "uniform2d.peers.pyacvd_peer",
 }
 
 
