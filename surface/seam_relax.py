@@ -142,6 +142,37 @@ def _wants(rule, X, u, v, c, d, val, free, mean) -> bool:
     return abs(math.dist(X[c], X[d]) - mean) <= slack
 
 
+def _candidates(X, sub, free, locked, rule, val, mean) -> list:
+    """The edges of the faces ``sub`` (two faces each, a free end, not locked) that
+    ``rule`` asks to flip as the pass starts, sorted: only these are looked at one
+    by one (the rest of the band wait for the next round)."""
+    n = len(X)
+    a, b, o = sub.ravel(), sub[:, [1, 2, 0]].ravel(), sub[:, [2, 0, 1]].ravel()
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    key = lo * n + hi
+    order = np.argsort(key, kind="stable")
+    pair = key[order][1:] == key[order][:-1]
+    i, j = order[:-1][pair], order[1:][pair]
+    U, W, C, D = lo[i], hi[i], o[i], o[j]
+    lk = np.array([p * n + q for p, q in locked], dtype=np.int64)
+    ok = (free[U] | free[W]) & (C != D) & ~np.isin(key[i], lk)
+    if rule == "delaunay":
+        ok &= _opposite_angle(X, C, U, W) + _opposite_angle(X, D, U, W) > np.pi
+    else:
+        f = free.astype(np.int64)
+        change = sum(f[x] * ((val[x] - 6 + s) ** 2 - (val[x] - 6) ** 2)
+                     for x, s in ((U, -1), (W, -1), (C, 1), (D, 1)))
+        ok &= change < 0
+        slack = np.maximum(np.abs(np.linalg.norm(X[U] - X[W], axis=1) - mean), FLIP_SLACK * mean)
+        ok &= np.abs(np.linalg.norm(X[C] - X[D], axis=1) - mean) <= slack
+    return sorted(zip(U[ok].tolist(), W[ok].tolist()))
+
+
+def _opposite_angle(X, at, p, q) -> np.ndarray:
+    a, b = X[p] - X[at], X[q] - X[at]
+    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
+
+
 def _flip_pass(X, F, free, locked, rule: str) -> int:
     """One pass of flips over the edges with a free end, in place: ``"delaunay"``
     (3-D angles) or ``"valence"`` (towards valence 6)."""
@@ -159,10 +190,12 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
             edge_faces.setdefault((u, v) if u < v else (v, u), []).append(f)
     flips = 0
     Xl = X.tolist()  # per-edge reads in plain Python: numpy scalars cost more
+    cand = _candidates(X, F[rows], free, locked, rule, val, mean)
     val = val.tolist()
     free_l = free.tolist()
-    for (u, v), fs in sorted(edge_faces.items()):
-        if len(fs) != 2 or not (free_l[u] or free_l[v]) or (u, v) in locked:
+    for u, v in cand:
+        fs = edge_faces.get((u, v))
+        if fs is None or len(fs) != 2:  # flipped away earlier in this pass
             continue
         f, g = fs
         c = sum(F_list[f]) - u - v  # the third corner of each face
