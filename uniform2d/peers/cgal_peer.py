@@ -16,6 +16,9 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
@@ -85,8 +88,23 @@ def remesh(V, F, h: float, keep: set) -> tuple[np.ndarray, np.ndarray]:
 
 
 def mesh(patch, n_vertices: int) -> PeerMesh:
-    """CGAL remesh of ``patch`` (a ``(V, F)`` pair) tuned to ``n_vertices``."""
-    V, F = (np.asarray(a) for a in patch)
+    """CGAL remesh of ``patch`` (a ``(V, F)`` pair) tuned to ``n_vertices``.
+
+    Runs in a child process: the bindings crash the process (a segmentation
+    fault) on some meshes with a boundary (the cone patch), which must not take
+    the report down with them; a crash is a RuntimeError, a failed peer."""
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=1, mp_context=ctx) as pool:
+        try:
+            return pool.submit(_mesh_here, np.asarray(patch[0]), np.asarray(patch[1]),
+                               int(n_vertices)).result()
+        except BrokenProcessPool:
+            raise RuntimeError("CGAL's bindings crashed the process remeshing this mesh "
+                               "(they do on some meshes with a boundary)") from None
+
+
+def _mesh_here(V, F, n_vertices: int) -> PeerMesh:
+    """:func:`mesh` in this process."""
     keep = creases(V, F)
     e1, e2 = V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]
     area = 0.5 * float(np.linalg.norm(np.cross(e1, e2), axis=1).sum())
