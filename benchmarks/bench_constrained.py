@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 import uniform2d  # noqa: E402
 from uniform2d.errors import InternalError, Uniform2dError  # noqa: E402
-from uniform2d.regions import polygon_vertices_first, triangle_regions  # noqa: E402
+from uniform2d.mesh_regions import polygon_vertices_first, triangle_regions  # noqa: E402
 
 
 def mixed() -> uniform2d.Polygon:

@@ -88,7 +88,7 @@ def draw(case):
 
 def _check_constraints(poly, pts, tri):
     from uniform2d.errors import InvalidArgumentError
-    from uniform2d.regions import triangle_regions
+    from uniform2d.mesh_regions import triangle_regions
 
     if not poly.has_constraints:
         return

@@ -293,7 +293,7 @@ def test_uniform_mesh_scale_and_offset_keep_constraints_and_quality(s, off):
 def test_a_piece_through_a_vertex_is_refused_not_forced(monkeypatch):
     from uniform2d import triangulation
     from uniform2d._kernel import cdt, polytri
-    from uniform2d.segment_chains import rebuild
+    from uniform2d.triangulation import rebuild
 
     P = Polygon(SQ, points=[(1, 1), (2, 2), (2.5, 2.5)])
     loaded = triangulation.load(P)

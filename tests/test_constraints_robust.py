@@ -38,7 +38,7 @@ from invariants import check_mesh, edge_table, segment_chains
 from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidConstraintError
 from uniform2d.optimize.seed import _sides
-from uniform2d.regions import triangle_regions
+from uniform2d.mesh_regions import triangle_regions
 from uniform2d import constraints
 from uniform2d._kernel.segment import eval_segment
 from uniform2d.tplus import SEARCH_LIMIT, _phase1, least_k
@@ -389,7 +389,7 @@ def test_region_chains_take_a_vertex_the_library_puts_on_the_piece():
     """Fixed point 16 of c_near_11000000120 lies 10 ulps off piece 10-11 (not a
     junction), within the boundary tolerance: the mesh's chain of the piece runs
     through it, and the region check follows that chain."""
-    from uniform2d.regions import segment_chains as region_chains
+    from uniform2d.mesh_regions import segment_chains as region_chains
 
     P = domain("c_near_11000000120")
     assert P.segment_edges[0].tolist() == [10, 11] and P.fixed.tolist() == [16]
@@ -518,7 +518,8 @@ def test_subsegment_bound_changes_no_evaluation(seed, n):
 
     from uniform2d._kernel import heap
     from uniform2d._kernel import insert as kinsert
-    from uniform2d.triangulation import load, site_edges
+    from uniform2d.sites import site_edges
+    from uniform2d.triangulation import load
 
     _, o, h, s, p = constrained(seed)
     P = Polygon(o, h, segments=s, points=p)

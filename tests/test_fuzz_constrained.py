@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from uniform2d import InvalidPolygonError
-from uniform2d.regions import triangle_regions
+from uniform2d.mesh_regions import triangle_regions
 
 from fuzzgen import CONSTRAINED_KINDS, constrained, constrained_domain
 

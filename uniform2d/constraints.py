@@ -97,7 +97,7 @@ def apart_tol(rings, lines, points=()) -> float:
     meet): INSERT's tie tolerance on coordinates, ``REL_TIE`` of the polygon's
     size (the larger side of its bounding box) plus 4 units in the last place of
     its largest coordinate (the most its rounding of a point to the caller's
-    coordinates allows for, ``triangulation._grain``)."""
+    coordinates allows for, :func:`uniform2d.tolerance.grain`)."""
     allv = np.concatenate([np.asarray(r, dtype=np.float64).reshape(-1, 2) for r in
                            [*rings, *lines, np.asarray(points, dtype=np.float64).reshape(-1, 2)]])
     outer = np.asarray(rings[0], dtype=np.float64)

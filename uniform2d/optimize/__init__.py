@@ -35,7 +35,7 @@ Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
    objective improves.
 4. **Certification.**  The mesh is the kernel's own triangulation of the final
    points, the exact CDT it kept throughout, checked once
-   (:func:`uniform2d.triangulation.ensure_valid`); its measures are compared
+   (:func:`uniform2d.validity.ensure_valid`); its measures are compared
    with the paper's T+ on the objective and the better mesh is returned, with
    its certificates (when n is too small for T+, the optimised one).
 

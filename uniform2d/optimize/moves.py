@@ -19,7 +19,8 @@ from .._kernel import cdt, relax
 from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon
-from ..triangulation import edge_parameters, load_mesh, triangulate
+from ..sites import edge_parameters
+from ..triangulation import load_mesh, triangulate
 from ..triangulation import load as build
 from . import schedule as S
 from .objective import objective_code

@@ -16,7 +16,7 @@ from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
 from ..tplus import tplus_if_feasible
-from ..triangulation import ensure_valid
+from ..validity import ensure_valid
 from . import schedule as S
 from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
