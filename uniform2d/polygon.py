@@ -20,7 +20,7 @@ from . import regions as _regions
 from .errors import InvalidConstraintError, InvalidPolygonError
 from .geometry import signed_area
 
-__all__ = ["Polygon"]
+__all__ = ["Polygon", "as_polygon"]
 
 
 def _fmt(p) -> str:
@@ -455,3 +455,12 @@ class Polygon:
             f"Polygon({len(self._vertices)} vertices, {self.n_holes} holes{more}, "
             f"area={self._area:.6g})"
         )
+
+
+def as_polygon(polygon) -> Polygon:
+    """``polygon`` as a :class:`Polygon`: itself, from a shapely Polygon, or from an outer ring."""
+    if isinstance(polygon, Polygon):
+        return polygon
+    if hasattr(polygon, "geom_type"):
+        return Polygon.from_shapely(polygon)
+    return Polygon(polygon)
