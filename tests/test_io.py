@@ -15,7 +15,7 @@ import pytest
 from scipy.spatial import Delaunay
 
 import uniform2d
-import uniform2d.io.polygon_files as polygon_files
+from uniform2d.io import common, geojson_file, json_file, poly_file, wkt_file
 import uniform2d.io.truss as truss
 from uniform2d import Polygon
 from uniform2d.errors import FileFormatError, InvalidPolygonError, UnsupportedFormatError
@@ -670,7 +670,9 @@ def test_meshio_write_failing_midway_keeps_old_file(tmp_path, monkeypatch):
 def test_polygon_write_failing_midway_keeps_old_file(tmp_path, monkeypatch, ext):
     path = tmp_path / f"p{ext}"
     path.write_text("old content")
-    monkeypatch.setattr(polygon_files, "_num", _fail_midway(polygon_files._num))
+    failing = _fail_midway(common.num)
+    for module in (common, json_file, geojson_file, wkt_file, poly_file):  # each writes numbers
+        monkeypatch.setattr(module, "num", failing)
     with pytest.raises(RuntimeError, match="midway"):
         write_polygon(path, POLYGONS["l_bracket"])
     assert path.read_text() == "old content"
