@@ -1,7 +1,7 @@
 """Near-degenerate constrained domains from the fuzz benchmark.
 
-``data/constrained_near.json`` holds domains of ``tests/fuzzgen.constrained``,
-each named ``<kind>_<seed>`` (``fuzzgen.constrained(seed)`` draws it again).
+``data/constrained_near.json`` holds domains of ``uniform2d.testing.fuzz.constrained``,
+each named ``<kind>_<seed>`` (``fuzz.constrained(seed)`` draws it again).
 The first eight (seed 0, kinds ``c_near`` and ``c_tjunction``): two segments
 leaving one vertex at an angle of ~1e-7, a fixed point a few units in the last
 place off a segment, a segment ending a rounding off a ring edge, far from the
@@ -17,7 +17,7 @@ vertex beside a sliver no coordinate can hold a point in -- now a junction on
 that edge or piece; region areas off by the rounding of boundary points far
 from the origin; a region thinner than the probe that looked for its sides.
 
-Every mesh is checked by ``invariants.check_mesh`` (each piece a chain of mesh
+Every mesh is checked by ``uniform2d.testing.check_mesh`` (each piece a chain of mesh
 edges, no point on two chains, the rest constrained Delaunay, exactly n) and
 its triangles must tile the regions (``regions.triangle_regions``).
 """
@@ -34,7 +34,7 @@ import pytest
 from numba import njit
 
 import uniform2d
-from invariants import check_mesh, edge_table, segment_chains
+from uniform2d.testing import check_mesh, edge_table, segment_chains
 from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidConstraintError
 from uniform2d.optimize.seed import _sides
@@ -514,7 +514,7 @@ def test_subsegment_bound_changes_no_evaluation(seed, n):
     """A bound as tight as the value itself gathers fewer sites and gives the
     same (value, point), bit for bit, on every constrained subsegment of
     domains where a segment runs close beside a ring edge."""
-    from fuzzgen import constrained
+    from uniform2d.testing.fuzz import constrained
 
     from uniform2d._kernel import heap
     from uniform2d._kernel import insert as kinsert
@@ -540,7 +540,7 @@ def test_tplus_names_the_smallest_n_on_a_shadowed_ring_edge():
     """Seed 5 c_near 5000000098 (T+ n = 216 searched for over 5 minutes, INSERT
     slowing near n = 35000): the search jumps to the k a failed n needed and
     names an n that works while the one below does not."""
-    from fuzzgen import constrained
+    from uniform2d.testing.fuzz import constrained
 
     from uniform2d.tplus import _k
 

@@ -6,8 +6,9 @@ import pytest
 import uniform2d
 from uniform2d.optimize import OBJECTIVES, optimize_mesh, target_size
 
-from invariants import check_mesh
-from polygen import benchmark_polygons, convex, star, with_holes
+from uniform2d.testing import check_mesh
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing.polygons import convex, star, with_holes
 
 BENCH = benchmark_polygons()
 

@@ -19,8 +19,9 @@ from uniform2d.optimize import improve, lattice_seed, target_size
 from uniform2d.optimize.moves import _load, _unload
 from uniform2d.optimize.schedule import FLAT
 
-from invariants import check_mesh
-from polygen import benchmark_polygons, convex, star, with_holes
+from uniform2d.testing import check_mesh
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing.polygons import convex, star, with_holes
 
 BENCH = benchmark_polygons()
 

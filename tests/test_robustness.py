@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import uniform2d
-from invariants import check_mesh
+from uniform2d.testing import check_mesh
 from uniform2d import InternalError, Polygon
 from uniform2d.insert import insert_on_edges
 from uniform2d.validity import ensure_valid
@@ -173,7 +173,7 @@ def _exact_triangles(poly):
 @pytest.mark.parametrize("seed", range(8))
 def test_exact_triangulation_of_polygons_with_holes_and_collinear_vertices(seed):
     """GEOS can cut flat ears on collinear vertices; polytri decides exactly."""
-    from polygen import with_holes
+    from uniform2d.testing.polygons import with_holes
 
     p = with_holes(seed)
     # split every outer edge at 1/4 and 1/2: collinear within an ulp, and exactly

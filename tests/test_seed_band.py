@@ -10,7 +10,8 @@ import pytest
 import shapely
 from scipy.spatial import cKDTree
 
-from polygen import benchmark_polygons, with_holes
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing.polygons import with_holes
 from uniform2d.optimize import pipeline, schedule, seed
 from uniform2d.optimize.seed import _fill_band_gaps, _fill_largest_gaps, _keep_clear, _largest_spread
 

@@ -13,7 +13,7 @@ import pytest
 import shapely
 
 import uniform2d
-from invariants import check_mesh
+from uniform2d.testing import check_mesh
 from uniform2d import Polygon
 from uniform2d.geometry import unique_edges
 from uniform2d.optimize import improve, lattice_seed
