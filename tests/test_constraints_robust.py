@@ -37,7 +37,7 @@ import uniform2d
 from uniform2d.testing import check_mesh, edge_table, segment_chains
 from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidConstraintError
-from uniform2d.optimize.seed import _sides
+from uniform2d.optimize.shares import sides_of as _sides
 from uniform2d.mesh_regions import triangle_regions
 from uniform2d import constraints
 from uniform2d._kernel.segment import eval_segment

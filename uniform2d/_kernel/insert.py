@@ -58,7 +58,7 @@ from ._jit import njit
 from . import heap
 from .borrow import borrowed, settle
 from .cavity import insert_point
-from .cdt import circumcircle, constrained, locate_scan, nxt, prv, snap
+from .cdt import allocate, circumcircle, constrained, locate_scan, nxt, prv, snap
 from .predicates import dot2d, orient2d
 from .pool import dump_window, new_pool, pool_add, pool_kill, to_window
 from .rank import REL_TIE, size_at, tied_above
@@ -574,3 +574,12 @@ def _project(m, h, x, y):
     s = ((x - xy[u, 0]) * dx + (y - xy[u, 1]) * dy) / (dx * dx + dy * dy)
     s = min(1.0 - 1e-12, max(1e-12, s))
     return xy[u, 0] + s * dx, xy[u, 1] + s * dy
+
+
+def warm_first_step() -> None:
+    """Compile INSERT's first step (:func:`_gather`, which brings most of its
+    predicates) on a tiny empty triangulation, typed as a run types it: the
+    first thing the command's warmer compiles (:func:`uniform2d.warmup.warm`)."""
+    m, _ = allocate(4, 4)
+    M, P = heap.new_heap(16), new_pool(64)
+    _gather(m, M, P, 0.0)

@@ -47,7 +47,8 @@ graded mesh uniform in the field's metric.
 from .moves import improve
 from .objective import OBJECTIVES, objective_value
 from .pipeline import optimize_mesh
-from .seed import lattice_seed, target_size
+from .boundary import target_size
+from .lattice import lattice_seed
 
 __all__ = [
     "optimize_mesh",
