@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ._kernel import cavity, cdt, polytri
+from ._kernel import adjacency, cavity, cdt, lawson, polytri
 from ._kernel.hilbert import hilbert_order
 from ._kernel.outcomes import failed_site
 from .errors import PLEASE_REPORT, ArgumentTypeError, InternalError, InvalidArgumentError
@@ -61,7 +61,7 @@ def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
     """Constrained Delaunay triangles of the rings (GEOS), as CCW vertex indices.
 
     GEOS returns the input coordinates unchanged, so vertices are matched exactly.
-    Its in-circle decisions are not exact; :func:`cdt.legalize_all` fixes that.
+    Its in-circle decisions are not exact; :func:`lawson.legalize_all` fixes that.
     """
     shell = xy[rings[0]]
     holes = [xy[r] for r in rings[1:]]
@@ -170,7 +170,7 @@ def _initial(allxy, rings, chains, nR, nmax, tmax, grid, normal):
         cdt.set_nv(m, len(allxy))
         own = [[v for v in r if v < nR] for r in rings]
         tris = polytri.triangulate(allxy[:nR], own)
-        if cdt.build_adjacency(m, tris) != nR or not _valid(m, allxy, own):
+        if adjacency.build_adjacency(m, tris) != nR or not _valid(m, allxy, own):
             raise InternalError(f"could not triangulate the polygon exactly {PLEASE_REPORT}")
         if chains:
             idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
@@ -180,7 +180,7 @@ def _initial(allxy, rings, chains, nR, nmax, tmax, grid, normal):
                 k = int(idx[-status - 1])
                 raise InternalError(
                     f"could not put boundary vertex {k} on its edge {PLEASE_REPORT}")
-    cdt.legalize_all(m)
+    lawson.legalize_all(m)
     return m, xy
 
 
@@ -193,7 +193,7 @@ def _load_triangles(m, allxy, rings) -> bool:
     nb0 = sum(len(r) for r in rings)
     if len(tris) != nb0 + 2 * (len(rings) - 1) - 2:
         return False
-    if cdt.build_adjacency(m, tris) != nb0:
+    if adjacency.build_adjacency(m, tris) != nb0:
         return False
     return _valid(m, allxy, rings)
 
@@ -370,9 +370,9 @@ def rebuild(m, triangles, pieces) -> None:
     """Load the triangles (a valid mesh of P whose edges include the segment
     pieces ``pieces`` = (us, vs)) into ``m``, flag the pieces and make it the
     constrained Delaunay triangulation of its points."""
-    cdt.build_adjacency(m, np.ascontiguousarray(triangles, dtype=np.int32))
+    adjacency.build_adjacency(m, np.ascontiguousarray(triangles, dtype=np.int32))
     if len(pieces[0]):
         if polytri.recover_pieces(m, pieces[0], pieces[1]) < 0:
             raise InternalError(f"a segment piece is not an edge of the mesh {PLEASE_REPORT}")
     else:
-        cdt.legalize_all(m)
+        lawson.legalize_all(m)

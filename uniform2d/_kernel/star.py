@@ -19,8 +19,9 @@ ends at -1)::
 import numpy as np
 from ._jit import njit
 
-from .cdt import UNDO, lawson_recorded, new_tag, nxt, prv, undo_flips
+from .cdt import new_tag, nxt, prv
 from .heap import grown
+from .lawson import UNDO, lawson_recorded, undo_flips
 from .objective import combine
 from .predicates import orient2d
 from .rank import size_at
@@ -407,7 +408,7 @@ def legalize_live(m, moved, todo, alive, slots, undo, nu):
     """Make every edge around the moved vertices locally Delaunay again
     (:func:`suspects`, then Lawson flips), and wake every dead slot a flip
     rewrote.  With ``nu`` >= 0 the flips are recorded in ``undo`` from record nu
-    on (:func:`.cdt.record_flip`).  Returns (todo, grown if needed; slots;
+    on (:func:`.lawson.record_flip`).  Returns (todo, grown if needed; slots;
     whether a slot woke: the caller's :func:`dead_part` is then stale; undo;
     the new record count)."""
     todo, sp = suspects(m, moved, todo, alive, slots)
