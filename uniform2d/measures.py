@@ -166,20 +166,10 @@ def mesh_measures(pts: np.ndarray, tri: np.ndarray, bins: int) -> dict:
     area = float(0.5 * cross.sum())
 
     return dict(
-        n_vertices=len(pts),
-        n_triangles=len(tri),
-        n_edges=n_edges,
-        n_boundary_edges=n_boundary,
-        area=area,
-        shortest_edge=shortest,
-        longest_edge=longest,
-        edge_ratio=ratio,
-        mean_edge=mean,
-        std_edge=std,
-        cv_edge=cv,
-        min_angle=min_angle,
-        max_angle=max_angle,
-        max_perimeter=max_perimeter,
+        n_vertices=len(pts), n_triangles=len(tri), n_edges=n_edges, n_boundary_edges=n_boundary,
+        area=area, shortest_edge=shortest, longest_edge=longest, edge_ratio=ratio,
+        mean_edge=mean, std_edge=std, cv_edge=cv,
+        min_angle=min_angle, max_angle=max_angle, max_perimeter=max_perimeter,
         histogram_counts=tuple(int(x) for x in hist_counts),
         histogram_edges=tuple(float(x) for x in hist_edges),
     )

@@ -32,6 +32,12 @@ __all__ = ["read_dxf", "write_dxf", "FORMAT"]
 
 logger = logging.getLogger(__name__)
 
+#: What :func:`uniform2d.io.polygon_formats` says of this format.
+DESCRIPTION = (
+    "DXF closed LWPOLYLINE/POLYLINE entities (largest is the outline), open ones and LINEs "
+    "as segments, POINTs, TEXT labels"
+)
+
 
 # -- rings: the outline and its holes ------------------------------------------------
 _GEOMETRY_ENTITIES = {"LINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE", "INSERT", "HATCH"}
@@ -266,10 +272,4 @@ def write_dxf(path, polygon: Polygon) -> None:
 
 
 #: This module's entry in :data:`uniform2d.io.registry.POLYGON_FORMATS`.
-FORMAT = FileFormat(
-    ".dxf",
-    "DXF closed LWPOLYLINE/POLYLINE entities (largest is the outline), open ones and LINEs "
-    "as segments, POINTs, TEXT labels",
-    read_dxf,
-    write_dxf,
-)
+FORMAT = FileFormat(".dxf", DESCRIPTION, read_dxf, write_dxf)

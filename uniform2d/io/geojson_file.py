@@ -33,6 +33,12 @@ __all__ = ["read_geojson", "write_geojson", "polygon_from_geojson", "FORMAT"]
 
 logger = logging.getLogger(__name__)
 
+#: What :func:`uniform2d.io.polygon_formats` says of this format.
+DESCRIPTION = (
+    "GeoJSON Polygon, Feature, or FeatureCollection with one polygon (and LineString "
+    "segments, Point fixed points, labelled Points and zone Polygons)"
+)
+
 # -- one polygon ------------------------------------------------------------------------
 _POLYGONAL = ("Polygon", "MultiPolygon")
 
@@ -271,10 +277,4 @@ def write_geojson(path, polygon: Polygon) -> None:
 
 
 #: This module's entry in :data:`uniform2d.io.registry.POLYGON_FORMATS`.
-FORMAT = FileFormat(
-    ".geojson",
-    "GeoJSON Polygon, Feature, or FeatureCollection with one polygon (and LineString "
-    "segments, Point fixed points, labelled Points and zone Polygons)",
-    read_geojson,
-    write_geojson,
-)
+FORMAT = FileFormat(".geojson", DESCRIPTION, read_geojson, write_geojson)

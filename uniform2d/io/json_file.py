@@ -26,6 +26,12 @@ __all__ = ["read_json", "write_json", "FORMAT"]
 
 logger = logging.getLogger(__name__)
 
+#: What :func:`uniform2d.io.polygon_formats` says of this format.
+DESCRIPTION = (
+    'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...], "segments": [...], '
+    '"points": [...], "regions": [[x, y, label], ...]} (GeoJSON also accepted)'
+)
+
 _OUR_JSON = '{"outer": [[x, y], ...], "holes": [[[x, y], ...], ...]}'
 
 
@@ -121,10 +127,4 @@ def write_json(path, polygon: Polygon) -> None:
 
 
 #: This module's entry in :data:`uniform2d.io.registry.POLYGON_FORMATS`.
-FORMAT = FileFormat(
-    ".json",
-    'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...], "segments": [...], '
-    '"points": [...], "regions": [[x, y, label], ...]} (GeoJSON also accepted)',
-    read_json,
-    write_json,
-)
+FORMAT = FileFormat(".json", DESCRIPTION, read_json, write_json)

@@ -37,6 +37,11 @@ __all__ = ["read_poly", "write_poly", "FORMAT"]
 
 logger = logging.getLogger(__name__)
 
+#: What :func:`uniform2d.io.polygon_formats` says of this format.
+DESCRIPTION = (
+    "Triangle .poly: vertices, segments (rings and interior), hole points, regional attributes"
+)
+
 
 # -- the sections of a file ------------------------------------------------------------
 class _PolyLines:
@@ -445,9 +450,4 @@ def write_poly(path, polygon: Polygon) -> None:
 
 
 #: This module's entry in :data:`uniform2d.io.registry.POLYGON_FORMATS`.
-FORMAT = FileFormat(
-    ".poly",
-    "Triangle .poly: vertices, segments (rings and interior), hole points, regional attributes",
-    read_poly,
-    write_poly,
-)
+FORMAT = FileFormat(".poly", DESCRIPTION, read_poly, write_poly)

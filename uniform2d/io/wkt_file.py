@@ -34,6 +34,11 @@ __all__ = ["read_wkt", "write_wkt", "FORMAT"]
 
 logger = logging.getLogger(__name__)
 
+#: What :func:`uniform2d.io.polygon_formats` says of this format.
+DESCRIPTION = (
+    "Well-Known Text POLYGON, or GEOMETRYCOLLECTION with LINESTRING segments and POINTs"
+)
+
 def _read_polygon(path) -> Polygon:
     """Read one WKT POLYGON (a one-part MULTIPOLYGON is accepted)."""
     text = read_text(path).strip()
@@ -128,9 +133,4 @@ def write_wkt(path, polygon: Polygon) -> None:
 
 
 #: This module's entry in :data:`uniform2d.io.registry.POLYGON_FORMATS`.
-FORMAT = FileFormat(
-    ".wkt",
-    "Well-Known Text POLYGON, or GEOMETRYCOLLECTION with LINESTRING segments and POINTs",
-    read_wkt,
-    write_wkt,
-)
+FORMAT = FileFormat(".wkt", DESCRIPTION, read_wkt, write_wkt)

@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from uniform2d import Polygon
+from ..errors import InvalidArgumentError
+from ..polygon import Polygon
 
 __all__ = ["convex", "star", "with_holes", "convex_ring", "star_ring"]
 
@@ -62,23 +63,24 @@ def star_ring(rng: np.random.Generator, k: int) -> np.ndarray:
 
 def convex(rng, k: int | None = None) -> Polygon:
     """A random strictly convex polygon with ``k`` vertices (default: 3..10)."""
-    rng = _rng(rng)
-    if k is None:
-        k = int(rng.integers(3, 11))
-    if k < 3:
-        raise ValueError("a polygon needs k >= 3 vertices")
-    return Polygon(_place(rng, convex_ring(rng, k), rng.uniform(0.5, 2.0)))
+    return _one_ring(rng, k, convex_ring, (3, 11), 3, "a polygon")
 
 
 def star(rng, k: int | None = None) -> Polygon:
     """A random star-shaped, non-convex polygon with ``k`` vertices (default 6..14),
     vertices at sorted angles with random radii, at least one reflex vertex."""
+    return _one_ring(rng, k, star_ring, (6, 15), 4, "a non-convex polygon")
+
+
+def _one_ring(rng, k, ring, default: tuple, least: int, what: str) -> Polygon:
+    """A polygon of one ``ring(rng, k)`` (k drawn from ``default``, a half-open
+    range, when not given; at least ``least``), at a random size and offset."""
     rng = _rng(rng)
     if k is None:
-        k = int(rng.integers(6, 15))
-    if k < 4:
-        raise ValueError("a non-convex polygon needs k >= 4 vertices")
-    return Polygon(_place(rng, star_ring(rng, k), rng.uniform(0.5, 2.0)))
+        k = int(rng.integers(*default))
+    if k < least:
+        raise InvalidArgumentError(f"{what} needs k >= {least} vertices")
+    return Polygon(_place(rng, ring(rng, k), rng.uniform(0.5, 2.0)))
 
 
 def with_holes(rng, n_holes: int | None = None, margin: float = 0.06) -> Polygon:
@@ -123,4 +125,6 @@ def with_holes(rng, n_holes: int | None = None, margin: float = 0.06) -> Polygon
             size = rng.uniform(0.5, 2.0)
             off = rng.uniform(-2.0, 2.0, 2)
             return Polygon(outer * size + off, [h * size + off for h in holes])
-    raise RuntimeError("could not place the holes")  # pragma: no cover
+    raise InvalidArgumentError(  # pragma: no cover
+        f"could not place {n_holes} holes {margin} apart in 1000 outlines; ask for fewer "
+        "holes or a smaller margin")
