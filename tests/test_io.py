@@ -679,6 +679,21 @@ def test_polygon_write_failing_midway_keeps_old_file(tmp_path, monkeypatch, ext)
     assert _listing(tmp_path) == [path.name]
 
 
+def test_dxf_without_ezdxf_names_the_extra(tmp_path, monkeypatch):
+    """ezdxf is the ``dxf`` extra: without it a .dxf file is a typed error saying
+    what to install, and nothing is left behind."""
+    import sys
+
+    written = tmp_path / "written.dxf"
+    write_polygon(written, POLYGONS["square"])
+    monkeypatch.setitem(sys.modules, "ezdxf", None)  # import ezdxf now fails
+    with pytest.raises(UnsupportedFormatError, match=r"uniform2d\[dxf\]"):
+        read_polygon(written)
+    with pytest.raises(UnsupportedFormatError, match=r"uniform2d\[dxf\]"):
+        write_polygon(tmp_path / "p.dxf", POLYGONS["square"])
+    assert _listing(tmp_path) == ["written.dxf"]
+
+
 def test_registry_writer_failing_leaves_nothing(tmp_path, monkeypatch):
     from dataclasses import replace
 

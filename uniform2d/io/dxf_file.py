@@ -1,4 +1,4 @@
-"""DXF polygon files, ``.dxf`` (read and written with ezdxf).
+"""DXF polygon files, ``.dxf`` (read and written with ezdxf: the ``dxf`` extra).
 
 Closed ``LWPOLYLINE`` and 2-D/3-D ``POLYLINE`` entities in modelspace are the
 outline (the one with the largest area) and its holes, except those on a layer
@@ -22,7 +22,7 @@ from collections import Counter
 import numpy as np
 import shapely
 
-from ..errors import InvalidPolygonError
+from ..errors import InvalidPolygonError, UnsupportedFormatError
 from ..geometry import signed_area
 from ..polygon import Polygon
 from .common import fail, make_polygon, zone_seeds
@@ -39,14 +39,23 @@ DESCRIPTION = (
 )
 
 
+def _ezdxf():
+    """The ezdxf module (the ``dxf`` extra), or the error saying how to install it."""
+    try:
+        import ezdxf
+    except ModuleNotFoundError:
+        raise UnsupportedFormatError(
+            "reading and writing .dxf files needs ezdxf: pip install 'uniform2d[dxf]'") from None
+    return ezdxf
+
+
 # -- rings: the outline and its holes ------------------------------------------------
 _GEOMETRY_ENTITIES = {"LINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE", "INSERT", "HATCH"}
 
 
 def _open_dxf(path):
     """The ezdxf document of the file; a file ezdxf cannot read is an InvalidPolygonError."""
-    import ezdxf
-
+    ezdxf = _ezdxf()
     try:
         return ezdxf.readfile(path)
     except ezdxf.DXFError as exc:
@@ -215,7 +224,7 @@ def read_dxf(path) -> Polygon:
 
 def _write_rings(path, polygon: Polygon) -> None:
     """Write the rings as closed LWPOLYLINEs (layer OUTER, then layer HOLES)."""
-    import ezdxf
+    ezdxf = _ezdxf()
 
     # ezdxf stamps the time and random GUIDs into every file unless told to write
     # its fixed ones (when the document is made and when it is saved): same
@@ -244,8 +253,7 @@ def write_dxf(path, polygon: Polygon) -> None:
     (REGIONS); labels read back as text."""
     if not (polygon.has_constraints or polygon.region_seeds):
         return _write_rings(path, polygon)
-    import ezdxf
-
+    ezdxf = _ezdxf()
     fixed = ezdxf.options.write_fixed_meta_data_for_testing
     ezdxf.options.write_fixed_meta_data_for_testing = True
     try:
