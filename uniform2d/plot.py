@@ -20,6 +20,7 @@ from matplotlib.ticker import FuncFormatter
 
 from .errors import InvalidArgumentError, UnsupportedFormatError
 from .measures import as_points, as_triangles, edge_lengths, histogram
+from .io.atomic import atomic_write
 from .polygon import as_polygon
 
 __all__ = ["plot_mesh", "check_figure_path", "FIGURE_FORMATS", "EDGE_CMAP"]
@@ -155,8 +156,6 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     fig.suptitle(title, fontsize=12)
 
     if path is not None:
-        from .io.atomic import atomic_write
-
         ext = Path(path).suffix
         atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
         log.info("wrote %s", path)

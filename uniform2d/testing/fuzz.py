@@ -42,6 +42,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from ..polygon import Polygon
 from .polygons import convex_ring, star_ring, with_holes
 
 __all__ = ["KINDS", "CONSTRAINED_KINDS", "domain", "rings", "constrained", "constrained_domain"]
@@ -161,8 +162,6 @@ def rings(seed, kind: str | None = None):
 
 def domain(seed, kind: str | None = None):
     """(kind, Polygon) of domain ``seed``; raises InvalidPolygonError for an invalid draw."""
-    from uniform2d import Polygon
-
     kind, outer, holes = rings(seed, kind)
     return kind, Polygon(outer, holes)
 
@@ -306,7 +305,5 @@ def constrained(seed, kind: str | None = None):
 def constrained_domain(seed, kind: str | None = None):
     """(kind, Polygon) of constrained domain ``seed``; raises InvalidPolygonError
     (an InvalidConstraintError for the constraints) for an invalid draw."""
-    from uniform2d import Polygon
-
     kind, outer, holes, segs, pts = constrained(seed, kind)
     return kind, Polygon(outer, holes, segments=segs, points=pts)
