@@ -124,14 +124,11 @@ def dead_part(m, alive, hv, href, k):
     for t in range(m.nt):
         if alive[t]:
             continue
-        per = 0.0
-        tgt = 0.0
+        Ls, ss, per, tgt = triangle_terms(xy, tv, hv, href, t)
         for i in range(3):
             h = 3 * t + i
-            L, s = edge(xy, tv, hv, href, h)
-            per += L
-            tgt += s
-            ell = L / s
+            L = Ls[i]
+            ell = L / ss[i]
             out[0] = max(out[0], ell)
             out[1] = min(out[1], ell)
             g = tw[h]
@@ -168,6 +165,17 @@ def edge(xy, tv, hv, href, h):
     return np.sqrt(dx * dx + dy * dy), 0.5 * (hv[a] + hv[b]) * href
 
 
+@njit(cache=True, inline="always")
+def triangle_terms(xy, tv, hv, href, t):
+    """The terms every pass over the triangles reads of slot t: its three edges'
+    lengths and targets (:func:`edge`, in half-edge order) and its perimeter
+    and the perimeter's target, summed in that order."""
+    L0, s0 = edge(xy, tv, hv, href, 3 * t)
+    L1, s1 = edge(xy, tv, hv, href, 3 * t + 1)
+    L2, s2 = edge(xy, tv, hv, href, 3 * t + 2)
+    return (L0, L1, L2), (s0, s1, s2), L0 + L1 + L2, s0 + s1 + s2
+
+
 @njit(cache=True)
 def measure(m, hv, href):
     """(longest, shortest, largest perimeter), all normalised by their targets."""
@@ -185,13 +193,9 @@ def measure_live(m, hv, href, slots, dead):
     lmin = np.inf
     pmax = 0.0
     for t in slots:
-        per = 0.0
-        tgt = 0.0
+        Ls, ss, per, tgt = triangle_terms(xy, tv, hv, href, t)
         for i in range(3):
-            L, s = edge(xy, tv, hv, href, 3 * t + i)
-            per += L
-            tgt += s
-            ell = L / s
+            ell = Ls[i] / ss[i]
             lmax = max(lmax, ell)
             lmin = min(lmin, ell)
         pmax = max(pmax, per / tgt)
