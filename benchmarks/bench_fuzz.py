@@ -23,7 +23,7 @@ Every returned mesh is checked by ``uniform2d.testing.check_mesh`` (exactly
 directions, boundary = polygon edges split at points on them, constrained
 Delaunay, area); a constrained domain's mesh must also have every fixed point
 as a vertex of a triangle and tile the regions, every segment a chain of its
-edges (``uniform2d.regions.triangle_regions``: areas per region to 1e-9 of the
+edges (``uniform2d.mesh_regions.triangle_regions``: areas per region to 1e-9 of the
 polygon's, or 2 units in the last place times the region's perimeter).  The
 area tolerance is 1e-9 relative, or what rounding the boundary points onto
 rotated edges allows where the coordinates are coarse for the polygon's size

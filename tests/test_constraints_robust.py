@@ -19,7 +19,7 @@ from the origin; a region thinner than the probe that looked for its sides.
 
 Every mesh is checked by ``uniform2d.testing.check_mesh`` (each piece a chain of mesh
 edges, no point on two chains, the rest constrained Delaunay, exactly n) and
-its triangles must tile the regions (``regions.triangle_regions``).
+its triangles must tile the regions (``mesh_regions.triangle_regions``).
 """
 
 from __future__ import annotations

@@ -33,8 +33,8 @@ class Mesh:
     info : dict
         How the mesh was made (method, d_n, k, the hypotheses of Theorem 2, ...).
     regions : ndarray, shape (M,), int64
-        The region (:mod:`uniform2d.regions`, found by :mod:`uniform2d.mesh_regions`) of every triangle; all 0 for a
-        polygon without segments.
+        The region (:mod:`uniform2d.regions`) of every triangle, found by
+        :mod:`uniform2d.mesh_regions`; all 0 for a polygon without segments.
     region_labels : tuple
         The label of each region (``None`` where the polygon gives none).
     segment_members : tuple of ndarray

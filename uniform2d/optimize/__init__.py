@@ -2,10 +2,11 @@
 
 Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
 
-1. **Target size** (:mod:`~uniform2d.optimize.seed`).  h solves "an
+1. **Target size** (:mod:`~uniform2d.optimize.boundary`).  h solves "an
    equilateral mesh of side h has |V| + n vertices"
    (:func:`uniform2d.geometry.size_for_count`).
-2. **Starts** (:mod:`~uniform2d.optimize.seed`).  Boundary: every polygon edge
+2. **Starts** (:mod:`~uniform2d.optimize.seed`; the lattice
+   :mod:`~uniform2d.optimize.lattice`, the first row :mod:`~uniform2d.optimize.rows`).  Boundary: every polygon edge
    of length L gets m = max(1, round(L / (c h))) equal pieces (fewer if they
    would exceed n).  Interior: the remaining points of a hexagonal lattice
    aligned with one polygon edge, at least half a spacing inside P, optionally

@@ -1,7 +1,9 @@
 """The boundary of a start: the target size, and points splitting P's edges evenly.
 
-Shared by the optimiser's starts (:mod:`uniform2d.optimize.seed`), T+ and the
-CVT peer.
+:func:`target_size` is the side of an equilateral mesh with the wanted count
+(every part of the optimiser sizes by it); :func:`boundary_counts` and
+:func:`boundary_points` split every constraint edge into equal pieces, the
+first thing a start (:mod:`uniform2d.optimize.seed`) places.
 """
 
 from __future__ import annotations

@@ -70,7 +70,7 @@ def improve(
     objective : {"balanced", "ratio", "max_edge", "max_perimeter"}
     href : float, optional
         The uniform target edge length (default: from the point count, as
-        :func:`~uniform2d.optimize.seed.target_size`); ignored with a ``size`` field.
+        :func:`~uniform2d.optimize.boundary.target_size`); ignored with a ``size`` field.
     frozen : array_like of bool, shape (k,), optional
         Sites that must not move (e.g. the deep interior of a lattice that is
         already uniform: the work then scales with the boundary band).
