@@ -22,7 +22,7 @@ and prints, for each mesh: vertices, edge ratio, longest edge and largest perime
 over their lower bounds (``uniform2d.quality`` with the same n and T+'s d_n for all),
 the edge-length CV, the smallest angle, the time, and whether the mesh conforms (every
 segment a chain of its edges, every fixed point a vertex, the regions tiled: checked by
-``uniform2d.regions``).  A mesher that refuses a case (a uniform2d error, e.g. while
+``uniform2d.mesh_regions``).  A mesher that refuses a case (a uniform2d error, e.g. while
 constraints are not supported by one of its steps, or an ``InternalError``) is listed
 with the error's type.
 The last line says whether ours beats Gmsh on both edge ratio and CV in every case.
@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 import uniform2d  # noqa: E402
 from uniform2d.errors import InternalError, Uniform2dError  # noqa: E402
-from uniform2d.regions import polygon_vertices_first, triangle_regions  # noqa: E402
+from uniform2d.mesh_regions import polygon_vertices_first, triangle_regions  # noqa: E402
 
 
 def mixed() -> uniform2d.Polygon:

@@ -6,11 +6,11 @@ Usage::
                                     [--limit 120] [--out failures.json]
                                     [--constrained 0.3]
 
-Domain i is ``tests/fuzzgen.domain(seed * 10**9 + i)``: star-shaped rings with
+Domain i is ``uniform2d.testing.fuzz.domain(seed * 10**9 + i)``: star-shaped rings with
 short edges, exactly and nearly collinear vertices, sharp spikes, rotated
 rectilinear outlines, 1-4 holes, 1:100 slivers, at scales 1e-6..1e6 and half of
 them offset by up to 1e7.  A fraction ``--constrained`` of them (drawn from the
-seed) is instead ``tests/fuzzgen.constrained(seed * 10**9 + i)``: outlines with
+seed) is instead ``uniform2d.testing.fuzz.constrained(seed * 10**9 + i)``: outlines with
 fixed points, free, T-junction and closed segments, near-degenerate ones included.
 Each domain gets three calls, n drawn log-uniformly:
 
@@ -18,12 +18,12 @@ Each domain gets three calls, n drawn log-uniformly:
     tplus(P, n)         n in [1, 1000]
     uniform_mesh(P, n)  n in [1, 300]   (the optimiser is the expensive call)
 
-Every returned mesh is checked by ``tests/invariants.check_mesh`` (exactly
+Every returned mesh is checked by ``uniform2d.testing.check_mesh`` (exactly
 |V| + n points, strictly counter-clockwise triangles, edges glued in opposite
 directions, boundary = polygon edges split at points on them, constrained
 Delaunay, area); a constrained domain's mesh must also have every fixed point
 as a vertex of a triangle and tile the regions, every segment a chain of its
-edges (``uniform2d.regions.triangle_regions``: areas per region to 1e-9 of the
+edges (``uniform2d.mesh_regions.triangle_regions``: areas per region to 1e-9 of the
 polygon's, or 2 units in the last place times the region's perimeter).  The
 area tolerance is 1e-9 relative, or what rounding the boundary points onto
 rotated edges allows where the coordinates are coarse for the polygon's size
@@ -59,8 +59,6 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
 
 CALLS = (("insert", 1000), ("tplus", 1000), ("uniform_mesh", 300))
 
@@ -77,7 +75,7 @@ def _area_rtol(polygon):
 
 def draw(case):
     """(kind, outer, holes, segments, points) of ``case`` = (seed, constrained)."""
-    from fuzzgen import constrained, rings
+    from uniform2d.testing.fuzz import constrained, rings
 
     seed, with_constraints = case
     if with_constraints:
@@ -88,7 +86,7 @@ def draw(case):
 
 def _check_constraints(poly, pts, tri):
     from uniform2d.errors import InvalidArgumentError
-    from uniform2d.regions import triangle_regions
+    from uniform2d.mesh_regions import triangle_regions
 
     if not poly.has_constraints:
         return
@@ -102,7 +100,7 @@ def _check_constraints(poly, pts, tri):
 def run_case(case):
     """[(call, n, status, seen, domain)] for one domain, ``domain`` as :func:`draw` gives it."""
     import uniform2d
-    from invariants import check_mesh
+    from uniform2d.testing import check_mesh
 
     dom = draw(case)
     kind, outer, holes, segs, points = dom

@@ -47,12 +47,16 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
+import uniform2d
+from uniform2d.io import read_polygon
+from uniform2d.optimize import optimize_mesh
 
-import uniform2d  # noqa: E402
-from uniform2d.optimize import optimize_mesh  # noqa: E402
-from polygen import benchmark_polygons  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def benchmark_polygons() -> dict:
+    """name -> Polygon of every benchmark polygon (``data/benchmarks/*.json``)."""
+    return {p.stem: read_polygon(p) for p in sorted((ROOT / "data" / "benchmarks").glob("*.json"))}
 
 
 def gmsh_mesh(poly, size):
@@ -242,10 +246,9 @@ def speed_run(N: int, objective: str, tplus: bool = True) -> dict:
     T+ alone, timed (``t_tp`` is None without)."""
     code = f"""
         import json, resource, sys, time
-        sys.path[:0] = [{str(ROOT / "tests")!r}, {str(ROOT / "benchmarks")!r}]
+        sys.path[:0] = [{str(ROOT / "benchmarks")!r}]
         import uniform2d
-        from bench_uniform import row
-        from polygen import benchmark_polygons
+        from bench_uniform import benchmark_polygons, row
         p = benchmark_polygons()["square"]
         uniform2d.uniform_mesh(p, 200)  # load the compiled kernels
         n = {N} - len(p.vertices)

@@ -9,8 +9,9 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-import polygen
-from invariants import check_mesh
+from uniform2d.testing import polygons
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing import check_mesh
 from uniform2d import Polygon, tplus, uniform_mesh
 from uniform2d.errors import InsufficientPointsError
 from uniform2d.bounds import (BOUND_SLACK, corner_ratio_floor, euler_ratio_floor,
@@ -220,7 +221,7 @@ def test_holes_and_reflex_corners_count():
 
 
 def test_bounds_are_scale_and_translation_invariant():
-    P = polygen.star(np.random.default_rng(5), 9)
+    P = polygons.star(np.random.default_rng(5), 9)
     m = uniform_mesh(P, 80)
     ref = quality(m.points, m.triangles, P, d_n=False)
     for s, off in ((1e-6, (0, 0)), (1e6, (0, 0)), (1.0, (1e6, -3e6)), (1e3, (-7e8, 2e8))):
@@ -274,7 +275,7 @@ def cdt_of_random_points(P, n, rng):
 
 def sharp_and_reflex_polygons():
     rng = np.random.default_rng(19)
-    out = dict(polygen.benchmark_polygons())
+    out = dict(benchmark_polygons())
     out["sliver 12deg"] = Polygon([(0, 0), (1, 0), (math.cos(12 * DEG), math.sin(12 * DEG))])
     out["obtuse 150deg"] = Polygon([(0, 0), (2, 0), (1 + math.cos(30 * DEG), math.sin(30 * DEG)),
                                     (-1, 1)])
@@ -283,9 +284,9 @@ def sharp_and_reflex_polygons():
     out["comb"] = Polygon([(0, 0), (4, 0), (4, 1), (3, 1), (3, 0.3), (2.5, 0.3), (2.5, 1),
                            (1, 1), (0.7, 0.4), (0.3, 1), (0, 1)])
     for i in range(3):
-        out[f"star {i}"] = polygen.star(rng)
-        out[f"holes {i}"] = polygen.with_holes(rng)
-        out[f"convex {i}"] = polygen.convex(rng)
+        out[f"star {i}"] = polygons.star(rng)
+        out[f"holes {i}"] = polygons.with_holes(rng)
+        out[f"convex {i}"] = polygons.convex(rng)
     return out
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from invariants import check_mesh
+from uniform2d.testing import check_mesh
 from uniform2d import read_mesh, read_polygon
 from uniform2d.cli.main import COMMANDS, main
 

@@ -10,7 +10,7 @@ from uniform2d import read_mesh, read_polygon, write_polygon
 from uniform2d.cli.info import smallest_sensible_n
 from uniform2d.mesh import Mesh
 
-from conmesh import triangle_mesh
+from support.conmesh import triangle_mesh
 from test_cli import DATA, assert_one_error, run
 from test_io_constraints import CROSSING, slab
 

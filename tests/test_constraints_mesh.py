@@ -5,7 +5,7 @@ INSERT is checked step by step against the brute-force reference
 candidate carriers) on a free stiffener, T-junctions, a closed segment, fixed
 points (one on a segment) and a hole; then for the kernel alone: non-increasing
 weights, bit-identical repeated calls, invariance under scaling and
-translation.  Every mesh passes ``invariants.check_mesh`` (segments are chains of
+translation.  Every mesh passes ``uniform2d.testing.check_mesh`` (segments are chains of
 mesh edges, fixed points are vertices, exactly n Steiner points), and a fuzz
 test draws random constrained domains.
 """
@@ -20,8 +20,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import uniform2d
-from invariants import check_mesh
-from reference_insert import reference_insert
+from uniform2d.testing import check_mesh
+from support.reference_insert import reference_insert
 from uniform2d import Polygon
 from uniform2d._kernel.validity import mesh_problem
 from uniform2d.errors import InternalError
@@ -293,7 +293,7 @@ def test_uniform_mesh_scale_and_offset_keep_constraints_and_quality(s, off):
 def test_a_piece_through_a_vertex_is_refused_not_forced(monkeypatch):
     from uniform2d import triangulation
     from uniform2d._kernel import cdt, polytri
-    from uniform2d.segment_chains import rebuild
+    from uniform2d.triangulation import rebuild
 
     P = Polygon(SQ, points=[(1, 1), (2, 2), (2.5, 2.5)])
     loaded = triangulation.load(P)

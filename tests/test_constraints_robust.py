@@ -1,7 +1,7 @@
 """Near-degenerate constrained domains from the fuzz benchmark.
 
-``data/constrained_near.json`` holds domains of ``tests/fuzzgen.constrained``,
-each named ``<kind>_<seed>`` (``fuzzgen.constrained(seed)`` draws it again).
+``data/constrained_near.json`` holds domains of ``uniform2d.testing.fuzz.constrained``,
+each named ``<kind>_<seed>`` (``fuzz.constrained(seed)`` draws it again).
 The first eight (seed 0, kinds ``c_near`` and ``c_tjunction``): two segments
 leaving one vertex at an angle of ~1e-7, a fixed point a few units in the last
 place off a segment, a segment ending a rounding off a ring edge, far from the
@@ -17,9 +17,9 @@ vertex beside a sliver no coordinate can hold a point in -- now a junction on
 that edge or piece; region areas off by the rounding of boundary points far
 from the origin; a region thinner than the probe that looked for its sides.
 
-Every mesh is checked by ``invariants.check_mesh`` (each piece a chain of mesh
+Every mesh is checked by ``uniform2d.testing.check_mesh`` (each piece a chain of mesh
 edges, no point on two chains, the rest constrained Delaunay, exactly n) and
-its triangles must tile the regions (``regions.triangle_regions``).
+its triangles must tile the regions (``mesh_regions.triangle_regions``).
 """
 
 from __future__ import annotations
@@ -34,11 +34,11 @@ import pytest
 from numba import njit
 
 import uniform2d
-from invariants import check_mesh, edge_table, segment_chains
+from uniform2d.testing import check_mesh, edge_table, segment_chains
 from uniform2d import Polygon
 from uniform2d.errors import InsufficientPointsError, InvalidConstraintError
-from uniform2d.optimize.seed import _sides
-from uniform2d.regions import triangle_regions
+from uniform2d.optimize.shares import sides_of as _sides
+from uniform2d.mesh_regions import triangle_regions
 from uniform2d import constraints
 from uniform2d._kernel.segment import eval_segment
 from uniform2d.tplus import SEARCH_LIMIT, _phase1, least_k
@@ -389,7 +389,7 @@ def test_region_chains_take_a_vertex_the_library_puts_on_the_piece():
     """Fixed point 16 of c_near_11000000120 lies 10 ulps off piece 10-11 (not a
     junction), within the boundary tolerance: the mesh's chain of the piece runs
     through it, and the region check follows that chain."""
-    from uniform2d.regions import segment_chains as region_chains
+    from uniform2d.mesh_regions import segment_chains as region_chains
 
     P = domain("c_near_11000000120")
     assert P.segment_edges[0].tolist() == [10, 11] and P.fixed.tolist() == [16]
@@ -514,11 +514,12 @@ def test_subsegment_bound_changes_no_evaluation(seed, n):
     """A bound as tight as the value itself gathers fewer sites and gives the
     same (value, point), bit for bit, on every constrained subsegment of
     domains where a segment runs close beside a ring edge."""
-    from fuzzgen import constrained
+    from uniform2d.testing.fuzz import constrained
 
     from uniform2d._kernel import heap
     from uniform2d._kernel import insert as kinsert
-    from uniform2d.triangulation import load, site_edges
+    from uniform2d.sites import site_edges
+    from uniform2d.triangulation import load
 
     _, o, h, s, p = constrained(seed)
     P = Polygon(o, h, segments=s, points=p)
@@ -539,7 +540,7 @@ def test_tplus_names_the_smallest_n_on_a_shadowed_ring_edge():
     """Seed 5 c_near 5000000098 (T+ n = 216 searched for over 5 minutes, INSERT
     slowing near n = 35000): the search jumps to the k a failed n needed and
     names an n that works while the one below does not."""
-    from fuzzgen import constrained
+    from uniform2d.testing.fuzz import constrained
 
     from uniform2d.tplus import _k
 

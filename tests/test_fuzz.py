@@ -1,11 +1,11 @@
-"""Fuzzing: random hard domains (``fuzzgen``) through every method, every mesh checked.
+"""Fuzzing: random hard domains (``uniform2d.testing.fuzz``) through every method, every mesh checked.
 
 Hypothesis draws a domain seed and an n; the domain is one of the shapes that
 broke meshers before (short edges, exact and near collinear vertices, spikes,
 rotated rectilinear outlines, holes, slivers) at a scale 1e-6..1e6 and an offset
 up to 1e7.  A call may refuse with a ``Uniform2dError`` (an invalid polygon
 drawn, an n too small for T+); anything else must be a mesh that passes
-``invariants.check_mesh`` with exactly n Steiner points.  The long run is
+``uniform2d.testing.check_mesh`` with exactly n Steiner points.  The long run is
 ``benchmarks/bench_fuzz.py``.
 """
 
@@ -17,8 +17,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import uniform2d
-from fuzzgen import KINDS, rings
-from invariants import check_mesh
+from uniform2d.testing.fuzz import KINDS, rings
+from uniform2d.testing import check_mesh
 
 SETTINGS = settings(
     max_examples=40, deadline=None, derandomize=True,

@@ -1,4 +1,4 @@
-"""The constrained fuzz domains (fuzzgen.constrained): deterministic, mostly valid,
+"""The constrained fuzz domains (uniform2d.testing.fuzz.constrained): deterministic, mostly valid,
 and their regions tile them; on Triangle's meshes of them the regions agree with
 Triangle's own regional attributes."""
 
@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from uniform2d import InvalidPolygonError
-from uniform2d.regions import triangle_regions
+from uniform2d.mesh_regions import triangle_regions
 
-from fuzzgen import CONSTRAINED_KINDS, constrained, constrained_domain
+from uniform2d.testing.fuzz import CONSTRAINED_KINDS, constrained, constrained_domain
 
 
 @pytest.mark.parametrize("kind", CONSTRAINED_KINDS)
@@ -48,7 +48,7 @@ def test_the_kinds_make_what_they_say():
 
 def test_regions_of_triangle_meshes_of_fuzz_domains():
     triangle = pytest.importorskip("triangle")
-    from conmesh import triangle_mesh
+    from support.conmesh import triangle_mesh
 
     checked = 0
     for kind in CONSTRAINED_KINDS:

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from uniform2d import InvalidArgumentError, Polygon
-from uniform2d.regions import polygon_vertices_first, segment_chains, triangle_regions
+from uniform2d.mesh_regions import polygon_vertices_first, segment_chains, triangle_regions
 
 from test_io_constraints import slab
 

@@ -2,12 +2,12 @@
 
 ``uniform2d.insert(polygon, n, sites=None)`` must reproduce Algorithm INSERT step by
 step -- the same points (absolute tolerance 1e-9 x polygon size), the same weights
-(relative 1e-9) and the same on-boundary flags -- as ``tests/reference_insert.py``,
+(relative 1e-9) and the same on-boundary flags -- as ``tests/support/reference_insert.py``,
 which recomputes every step from scratch with no code in common with the kernel.
 Cases: every benchmark polygon (n = 200) and 33 random polygons (convex,
 star-shaped, with 1-3 holes; n from 30 to 200), plus runs with extra initial sites.
 On top of that, for the kernel alone: the dense sampling check at every step
-(``tests/dense_check.py``), non-increasing weights, bit-identical repeated calls,
+(``tests/support/dense_check.py``), non-increasing weights, bit-identical repeated calls,
 invariance under scaling and translation, and a sane mesh.
 """
 
@@ -20,11 +20,12 @@ import numpy as np
 import pytest
 import shapely
 
-import polygen
+from uniform2d.testing import polygons
+from support.benchmarks import benchmark_polygons
 import uniform2d
-from invariants import check_mesh
-from dense_check import check_sequence
-from reference_insert import reference_insert
+from uniform2d.testing import check_mesh
+from support.dense_check import check_sequence
+from support.reference_insert import reference_insert
 from uniform2d import Polygon
 
 P_TOL = 1e-9  # points: absolute, times the polygon size
@@ -48,36 +49,36 @@ class Case:
 
 
 def _cases() -> list[Case]:
-    out = [Case(f"bench-{k}-n200", p, 200) for k, p in polygen.benchmark_polygons().items()]
+    out = [Case(f"bench-{k}-n200", p, 200) for k, p in benchmark_polygons().items()]
     for i in range(11):
         s = 100 + i
         rng = np.random.default_rng(s)
         k = int(rng.integers(3, 11))
         n = 200 if i == 10 else int(rng.integers(30, 81))
-        out.append(Case(f"convex-s{s}-k{k}-n{n}", polygen.convex(rng, k), n))
+        out.append(Case(f"convex-s{s}-k{k}-n{n}", polygons.convex(rng, k), n))
     for i in range(11):
         s = 200 + i
         rng = np.random.default_rng(s)
         k = int(rng.integers(6, 15))
         n = 200 if i == 10 else int(rng.integers(30, 81))
-        out.append(Case(f"star-s{s}-k{k}-n{n}", polygen.star(rng, k), n))
+        out.append(Case(f"star-s{s}-k{k}-n{n}", polygons.star(rng, k), n))
     for i in range(11):
         s = 300 + i
         h = 1 + i % 3
         n = 200 if i == 10 else int(np.random.default_rng(s).integers(30, 81))
-        out.append(Case(f"holes-s{s}-h{h}-n{n}", polygen.with_holes(s, h), n))
+        out.append(Case(f"holes-s{s}-h{h}-n{n}", polygons.with_holes(s, h), n))
     return out
 
 
 def _site_cases() -> list[Case]:
-    bench = polygen.benchmark_polygons()
+    bench = benchmark_polygons()
     out = []
     sq = bench["square"]
     out.append(Case("square-4sites-n60", sq, 60, ((0.5, 0.0), (0.3, 0.6), (1.0, 0.25), (0.8, 0.8))))
     L = bench["lshape"]
     a = L.outer[3][0]  # the reflex corner is (a, a)
     out.append(Case("lshape-3sites-n60", L, 60, ((0.0, 0.3), (0.8, 0.2), (a, 1.5 * a))))
-    for name, P in (("star-s7", polygen.star(7)), ("holes-s3", polygen.with_holes(3, 2))):
+    for name, P in (("star-s7", polygons.star(7)), ("holes-s3", polygons.with_holes(3, 2))):
         inner = P.to_shapely().representative_point()
         pts = [(inner.x, inner.y), tuple(0.5 * (P.outer[0] + P.outer[1]))]
         if P.n_holes:
@@ -259,7 +260,7 @@ def test_mesh_is_a_ccw_triangulation_of_the_polygon(case_id):
     assert (d <= 1e-12 * c.size).all(), f"{(d > 1e-12 * c.size).sum()} points missing from the mesh"
     # the full independent checks: neighbour symmetry, orientation, every polygon edge
     # present (split at the boundary points), area, and local Delaunay on every
-    # unconstrained edge -- decided exactly (tests/invariants.py)
+    # unconstrained edge -- decided exactly (uniform2d.testing.checks)
     check_mesh(X, T, c.polygon)
 
 

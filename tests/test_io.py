@@ -15,7 +15,7 @@ import pytest
 from scipy.spatial import Delaunay
 
 import uniform2d
-import uniform2d.io.polygon_files as polygon_files
+from uniform2d.io import common, geojson_file, json_file, poly_file, wkt_file
 import uniform2d.io.truss as truss
 from uniform2d import Polygon
 from uniform2d.errors import FileFormatError, InvalidPolygonError, UnsupportedFormatError
@@ -670,11 +670,28 @@ def test_meshio_write_failing_midway_keeps_old_file(tmp_path, monkeypatch):
 def test_polygon_write_failing_midway_keeps_old_file(tmp_path, monkeypatch, ext):
     path = tmp_path / f"p{ext}"
     path.write_text("old content")
-    monkeypatch.setattr(polygon_files, "_num", _fail_midway(polygon_files._num))
+    failing = _fail_midway(common.num)
+    for module in (common, json_file, geojson_file, wkt_file, poly_file):  # each writes numbers
+        monkeypatch.setattr(module, "num", failing)
     with pytest.raises(RuntimeError, match="midway"):
         write_polygon(path, POLYGONS["l_bracket"])
     assert path.read_text() == "old content"
     assert _listing(tmp_path) == [path.name]
+
+
+def test_dxf_without_ezdxf_names_the_extra(tmp_path, monkeypatch):
+    """ezdxf is the ``dxf`` extra: without it a .dxf file is a typed error saying
+    what to install, and nothing is left behind."""
+    import sys
+
+    written = tmp_path / "written.dxf"
+    write_polygon(written, POLYGONS["square"])
+    monkeypatch.setitem(sys.modules, "ezdxf", None)  # import ezdxf now fails
+    with pytest.raises(UnsupportedFormatError, match=r"uniform2d\[dxf\]"):
+        read_polygon(written)
+    with pytest.raises(UnsupportedFormatError, match=r"uniform2d\[dxf\]"):
+        write_polygon(tmp_path / "p.dxf", POLYGONS["square"])
+    assert _listing(tmp_path) == ["written.dxf"]
 
 
 def test_registry_writer_failing_leaves_nothing(tmp_path, monkeypatch):

@@ -12,7 +12,7 @@ from uniform2d.io import mesh_formats, read_mesh, write_mesh
 from uniform2d.io.registry import MESH_FORMATS
 from uniform2d.mesh import Mesh
 
-from conmesh import triangle_mesh
+from support.conmesh import triangle_mesh
 
 REGION_EXTS = [e for e, f in MESH_FORMATS.items() if f.regions]
 OTHER_EXTS = [e for e, f in MESH_FORMATS.items() if not f.regions]

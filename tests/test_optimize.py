@@ -6,8 +6,9 @@ import pytest
 import uniform2d
 from uniform2d.optimize import OBJECTIVES, optimize_mesh, target_size
 
-from invariants import check_mesh
-from polygen import benchmark_polygons, convex, star, with_holes
+from uniform2d.testing import check_mesh
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing.polygons import convex, star, with_holes
 
 BENCH = benchmark_polygons()
 
@@ -216,14 +217,14 @@ def test_balanced_ranks_the_starts_by_the_edge_cv_too(monkeypatch):
 def test_hex_lattice_does_not_depend_on_its_row_blocks(monkeypatch):
     """The lattice is made LATTICE_ROWS rows at a time: the same points, in the same
     order, as rows one at a time or all at once; spacing and rotation as asked."""
-    from uniform2d.optimize import seed
+    from uniform2d.optimize import lattice
 
     args = ((0.0, 0.0, 3.0, 1.0), 0.05, 0.3, (3.0, 1.0))
-    got = seed._hex_lattice(*args)
-    monkeypatch.setattr(seed, "LATTICE_ROWS", 1)
-    one = seed._hex_lattice(*args)
-    monkeypatch.setattr(seed, "LATTICE_ROWS", 10**6)
-    whole = seed._hex_lattice(*args)
+    got = lattice.hex_lattice(*args)
+    monkeypatch.setattr(lattice, "LATTICE_ROWS", 1)
+    one = lattice.hex_lattice(*args)
+    monkeypatch.setattr(lattice, "LATTICE_ROWS", 10**6)
+    whole = lattice.hex_lattice(*args)
     assert got.tobytes() == one.tobytes() == whole.tobytes()
     # nearest neighbours at the spacing, one of them along the rotated rows
     from scipy.spatial import cKDTree

@@ -10,7 +10,7 @@ from scipy.spatial import Delaunay
 
 from uniform2d import Polygon, UnsupportedFormatError
 from uniform2d.plot import plot_mesh
-from uniform2d.quality import edge_lengths
+from uniform2d.measures import edge_lengths
 
 SQUARE = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
 

@@ -8,7 +8,7 @@ from uniform2d import InvalidArgumentError
 from uniform2d.mesh import Mesh
 from uniform2d.plot import REGION_COLOURS, plot_mesh
 
-from conmesh import triangle_mesh
+from support.conmesh import triangle_mesh
 from test_io_constraints import slab
 
 

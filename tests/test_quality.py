@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 from scipy.spatial import Delaunay
 
 from uniform2d import Polygon
-from uniform2d.quality import BOUND_SLACK, Bound, Quality, edge_lengths, quality
+from uniform2d.measures import edge_lengths
+from uniform2d.quality import BOUND_SLACK, Bound, Quality, quality
 
 SQRT3 = math.sqrt(3.0)
 
@@ -567,7 +568,7 @@ def test_quality_edges_by_vertex_against_a_counter_of_sorted_pairs(case):
     fan's apex, whose bucket holds every edge (numpy's sort)."""
     from collections import Counter
 
-    from uniform2d.quality import _unique_edges
+    from uniform2d.measures import edges_with_counts as _unique_edges
 
     rng = np.random.default_rng(5)
     if case == "random":

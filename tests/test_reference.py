@@ -6,7 +6,7 @@ L-shape, a square with a boundary site), its two independent candidate
 enumerations against each other (the paper's literal Voronoi Step 3 versus brute-
 force triples and pairs), its pruning against no pruning, its visibility test
 against shapely's, the tie rule on synthetic candidates, and at every step
-against a dense sampling of the polygon (tests/dense_check.py).
+against a dense sampling of the polygon (tests/support/dense_check.py).
 """
 
 import math
@@ -14,12 +14,13 @@ import math
 import numpy as np
 import pytest
 
-import polygen
-from dense_check import _Vis, check_sequence, dense_samples, max_visible_distance
-from reference_insert import PolygonGeometry, reference_insert, tie_break
+from uniform2d.testing import polygons
+from support.benchmarks import benchmark_polygons
+from support.dense_check import _Vis, check_sequence, dense_samples, max_visible_distance
+from support.reference_insert import PolygonGeometry, reference_insert, tie_break
 from uniform2d import Polygon
 
-BENCH = polygen.benchmark_polygons()
+BENCH = benchmark_polygons()
 SQUARE = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
 RECT4 = Polygon([(0, 0), (4, 0), (4, 1), (0, 1)])
 METHODS = ["voronoi", "general"]
@@ -150,7 +151,7 @@ def test_tie_rule_on_synthetic_candidates(scale):
 
 
 # -- the two candidate enumerations agree ----------------------------------------------
-CONVEX_CASES = [pytest.param(polygen.convex(s), id=f"convex-s{s}") for s in range(6)] + [
+CONVEX_CASES = [pytest.param(polygons.convex(s), id=f"convex-s{s}") for s in range(6)] + [
     pytest.param(BENCH[k], id=k) for k in ("square", "hexagon", "heptagon_short", "rect4x1")
 ]
 
@@ -165,8 +166,8 @@ def test_voronoi_and_general_methods_agree(polygon):
 @pytest.mark.parametrize(
     "polygon",
     [
-        pytest.param(polygen.star(4), id="star-s4"),
-        pytest.param(polygen.with_holes(7), id="holes-s7"),
+        pytest.param(polygons.star(4), id="star-s4"),
+        pytest.param(polygons.with_holes(7), id="holes-s7"),
         pytest.param(BENCH["lshape"], id="lshape"),
         pytest.param(BENCH["square2holes"], id="square2holes"),
     ],
@@ -180,9 +181,9 @@ def test_pruning_is_exact(polygon):
 # -- dense check and monotone weights at every step --------------------------------------
 DENSE_CASES = (
     [pytest.param(p, 100, id=f"{k}-n100") for k, p in BENCH.items()]
-    + [pytest.param(polygen.convex(s), 60, id=f"convex-s{s}-n60") for s in (10, 11)]
-    + [pytest.param(polygen.star(s), 60, id=f"star-s{s}-n60") for s in (10, 11, 12)]
-    + [pytest.param(polygen.with_holes(s), 60, id=f"holes-s{s}-n60") for s in (10, 11, 12)]
+    + [pytest.param(polygons.convex(s), 60, id=f"convex-s{s}-n60") for s in (10, 11)]
+    + [pytest.param(polygons.star(s), 60, id=f"star-s{s}-n60") for s in (10, 11, 12)]
+    + [pytest.param(polygons.with_holes(s), 60, id=f"holes-s{s}-n60") for s in (10, 11, 12)]
 )
 
 
@@ -201,7 +202,7 @@ def test_reference_with_sites_dense_and_methods():
     b = reference_insert(SQUARE, 40, sites, method="general")
     _same_run(a, b, 1.0)
     assert not check_sequence(SQUARE, a.points, a.weights, sites)
-    P = polygen.with_holes(3)
+    P = polygons.with_holes(3)
     h = P.holes[0]
     sites = np.array(
         [0.5 * (h[0] + h[1]), 0.5 * (P.outer[0] + P.outer[1]), 0.9 * P.outer.mean(0) + 0.1 * P.outer[2]]
@@ -213,7 +214,7 @@ def test_reference_with_sites_dense_and_methods():
 
 # -- the dense check itself ----------------------------------------------------------------
 def test_dense_check_catches_wrong_runs():
-    P = polygen.star(10)
+    P = polygons.star(10)
     r = reference_insert(P, 30)
     assert not check_sequence(P, r.points, r.weights)
     w = r.weights.copy()
@@ -258,8 +259,8 @@ def test_visibility_lshape_hand():
 
 @pytest.mark.parametrize(
     "polygon",
-    [pytest.param(polygen.star(s), id=f"star-s{s}") for s in (20, 21)]
-    + [pytest.param(polygen.with_holes(s), id=f"holes-s{s}") for s in (20, 21)]
+    [pytest.param(polygons.star(s), id=f"star-s{s}") for s in (20, 21)]
+    + [pytest.param(polygons.with_holes(s), id=f"holes-s{s}") for s in (20, 21)]
     + [pytest.param(BENCH["square2holes"], id="square2holes")],
 )
 def test_visibility_agrees_with_shapely(polygon):
@@ -297,15 +298,15 @@ def test_reference_scale_and_offset_invariant(name):
 # -- generators ------------------------------------------------------------------------------------
 def test_generators_are_deterministic_and_well_formed():
     for s in range(8):
-        assert polygen.convex(s, 7) == polygen.convex(np.random.default_rng(s), 7)
-        assert polygen.star(s) == polygen.star(s)
-        assert polygen.with_holes(s, 2) == polygen.with_holes(s, 2)
-        c = polygen.convex(s, 7)
+        assert polygons.convex(s, 7) == polygons.convex(np.random.default_rng(s), 7)
+        assert polygons.star(s) == polygons.star(s)
+        assert polygons.with_holes(s, 2) == polygons.with_holes(s, 2)
+        c = polygons.convex(s, 7)
         assert len(c.vertices) == 7 and (c.interior_angles() < np.pi).all()
-        st = polygen.star(s)
+        st = polygons.star(s)
         assert st.n_holes == 0 and (st.interior_angles() > np.pi).any()
         for k in (1, 2, 3):
-            h = polygen.with_holes(s, k)
+            h = polygons.with_holes(s, k)
             assert h.n_holes == k
             shp = h.to_shapely()
             size = _size(h)

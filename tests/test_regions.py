@@ -6,9 +6,9 @@ import shapely
 
 from uniform2d import InvalidArgumentError, InvalidConstraintError, Polygon
 from uniform2d.mesh import Mesh
-from uniform2d.regions import segment_chains, triangle_regions
+from uniform2d.mesh_regions import segment_chains, triangle_regions
 
-from conmesh import triangle_mesh
+from support.conmesh import triangle_mesh
 
 SQ = [(0, 0), (10, 0), (10, 10), (0, 10)]
 

@@ -16,11 +16,12 @@ from uniform2d import Polygon, SizeField
 from uniform2d._kernel import cdt, descent, relax, star as kstar
 from uniform2d._kernel import objective as kobj
 from uniform2d.optimize import improve, lattice_seed, target_size
-from uniform2d.optimize.moves import _load, _unload
+from uniform2d.optimize.moves import KernelMesh
 from uniform2d.optimize.schedule import FLAT
 
-from invariants import check_mesh
-from polygen import benchmark_polygons, convex, star, with_holes
+from uniform2d.testing import check_mesh
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing.polygons import convex, star, with_holes
 
 BENCH = benchmark_polygons()
 
@@ -77,7 +78,7 @@ def _scattered(k, restrict):
     ok = shapely.contains_xy(p.to_shapely(), jit[:, 0], jit[:, 1])
     sites[np.flatnonzero(inner)[ok]] = jit[ok]
     res = uniform2d.insert(p, 0, sites=sites)
-    st = _load(p, res.mesh_points, res.triangles, None, None, None)
+    st = KernelMesh.from_mesh(p, res.mesh_points, res.triangles)
     if restrict:  # the passes skip the triangles of the frozen half, and must still keep the CDT
         _half_frozen(st, len(p.vertices))
     return p, st
@@ -103,7 +104,7 @@ def test_kernel_triangulation_is_the_fresh_cdt_of_its_points(k, stage, restrict)
     assert not moved[fixed].any()  # FIXED vertices stay
     assert moved[nV:].any() or stage != "spring"
     # the kernel's triangulation (normalised coordinates) vs a fresh exact CDT
-    pts = _unload(p, st)
+    pts = st.points()
     fresh = uniform2d.insert(p, 0, sites=pts[nV:])
     assert np.array_equal(fresh.mesh_points, pts)
     kern = cdt.triangle_list(st.m)
@@ -120,7 +121,7 @@ def test_descent_weights_are_the_linearised_log_of_the_objective(k, graded, rest
     p = BENCH["square2holes"]
     size = _ramp(p) if graded else None
     res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
-    st = _load(p, res.mesh_points, res.triangles, size, None, None)
+    st = KernelMesh.from_mesh(p, res.mesh_points, res.triangles, size=size)
     tri = cdt.triangle_list(st.m)
     xy = st.xy
     E = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
@@ -154,7 +155,7 @@ def test_measure_weights_pass_gives_measures_bit_for_bit(graded, restrict):
     p = BENCH["star10"]
     size = _ramp(p) if graded else None
     res = uniform2d.insert(p, 0, sites=lattice_seed(p, 150))
-    st = _load(p, res.mesh_points, res.triangles, size, None, None)
+    st = KernelMesh.from_mesh(p, res.mesh_points, res.triangles, size=size)
     if restrict:
         _half_frozen(st, len(p.vertices))
     for obj in (kobj.BALANCED, kobj.RATIO, kobj.MAX_EDGE, kobj.MAX_PERIMETER):
@@ -169,7 +170,7 @@ def test_edge_cv_is_the_cv_of_the_normalised_unique_edges(graded):
     p = BENCH["square2holes"]
     size = _ramp(p) if graded else None
     res = uniform2d.insert(p, 120)
-    st = _load(p, res.mesh_points, res.triangles, size, None, None)
+    st = KernelMesh.from_mesh(p, res.mesh_points, res.triangles, size=size)
     tri = cdt.triangle_list(st.m)
     E = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
     E = np.unique(np.sort(E, axis=1), axis=0)
@@ -310,8 +311,8 @@ def test_spread_stage_lowers_cv_and_never_the_objective(objective):
 
 @pytest.mark.parametrize("name", sorted(BENCH))
 def test_corner_fans_split_each_corner_into_near_60_degree_angles(name):
-    from uniform2d.optimize.seed import FAN_CAP
-    from uniform2d.optimize.seed import corner_fans as _corner_fans
+    from uniform2d.optimize.rows import FAN_CAP
+    from uniform2d.optimize.rows import corner_fans as _corner_fans
 
     p = BENCH[name]
     V, E = p.vertices, p.edges
@@ -342,9 +343,9 @@ def test_boundary_rows_are_fans_and_equilateral_apexes_clear_of_each_other(name)
     from scipy.spatial import cKDTree
 
     from uniform2d.geometry import polygon_edges as _edge_geometry
-    from uniform2d.optimize.seed import boundary_counts as _boundary_counts
-    from uniform2d.optimize.seed import boundary_rows as _boundary_rows
-    from uniform2d.optimize.seed import corner_fans as _corner_fans
+    from uniform2d.optimize.boundary import boundary_counts as _boundary_counts
+    from uniform2d.optimize.rows import boundary_rows as _boundary_rows
+    from uniform2d.optimize.rows import corner_fans as _corner_fans
 
     p = BENCH[name]
     a, d, L = _edge_geometry(p)

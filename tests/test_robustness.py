@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 
 import uniform2d
-from invariants import check_mesh
+from uniform2d.testing import check_mesh
 from uniform2d import InternalError, Polygon
 from uniform2d.insert import insert_on_edges
-from uniform2d.triangulation import ensure_valid
+from uniform2d.validity import ensure_valid
 from uniform2d.tplus import boundary_points, edge_of
 
 CASES = json.loads((Path(__file__).parent / "data" / "robustness_reproducers.json").read_text())
@@ -173,7 +173,7 @@ def _exact_triangles(poly):
 @pytest.mark.parametrize("seed", range(8))
 def test_exact_triangulation_of_polygons_with_holes_and_collinear_vertices(seed):
     """GEOS can cut flat ears on collinear vertices; polytri decides exactly."""
-    from polygen import with_holes
+    from uniform2d.testing.polygons import with_holes
 
     p = with_holes(seed)
     # split every outer edge at 1/4 and 1/2: collinear within an ulp, and exactly
@@ -264,7 +264,7 @@ def test_area2_is_twice_the_exact_signed_area(case):
 def test_hilbert_order_walks_a_full_grid_cell_by_cell():
     """On every cell of a 2**b x 2**b grid the Hilbert order visits each cell once,
     each step to an edge-neighbour, from one corner cell to an adjacent corner."""
-    from uniform2d.triangulation import hilbert_order
+    from uniform2d._kernel.hilbert import hilbert_order
 
     side = 8
     g = np.array([(i, j) for j in range(side) for i in range(side)], dtype=np.float64)

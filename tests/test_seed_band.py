@@ -1,5 +1,5 @@
 """A large start's lattice comes out a few points short and is filled in the
-boundary band (:func:`uniform2d.optimize.seed._fill_band_gaps`): exactly n
+boundary band (:func:`uniform2d.optimize.fill.fill_band_gaps`): exactly n
 sites, inside the polygon and not crowded, the same gaps as filling over the
 whole seed would choose, and at a cut of equal gaps evenly spaced ones."""
 
@@ -10,9 +10,14 @@ import pytest
 import shapely
 from scipy.spatial import cKDTree
 
-from polygen import benchmark_polygons, with_holes
-from uniform2d.optimize import pipeline, schedule, seed
-from uniform2d.optimize.seed import _fill_band_gaps, _fill_largest_gaps, _keep_clear, _largest_spread
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing.polygons import with_holes
+from uniform2d.optimize import lattice_seed, schedule, seed
+from uniform2d.optimize.boundary import target_size
+from uniform2d.optimize.fill import _largest_spread
+from uniform2d.optimize.fill import fill_band_gaps as _fill_band_gaps
+from uniform2d.optimize.fill import fill_largest_gaps as _fill_largest_gaps
+from uniform2d.optimize.rows import keep_clear as _keep_clear
 
 
 def test_largest_spread_takes_the_larger_then_evenly_spaced_equal_ones():
@@ -31,8 +36,8 @@ def test_large_start_has_exactly_n_sites_inside_and_uncrowded(k, monkeypatch):
     p = [benchmark_polygons()["square2holes"], with_holes(11), with_holes(12), benchmark_polygons()["star10"]][k]
     n = 3000
     monkeypatch.setattr(schedule, "LARGE", 0)  # the large path at a size a test can afford
-    h = seed.target_size(p, n)
-    sites, edges, frozen, nb = pipeline._start(p, n, h, seed.variants(p, n)[0])
+    h = target_size(p, n)
+    sites, edges, frozen, nb = seed.start(p, n, h, seed.variants(p, n)[0])
     assert len(sites) == n
     inner = sites[nb:]  # after the points on the boundary
     assert shapely.contains_xy(p.to_shapely(), inner[:, 0], inner[:, 1]).all()
@@ -47,8 +52,8 @@ def test_band_fill_chooses_gaps_as_large_as_the_whole_seed_fill(name):
     # are those the fill over the whole triangulated seed takes
     p = benchmark_polygons()[name]
     n = 2000
-    h = seed.target_size(p, n)
-    P = seed.lattice_seed(p, n)
+    h = target_size(p, n)
+    P = lattice_seed(p, n)
     sa, sb = _keep_clear(p)
     from uniform2d._kernel.distance import to_segments
     near = np.flatnonzero(to_segments(P, sa, sb, 3 * h) < 2 * h)

@@ -13,11 +13,12 @@ import pytest
 import shapely
 
 import uniform2d
-from invariants import check_mesh
+from uniform2d.testing import check_mesh
 from uniform2d import Polygon
 from uniform2d.geometry import unique_edges
 from uniform2d.optimize import improve, lattice_seed
-from uniform2d.optimize.seed import boundary_rows, target_size
+from uniform2d.optimize.boundary import target_size
+from uniform2d.optimize.rows import boundary_rows
 
 H = 0.167
 W = np.sqrt(1.25)  # strip width: no whole number of lattice rows fits it

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 import uniform2d
-from invariants import check_mesh
-from polygen import benchmark_polygons, with_holes
+from uniform2d.testing import check_mesh
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing.polygons import with_holes
 from uniform2d import Polygon, SizeField
 
 SQUARE = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])

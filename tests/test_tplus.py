@@ -19,8 +19,9 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-import polygen
-from invariants import check_mesh
+from uniform2d.testing import polygons
+from support.benchmarks import benchmark_polygons
+from uniform2d.testing import check_mesh
 from uniform2d import InsufficientPointsError, Polygon, insert, tplus, uniform_mesh
 from uniform2d import steiner_count_for_size
 
@@ -125,7 +126,7 @@ def check_tplus(polygon: Polygon, n: int, ref: dict):
 
 
 # -- the benchmark polygons ---------------------------------------------------------
-BENCH = polygen.benchmark_polygons()
+BENCH = benchmark_polygons()
 
 
 def test_seven_benchmarks():
@@ -144,7 +145,7 @@ def test_tplus_benchmark(name):
 
 # -- random polygons -----------------------------------------------------------------
 def _random_cases():
-    gens = [("convex", polygen.convex), ("star", polygen.star), ("holes", polygen.with_holes)]
+    gens = [("convex", polygons.convex), ("star", polygons.star), ("holes", polygons.with_holes)]
     return [(kind, gen, 7000 + i) for i in range(N_RANDOM // 3) for kind, gen in gens]
 
 

@@ -41,7 +41,7 @@ exec(sys.argv[1])
 json.dump({"compiled": compiled, "marks": marks}, sys.stdout)
 """
 
-WARM = "from uniform2d.cli._warmer import warm; warm()"
+WARM = "from uniform2d.warmup import warm; warm()"
 
 #: README command 1's mesh; the mark is the end of the T+ phase (INSERT and T+):
 #: everything after it is the optimiser's.

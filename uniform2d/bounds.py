@@ -17,7 +17,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .polygon import Polygon
 
@@ -28,6 +27,7 @@ __all__ = [
     "corner_ratio_floor",
     "euler_ratio_floor",
     "lower_bound_terms",
+    "is_convex",
 ]
 
 log = logging.getLogger(__name__)
@@ -157,7 +157,7 @@ def euler_ratio_floor(alphas, n_holes: int) -> float:
 
 
 # -- helpers -----------------------------------------------------------------
-def _is_convex(polygon: Polygon) -> bool:
+def is_convex(polygon: Polygon) -> bool:
     """Convex without holes, segments or fixed points: where Lemma 9 (the packing
     terms) is proven."""
     if polygon.n_holes or polygon.has_constraints:
@@ -166,17 +166,6 @@ def _is_convex(polygon: Polygon) -> bool:
     a = r - np.roll(r, 1, axis=0)
     b = np.roll(r, -1, axis=0) - r
     return bool((a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] >= 0).all())
-
-
-def _packing_distance(polygon: Polygon, n: int) -> float:
-    """d_n of Algorithm INSERT: the least distance among V and the n inserted points."""
-    if n == 0:
-        return polygon.min_vertex_distance()
-    from .insert import insert
-
-    sites = np.asarray(insert(polygon, n).mesh_points, dtype=np.float64)
-    d, _ = cKDTree(sites).query(sites, k=2)
-    return float(d[:, 1].min())
 
 
 def _split_term(edges, n: int, t_max: int, K: float, c: float) -> tuple[float, int]:

@@ -36,6 +36,7 @@ import shapely
 
 from ._kernel.rank import REL_TIE
 from .errors import InvalidConstraintError
+from .geometry import check_finite, xy_array
 
 __all__ = ["Constraints", "build"]
 
@@ -97,7 +98,7 @@ def apart_tol(rings, lines, points=()) -> float:
     meet): INSERT's tie tolerance on coordinates, ``REL_TIE`` of the polygon's
     size (the larger side of its bounding box) plus 4 units in the last place of
     its largest coordinate (the most its rounding of a point to the caller's
-    coordinates allows for, ``triangulation._grain``)."""
+    coordinates allows for, :func:`uniform2d.tolerance.grain`)."""
     allv = np.concatenate([np.asarray(r, dtype=np.float64).reshape(-1, 2) for r in
                            [*rings, *lines, np.asarray(points, dtype=np.float64).reshape(-1, 2)]])
     outer = np.asarray(rings[0], dtype=np.float64)
@@ -167,22 +168,14 @@ def _on_piece(p, a, b) -> bool:
 
 def polyline(coords, name: str) -> np.ndarray:
     """One segment as a float64 (k, 2) array, checked locally (closed if first == last)."""
-    try:
-        line = np.array(coords, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidConstraintError(
-            f"{name}: coordinates must be numbers in a (k, 2) array-like ({exc})"
-        ) from None
+    line = xy_array(coords, name, InvalidConstraintError)
     if line.ndim != 2 or line.shape[1] != 2 or len(line) < 2:
         hint = "; segments is a list of polylines: wrap a single one as [segment]" if line.ndim == 1 else ""
         raise InvalidConstraintError(
             f"{name}: expected a (k, 2) array of at least 2 (x, y) points, got shape "
             f"{line.shape}{hint}"
         )
-    bad = ~np.isfinite(line).all(axis=1)
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise InvalidConstraintError(f"{name}: vertex {i} has a non-finite coordinate {_fmt(line[i])}")
+    check_finite(line, name, InvalidConstraintError)
     same = np.all(line[1:] == line[:-1], axis=1)
     if same.any():
         i = int(np.flatnonzero(same)[0])

@@ -7,7 +7,9 @@
   :func:`boundary_edges`);
 * distances from points to segments, in any dimension (:func:`segment_distance`,
   :func:`nearest_segment`);
-* the signed area of a ring (:func:`signed_area`).
+* the signed area of a ring (:func:`signed_area`);
+* coordinates the caller gave, read and checked (:func:`xy_array`,
+  :func:`check_finite`), for the polygon model's rings and segments.
 
 Everything here is plain numpy on the caller's arrays (never modified).
 """
@@ -28,6 +30,8 @@ __all__ = [
     "segment_distance",
     "nearest_segment",
     "signed_area",
+    "xy_array",
+    "check_finite",
 ]
 
 
@@ -184,3 +188,21 @@ def signed_area(ring) -> float:
     x = ring[:, 0] - ring[0, 0]
     y = ring[:, 1] - ring[0, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def xy_array(coords, name: str, error: type) -> np.ndarray:
+    """``coords`` as a float64 array, or ``error`` naming ``name`` if they are not numbers."""
+    try:
+        return np.array(coords, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise error(f"{name}: coordinates must be numbers in a (k, 2) array-like ({exc})") from None
+
+
+def check_finite(xy: np.ndarray, name: str, error: type, advice: str = "") -> None:
+    """Raise ``error`` naming the first vertex of ``xy`` (K, 2) with a non-finite
+    coordinate, and ``advice`` after it."""
+    bad = ~np.isfinite(xy).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        x, y = xy[i]
+        raise error(f"{name}: vertex {i} has a non-finite coordinate ({x:.17g}, {y:.17g}){advice}")

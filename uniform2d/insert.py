@@ -27,7 +27,7 @@ Sites: :func:`insert` decides by distance which are on the boundary (the
 caller's sites); :func:`insert_on_edges` takes the edge of each site from its
 caller (the library's own sites), so no tolerance judges them.  Either way a
 boundary site splits its edge's constraint in order along it, and every mesh
-passes :func:`uniform2d.triangulation.ensure_valid` before it is returned.
+passes :func:`uniform2d.validity.ensure_valid` before it is returned.
 """
 
 from __future__ import annotations
@@ -44,7 +44,10 @@ from ._kernel import insert as kinsert
 from ._kernel.outcomes import ERR_PRECISION, RUN_STRIDE, run_failure
 from .errors import CoordinatePrecisionError, InsufficientPointsError, InternalError, PLEASE_REPORT
 from .polygon import Polygon
-from .triangulation import _extent, _rounding, ensure_valid, load, site_edges, unload
+from .sites import site_edges
+from .tolerance import extent, rounding
+from .triangulation import load, unload
+from .validity import ensure_valid
 
 __all__ = ["insert", "insert_on_edges", "min_distance_after", "InsertResult"]
 
@@ -150,7 +153,7 @@ def insert_on_edges(polygon: Polygon, n: int, sites, edges, size=None) -> Insert
     library's own callers (T+'s boundary points) come here, and a site near a
     polygon vertex is simply a boundary site.  A site that cannot be placed
     where it says it is raises :class:`~uniform2d.errors.InternalError`.  Every
-    mesh made here passes :func:`~uniform2d.triangulation.ensure_valid` before
+    mesh made here passes :func:`~uniform2d.validity.ensure_valid` before
     it is returned.
     """
     loaded, points, weights, out_b = _run(polygon, n, sites, edges, size)
@@ -181,19 +184,19 @@ def _run(polygon: Polygon, n: int, sites, edges, size=None):
     caller's coordinates)."""
     loaded = load(polygon, sites, size=size, room=n, edges=edges)
     m, centre, scale = loaded.m, loaded.centre, loaded.scale
-    extent = _extent(polygon)
+    span = extent(polygon)
     tmax = loaded.max_triangles
 
     # points nearer the boundary than this go on it: SNAP of the size, or more if
     # the caller's coordinates are too coarse there to hold a point nearer
-    snap = max(SNAP * extent, _rounding(polygon))
+    snap = max(SNAP * span, rounding(polygon))
     M = heap.new_heap(tmax + tmax // 2 + 64)  # ~1.9 n entries live; grows if needed
     kinsert.push_initial(m, M)
     P = kinsert.new_pool(64)
     out_xy = np.empty((n, 2), np.float64)
     out_w = np.empty(n, np.float64)
     out_b = np.zeros(n, np.bool_)
-    xtol = (kinsert.REL_TIE * extent + loaded.grain) / scale
+    xtol = (kinsert.REL_TIE * span + loaded.grain) / scale
     status = kinsert.run(m, M, P, n, out_xy, out_w, out_b, xtol, snap / scale)
     if status != n:
         _fail(polygon, status, n, out_xy, out_w, out_b)
@@ -209,7 +212,7 @@ def _fail(polygon: Polygon, status: int, n: int, out_xy, out_w, out_b):
     if status + RUN_STRIDE * j == ERR_PRECISION:
         V = polygon.vertices
         raise CoordinatePrecisionError(
-            f"the polygon is {_extent(polygon):.3g} across at {float(np.abs(V).max()):.3g} from "
+            f"the polygon is {extent(polygon):.3g} across at {float(np.abs(V).max()):.3g} from "
             f"the origin, where coordinates are {np.spacing(np.abs(V).max()):.3g} apart: too "
             f"coarse to place point {j + 1} of {n}; translate the polygon nearer the origin "
             "(e.g. subtract its centre) or ask for fewer points"

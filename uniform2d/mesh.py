@@ -8,7 +8,10 @@ from typing import Any
 
 import numpy as np
 
+from .io import write_mesh
+from .mesh_regions import segment_chains, triangle_regions
 from .polygon import Polygon
+from .quality import quality
 
 __all__ = ["Mesh"]
 
@@ -30,8 +33,8 @@ class Mesh:
     info : dict
         How the mesh was made (method, d_n, k, the hypotheses of Theorem 2, ...).
     regions : ndarray, shape (M,), int64
-        The region (:mod:`uniform2d.regions`) of every triangle; all 0 for a
-        polygon without segments.
+        The region (:mod:`uniform2d.regions`) of every triangle, found by
+        :mod:`uniform2d.mesh_regions`; all 0 for a polygon without segments.
     region_labels : tuple
         The label of each region (``None`` where the polygon gives none).
     segment_members : tuple of ndarray
@@ -51,8 +54,6 @@ class Mesh:
 
     @cached_property
     def regions(self) -> np.ndarray:
-        from .regions import triangle_regions
-
         out = triangle_regions(self.polygon, self.points, self.triangles)
         out.setflags(write=False)
         return out
@@ -63,8 +64,6 @@ class Mesh:
 
     @cached_property
     def segment_members(self) -> tuple[np.ndarray, np.ndarray]:
-        from .regions import segment_chains
-
         edges, ids = segment_chains(self.polygon, self.points, self.triangles)
         edges.setflags(write=False)
         ids.setflags(write=False)
@@ -75,8 +74,6 @@ class Mesh:
 
         ``d_n`` defaults to the value recorded in :attr:`info` when there is one.
         """
-        from .quality import quality
-
         if d_n is None:
             d_n = self.info.get("d_n")
         return quality(
@@ -85,8 +82,6 @@ class Mesh:
 
     def write(self, path, **kwargs) -> None:
         """Write the mesh; the format follows the file extension (see ``uniform2d.io``)."""
-        from .io import write_mesh
-
         if self.polygon.has_constraints or self.polygon.region_seeds:
             kwargs.setdefault("regions", self.regions)
             kwargs.setdefault("region_labels", self.region_labels)

@@ -19,7 +19,9 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from .errors import InvalidArgumentError, UnsupportedFormatError
-from .quality import _as_points, _as_polygon, _as_triangles, _histogram, edge_lengths
+from .measures import as_points, as_triangles, edge_lengths, histogram
+from .io.atomic import atomic_write
+from .polygon import as_polygon
 
 __all__ = ["plot_mesh", "check_figure_path", "FIGURE_FORMATS", "EDGE_CMAP"]
 
@@ -131,11 +133,11 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     """
     if path is not None:
         check_figure_path(path)
-    pts = _as_points(points)
-    tri = _as_triangles(triangles, len(pts))
+    pts = as_points(points)
+    tri = as_triangles(triangles, len(pts))
     if len(tri) == 0:
         raise InvalidArgumentError("triangles: the mesh has no triangles")
-    poly = _as_polygon(polygon) if polygon is not None else None
+    poly = as_polygon(polygon) if polygon is not None else None
     reg = _as_regions(regions, len(tri))
 
     edges, lengths = edge_lengths(pts, tri)
@@ -154,8 +156,6 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     fig.suptitle(title, fontsize=12)
 
     if path is not None:
-        from .io.atomic import atomic_write
-
         ext = Path(path).suffix
         atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
         log.info("wrote %s", path)
@@ -259,7 +259,7 @@ def _histogram_bins(ax_hist, rel, n_e):
         counts, bin_edges = np.histogram(rel, bins=np.geomspace(rmin, rmax, n_bins + 1))
         ax_hist.set_xscale("log")
     else:
-        counts, bin_edges = _histogram(rel, n_bins)
+        counts, bin_edges = histogram(rel, n_bins)
     return counts, bin_edges, uniform, log_x
 
 

@@ -18,9 +18,9 @@ from scipy.spatial import cKDTree
 from . import constraints as _constraints
 from . import regions as _regions
 from .errors import InvalidConstraintError, InvalidPolygonError
-from .geometry import signed_area
+from .geometry import check_finite, signed_area, xy_array
 
-__all__ = ["Polygon"]
+__all__ = ["Polygon", "as_polygon"]
 
 
 def _fmt(p) -> str:
@@ -44,25 +44,14 @@ COORD_MIN = 1e-100
 
 def _as_ring(coords, name: str) -> np.ndarray:
     """Convert one ring to a float64 (k, 2) array, checking everything local to it."""
-    try:
-        ring = np.array(coords, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidPolygonError(
-            f"{name}: coordinates must be numbers in a (k, 2) array-like ({exc})"
-        ) from None
+    ring = xy_array(coords, name, InvalidPolygonError)
     if ring.size == 0:
         raise InvalidPolygonError(f"{name}: the ring has no vertices; give at least 3 (x, y) points")
     if ring.ndim != 2 or ring.shape[1] != 2:
         raise InvalidPolygonError(
             f"{name}: expected a (k, 2) array of (x, y) coordinates, got shape {ring.shape}"
         )
-    bad = ~np.isfinite(ring).all(axis=1)
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise InvalidPolygonError(
-            f"{name}: vertex {i} has a non-finite coordinate {_fmt(ring[i])}; "
-            "remove NaN/inf values"
-        )
+    check_finite(ring, name, InvalidPolygonError, "; remove NaN/inf values")
     big = float(np.abs(ring).max())
     if big > COORD_MAX:
         raise InvalidPolygonError(
@@ -455,3 +444,12 @@ class Polygon:
             f"Polygon({len(self._vertices)} vertices, {self.n_holes} holes{more}, "
             f"area={self._area:.6g})"
         )
+
+
+def as_polygon(polygon) -> Polygon:
+    """``polygon`` as a :class:`Polygon`: itself, from a shapely Polygon, or from an outer ring."""
+    if isinstance(polygon, Polygon):
+        return polygon
+    if hasattr(polygon, "geom_type"):
+        return Polygon.from_shapely(polygon)
+    return Polygon(polygon)

@@ -1,7 +1,7 @@
 """What :func:`uniform2d.quality.quality` returns: the :class:`Quality` record of a
 mesh's measures, the :class:`Bound` certificates in it, and their renderings as
 text (:meth:`Quality.summary`, :meth:`Quality.certificate`) and JSON
-(``to_dict``).  The measuring and the bounds are in :mod:`uniform2d.quality`.
+(``to_dict``).  The measuring is in :mod:`uniform2d.measures`, the bounds in :mod:`uniform2d.bounds`.
 """
 
 from __future__ import annotations

@@ -1,14 +1,15 @@
 """Loading a polygon and its sites into the kernel's constrained Delaunay triangulation.
 
-The service INSERT, the optimiser and the surface layer share: sites checked
-and sorted into interior and boundary ones (or, for the library's own sites,
-placed on their edge by index), coordinates normalised exactly for the kernel,
-and the rings triangulated and made exactly Delaunay.  :func:`ensure_valid` is
-the cheap exact check every mesh passes before the library returns it.
+The service INSERT, the optimiser and the surface layer share: the sites
+(sorted onto P's edges by :mod:`uniform2d.sites`) and P's vertices are mapped
+exactly to the kernel's coordinates (:func:`uniform2d.tolerance.normaliser`),
+the rings triangulated and made exactly Delaunay, the interior sites inserted
+in Hilbert order and the segment pieces recovered as chains of constrained edges.
 
 :func:`triangulate` is the exact CDT of P and some points; :func:`load` leaves
 it in the kernel for INSERT to continue; :func:`load_mesh` loads a mesh that is
-triangulated already (the optimiser moves its points).
+triangulated already (the optimiser moves its points), flagging its segment
+pieces (:func:`piece_chains`, :func:`rebuild`).
 """
 
 from __future__ import annotations
@@ -20,157 +21,20 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ._kernel import cavity, cdt, polytri
-from ._kernel._jit import njit
-from ._kernel.distance import to_segments
+from ._kernel import adjacency, cavity, cdt, lawson, polytri
+from ._kernel.hilbert import hilbert_order
 from ._kernel.outcomes import failed_site
-from ._kernel.validity import mesh_problem
-from .errors import (
-    PLEASE_REPORT, ArgumentTypeError, InternalError, InvalidArgumentError, InvalidSitesError)
+from .errors import PLEASE_REPORT, ArgumentTypeError, InternalError, InvalidArgumentError
 from .polygon import Polygon
-from .segment_chains import piece_chains, piece_pairs, rebuild
+from .sites import classify_sites, edge_parameters, site_edges
 from .sizefield import SizeField
+from .tolerance import boundary_tol, grain, normaliser
+from .validity import ensure_valid
 
-__all__ = [
-    "triangulate", "load", "unload", "load_mesh", "Loaded", "site_edges", "edge_parameters",
-    "ensure_valid", "boundary_tol", "hilbert_order",
-]
+__all__ = ["triangulate", "load", "unload", "load_mesh", "Loaded", "piece_pairs", "piece_chains",
+           "rebuild"]
 
 log = logging.getLogger(__name__)
-
-#: A site closer than this (relative to the polygon size) to the boundary is on it.
-BOUNDARY_TOL = 1e-10
-
-
-def _normaliser(polygon: Polygon):
-    """(centre, scale) with x_norm = (x - centre) / scale, exact both ways.
-
-    ``scale`` is the power of two nearest max(width, height), so dividing by it
-    and multiplying back are exact.  A coordinate whose bounding-box centre is
-    within 2 sizes of the origin is not translated; one farther away is
-    translated by its centre rounded to a multiple of 2**-20 scale.  Then
-    X - centre is exact for every float X in the polygon's box (Sterbenz: X and
-    centre are within a factor 2 of each other), so the kernel works on an exact
-    image of the caller's coordinates, and new points rounded to what those
-    coordinates can hold (:func:`cdt.snap`) map back exactly: the mesh the
-    predicates certified is the one the caller gets.
-    """
-    xmin, ymin, xmax, ymax = polygon.bounds
-    size = max(xmax - xmin, ymax - ymin)
-    scale = 2.0 ** round(np.log2(size))
-    centre = np.array([(xmin + xmax) / 2.0, (ymin + ymax) / 2.0])
-    q = scale * 2.0**-20
-    return np.where(np.abs(centre) <= 2.0 * size, 0.0, np.round(centre / q) * q), scale
-
-
-def _grain(polygon: Polygon, centre) -> float:
-    """How far rounding a new point to the caller's coordinates (:func:`cdt.snap`)
-    can move a distance: a few units in the last place of the translated
-    coordinates, 0 where nothing is translated (there the rounding is exact)."""
-    if not centre.any():
-        return 0.0
-    return 4.0 * float(np.spacing(np.abs(centre).max() + _extent(polygon)))
-
-
-def _extent(polygon: Polygon) -> float:
-    """The larger side of P's bounding box."""
-    xmin, ymin, xmax, ymax = polygon.bounds
-    return max(xmax - xmin, ymax - ymin)
-
-
-def _rounding(polygon: Polygon) -> float:
-    """How far rounding alone can move a point computed near P's coordinates (a
-    few units in their last place): far from the origin that exceeds the
-    relative tolerances below."""
-    return 8 * np.finfo(float).eps * float(np.abs(polygon.vertices).max())
-
-
-def boundary_tol(polygon: Polygon) -> float:
-    """Distance within which a site counts as on P's boundary.
-
-    :data:`BOUNDARY_TOL` of the polygon's size, or more where its coordinates are
-    so large for its size (far from the origin) that rounding alone moves a point
-    computed on an edge, ``a + t (b - a)``, that far off it.
-    """
-    return max(BOUNDARY_TOL * _extent(polygon), _rounding(polygon))
-
-
-def ensure_valid(points, triangles, polygon: Polygon, n_steiner: int, what: str) -> None:
-    """Raise :class:`~uniform2d.errors.InternalError` unless the mesh is a valid
-    triangulation of P with exactly ``n_steiner`` Steiner points (the checks of
-    :mod:`uniform2d._kernel.validity`; cheap enough to run on every mesh returned)."""
-    problem = mesh_problem(points, triangles, polygon, n_steiner, boundary_tol(polygon))
-    if problem is not None:
-        raise InternalError(
-            f"{what} made an invalid mesh ({problem}). This is a bug in uniform2d, not a "
-            f"problem with the input: please report it with the polygon "
-            f"({len(polygon.vertices)} vertices, {polygon.n_holes} holes) and n = {n_steiner}"
-        )
-
-
-def _classify_sites(polygon: Polygon, sites: np.ndarray, tol: float):
-    """Split sites into interior ones and constrained ones (edge index into
-    ``polygon.constraint_edges``: a ring edge, or a segment piece after them,
-    and parameter).
-
-    Vectorised: one compiled point-to-edges distance and one GEOS point-in-polygon
-    query per site; only the few sites within ``tol`` of the boundary are matched
-    to their edge.
-    """
-    if len(sites) == 0:
-        return [], []
-    V = polygon.vertices
-    edges = polygon.constraint_edges
-    a = V[edges[:, 0]]
-    d = V[edges[:, 1]] - a
-    # only "within tol or not" is asked: distances beyond 2 tol come back as 2 tol
-    cap = 2.0 * tol if tol > 0 else np.inf
-    dist = to_segments(np.ascontiguousarray(sites, dtype=np.float64), a, V[edges[:, 1]], cap)
-    near = np.flatnonzero(dist <= tol)
-    inside = shapely.contains_xy(polygon.to_shapely(), sites[:, 0], sites[:, 1])
-    outside = np.flatnonzero((dist > tol) & ~inside)
-    if len(outside):
-        i = int(outside[0])
-        raise InvalidSitesError(
-            f"site {i} {tuple(sites[i])} lies outside the polygon; sites must be inside P "
-            "or on its boundary"
-        )
-    L2 = (d * d).sum(axis=1)
-    boundary = []
-    for i in near:
-        s = sites[i]
-        rel = s - a
-        t = np.clip((rel * d).sum(axis=1) / L2, 0.0, 1.0)
-        e = int(np.argmin(np.hypot(*(rel - t[:, None] * d).T)))
-        if t[e] * np.sqrt(L2[e]) <= tol or (1 - t[e]) * np.sqrt(L2[e]) <= tol:
-            k = edges[e, 0] if t[e] < 0.5 else edges[e, 1]
-            raise InvalidSitesError(
-                f"site {int(i)} {tuple(s)} coincides with polygon vertex {int(k)}; "
-                "polygon vertices are sites already, remove it"
-            )
-        boundary.append((int(i), e, float(t[e])))
-    near_set = np.zeros(len(sites), bool)
-    near_set[near] = True
-    interior = np.flatnonzero(~near_set).tolist()
-    return interior, boundary
-
-
-def _check_sites(polygon: Polygon, sites) -> np.ndarray:
-    if sites is None:
-        return np.empty((0, 2), np.float64)
-    try:
-        s = np.array(sites, dtype=np.float64).reshape(-1, 2)
-    except (TypeError, ValueError):
-        raise InvalidSitesError("sites must be a (k, 2) array of coordinates") from None
-    if not np.isfinite(s).all():
-        i = int(np.flatnonzero(~np.isfinite(s).all(axis=1))[0])
-        raise InvalidSitesError(f"site {i} has a non-finite coordinate {s[i].tolist()}")
-    _, first, counts = np.unique(s, axis=0, return_index=True, return_counts=True)
-    if (counts > 1).any():
-        i = int(first[np.flatnonzero(counts > 1)[0]])
-        raise InvalidSitesError(f"site {i} {tuple(s[i])} is given more than once")
-    return s
-
 
 def _size_grid(size, centre, scale):
     """The size field in the kernel's coordinates, or None for a constant one."""
@@ -185,36 +49,6 @@ def _size_grid(size, centre, scale):
     return ((size.x - centre[0]) / scale, (size.y - centre[1]) / scale, size.values / scale)
 
 
-def hilbert_order(points: np.ndarray, bits: int = 16) -> np.ndarray:
-    """Indices sorting points (K, 2) along a Hilbert curve over their bounding box."""
-    lo = points.min(axis=0)
-    span = max(float((points.max(axis=0) - lo).max()), 1e-300)
-    side = 1 << bits
-    q = np.minimum(((points - lo) / span * (side - 1)).astype(np.int64), side - 1)
-    return np.argsort(_hilbert_index(q, np.int64(side)), kind="stable")
-
-
-@njit(cache=True)
-def _hilbert_index(q, side):
-    """The distance along the Hilbert curve of each cell ``q`` (K, 2) of a
-    ``side`` x ``side`` grid (one pass per point: vectorised, each of the
-    log2(side) levels made a dozen K-sized temporaries)."""
-    d = np.zeros(q.shape[0], np.int64)
-    for k in range(q.shape[0]):
-        x, y = q[k, 0], q[k, 1]
-        s = side >> 1
-        while s > 0:
-            rx = 1 if (x & s) > 0 else 0
-            ry = 1 if (y & s) > 0 else 0
-            d[k] += s * s * ((3 * rx) ^ ry)
-            if ry == 0:  # rotate the quadrant
-                if rx == 1:
-                    x, y = s - 1 - x, s - 1 - y
-                x, y = y, x
-            s >>= 1
-    return d
-
-
 def _complex_key(p: np.ndarray) -> np.ndarray:
     """(K,) complex128 holding the points (K, 2) bit for bit (no arithmetic)."""
     out = np.empty(len(p), dtype=np.complex128)
@@ -227,7 +61,7 @@ def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
     """Constrained Delaunay triangles of the rings (GEOS), as CCW vertex indices.
 
     GEOS returns the input coordinates unchanged, so vertices are matched exactly.
-    Its in-circle decisions are not exact; :func:`cdt.legalize_all` fixes that.
+    Its in-circle decisions are not exact; :func:`lawson.legalize_all` fixes that.
     """
     shell = xy[rings[0]]
     holes = [xy[r] for r in rings[1:]]
@@ -271,7 +105,7 @@ class Loaded:
         The normalisation: kernel coordinates are ``(x - centre) / scale``.
     grain : float
         How far rounding a new point to the caller's coordinates can move a
-        distance (:func:`_grain`), in the caller's units.
+        distance (:func:`uniform2d.tolerance.grain`), in the caller's units.
     max_triangles : int
         The triangle capacity allocated.
     """
@@ -284,19 +118,6 @@ class Loaded:
     scale: float
     grain: float
     max_triangles: int
-
-
-def edge_parameters(polygon: Polygon, sites: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    """Parameter t in [0, 1] of each site's projection on its constraint edge (an
-    index into ``polygon.constraint_edges``; 0 for interior sites, ``edges`` -1)."""
-    t = np.zeros(len(sites))
-    on = np.flatnonzero(edges >= 0)
-    if len(on):
-        V, E = polygon.vertices, polygon.constraint_edges[edges[on]]
-        a = V[E[:, 0]]
-        d = V[E[:, 1]] - a
-        t[on] = np.clip(((sites[on] - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
-    return t
 
 
 def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
@@ -349,7 +170,7 @@ def _initial(allxy, rings, chains, nR, nmax, tmax, grid, normal):
         cdt.set_nv(m, len(allxy))
         own = [[v for v in r if v < nR] for r in rings]
         tris = polytri.triangulate(allxy[:nR], own)
-        if cdt.build_adjacency(m, tris) != nR or not _valid(m, allxy, own):
+        if adjacency.build_adjacency(m, tris) != nR or not _valid(m, allxy, own):
             raise InternalError(f"could not triangulate the polygon exactly {PLEASE_REPORT}")
         if chains:
             idx = np.array([v for _, c in chains for v in c], dtype=np.int64)
@@ -359,7 +180,7 @@ def _initial(allxy, rings, chains, nR, nmax, tmax, grid, normal):
                 k = int(idx[-status - 1])
                 raise InternalError(
                     f"could not put boundary vertex {k} on its edge {PLEASE_REPORT}")
-    cdt.legalize_all(m)
+    lawson.legalize_all(m)
     return m, xy
 
 
@@ -372,7 +193,7 @@ def _load_triangles(m, allxy, rings) -> bool:
     nb0 = sum(len(r) for r in rings)
     if len(tris) != nb0 + 2 * (len(rings) - 1) - 2:
         return False
-    if cdt.build_adjacency(m, tris) != nb0:
+    if adjacency.build_adjacency(m, tris) != nb0:
         return False
     return _valid(m, allxy, rings)
 
@@ -382,22 +203,6 @@ def _valid(m, allxy, rings) -> bool:
     for r in rings:
         ring_next[np.asarray(r)] = np.roll(np.asarray(r), -1)
     return cdt.count_not_ccw(m) == 0 and cdt.boundary_is(m, ring_next)
-
-
-def site_edges(polygon: Polygon, sites) -> tuple[np.ndarray, np.ndarray]:
-    """The caller's ``sites`` checked, and the polygon edge each lies on (-1 inside).
-
-    Raises :class:`~uniform2d.errors.InvalidSitesError` if a site is outside P,
-    repeated, non-finite or on a polygon vertex.  Which edge a site lies on is
-    decided by distance (:func:`boundary_tol`): the library's own sites carry
-    their edge instead (``edges`` of :func:`load`).
-    """
-    sites = _check_sites(polygon, sites)
-    _, boundary = _classify_sites(polygon, sites, boundary_tol(polygon))
-    edges = np.full(len(sites), -1, np.int64)
-    for i, e, _t in boundary:
-        edges[i] = e
-    return sites, edges
 
 
 def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) -> Loaded:
@@ -418,8 +223,8 @@ def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) 
     else:
         sites = np.asarray(sites, dtype=np.float64).reshape(-1, 2)
         edges = np.asarray(edges, dtype=np.int64)
-    centre, scale = _normaliser(polygon)
-    grain = _grain(polygon, centre)
+    centre, scale = normaliser(polygon)
+    snap_grain = grain(polygon, centre)
     V = polygon.vertices
     nV = len(V)
     nR = polygon.n_ring_vertices
@@ -432,7 +237,7 @@ def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) 
     tmax = t0 + 2 * (len(interior) + room) + 4
     grid = _size_grid(size, centre, scale)
     m, xy = _initial(allxy, rings, chains, nR, nV + len(sites) + room, tmax, grid,
-                     (centre, scale, grain / scale))
+                     (centre, scale, snap_grain / scale))
     if len(interior):
         idx = interior.astype(np.int64)
         idx = idx[hilbert_order(allxy[idx])]
@@ -447,7 +252,7 @@ def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) 
             u, v = pieces[-status - 1]
             raise InternalError(
                 f"could not recover the segment piece {u}-{v} as an edge {PLEASE_REPORT}")
-    return Loaded(m, xy, sites, edges, centre, scale, grain, tmax)
+    return Loaded(m, xy, sites, edges, centre, scale, snap_grain, tmax)
 
 
 def unload(loaded: Loaded) -> np.ndarray:
@@ -509,15 +314,65 @@ def load_mesh(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, size=
     P0 = np.asarray(points, dtype=np.float64)
     T0 = np.asarray(triangles, dtype=np.int32)
     if edges is None:
-        _, boundary = _classify_sites(polygon, P0[nV:], boundary_tol(polygon))
+        _, boundary = classify_sites(polygon, P0[nV:], boundary_tol(polygon))
     else:
         edges = np.asarray(edges, dtype=np.int64)
         tb = edge_parameters(polygon, P0[nV:], edges)
         boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
-    centre, scale = _normaliser(polygon)
+    centre, scale = normaliser(polygon)
     grid = _size_grid(size, centre, scale)
-    m, xy = cdt.allocate(len(P0), len(T0), grid, (centre, scale, _grain(polygon, centre) / scale))
+    m, xy = cdt.allocate(len(P0), len(T0), grid, (centre, scale, grain(polygon, centre) / scale))
     xy[:] = (P0 - centre) / scale
     cdt.set_nv(m, len(P0))
     rebuild(m, T0, piece_chains(polygon, boundary, boundary_tol(polygon)))
     return m, xy, centre, scale, boundary, grid is not None
+
+
+# -- the segment pieces: chains of constrained edges through the points on them ----
+def piece_chains(polygon: Polygon, boundary, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """The segment pieces of P split at the points on them, as vertex pairs
+    ``(us, vs)`` (mesh indices), from ``boundary`` as :func:`load_mesh` returns
+    it: ``(index among the points after P's vertices, edge, parameter)``; ``tol``
+    as :func:`piece_pairs`'s."""
+    nV, nR = len(polygon.vertices), polygon.n_ring_vertices
+    on: dict[int, list] = {}
+    for i, e, t in boundary:
+        if e >= nR:
+            on.setdefault(e - nR, []).append((t, nV + i))
+    out = np.array(piece_pairs(polygon, on, tol), dtype=np.int64).reshape(-1, 2)
+    return out[:, 0].copy(), out[:, 1].copy()
+
+
+def piece_pairs(polygon: Polygon, on: dict, tol: float) -> list:
+    """Consecutive vertex pairs along every segment piece s: its ends, the points
+    ``on[s]`` ((parameter, vertex) pairs) and any polygon vertex within ``tol``
+    (the boundary tolerance) of the piece between its ends, in order along it.  Such a
+    vertex (a fixed point a few ulps off a segment, beyond the 2 that make it a
+    junction splitting the piece, ``constraints.NEAR_ULPS``) may lie exactly on
+    the line between two points placed on the piece, which then cannot be an
+    edge: it joins the chain."""
+    V = polygon.vertices
+    pairs = []
+    for s, (a, b) in enumerate(polygon.segment_edges):
+        d = V[b] - V[a]
+        L2 = float(d @ d)
+        rel = V - V[a]
+        tt = rel @ d / L2
+        off = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / np.sqrt(L2)
+        near = np.flatnonzero((off <= tol) & (tt > 0.0) & (tt < 1.0))
+        inner = sorted(on.get(s, []) + [(float(tt[k]), int(k)) for k in near if k not in (a, b)])
+        chain = [int(a), *(v for _, v in inner), int(b)]
+        pairs.extend(zip(chain[:-1], chain[1:]))
+    return pairs
+
+
+def rebuild(m, triangles, pieces) -> None:
+    """Load the triangles (a valid mesh of P whose edges include the segment
+    pieces ``pieces`` = (us, vs)) into ``m``, flag the pieces and make it the
+    constrained Delaunay triangulation of its points."""
+    adjacency.build_adjacency(m, np.ascontiguousarray(triangles, dtype=np.int32))
+    if len(pieces[0]):
+        if polytri.recover_pieces(m, pieces[0], pieces[1]) < 0:
+            raise InternalError(f"a segment piece is not an edge of the mesh {PLEASE_REPORT}")
+    else:
+        lawson.legalize_all(m)

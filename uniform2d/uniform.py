@@ -8,6 +8,7 @@ import numbers
 from .errors import InsufficientPointsError, InvalidArgumentError
 from .geometry import vertex_count
 from .mesh import Mesh
+from .optimize import optimize_mesh
 from .polygon import Polygon
 from .resources import check_point_count
 
@@ -80,7 +81,5 @@ def uniform_mesh(
             )
     if isinstance(n, numbers.Integral) and not isinstance(n, bool):
         check_point_count(n + len(polygon.vertices), what)
-    from .optimize import optimize_mesh
-
     # optimize_mesh checks the mesh it makes (ensure_valid); its fallback, T+, was checked
     return optimize_mesh(polygon, n, objective=objective, progress=progress)

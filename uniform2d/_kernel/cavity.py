@@ -39,9 +39,9 @@ import numpy as np
 from ._jit import njit
 
 from .cdt import (
-    ERR_ORIENT, _lawson, _orient_v, _set_triangle, locate, locate_scan, new_tag, nxt,
-    prv, reserve,
+    ERR_ORIENT, _orient_v, _set_triangle, locate, locate_scan, new_tag, nxt, prv, reserve,
 )  # fmt: skip
+from .lawson import _lawson
 from .predicates import incircle
 
 __all__ = ["insert_point", "insert_sites", "split_sites"]
@@ -309,7 +309,7 @@ def insert_sites(m, idx):
         v = idx[k]
         x = m.xy[v, 0]
         y = m.xy[v, 1]
-        loc = locate(m, np.int64(t), x, y, np.int64(4096))
+        loc = locate(m, np.int64(t), x, y, np.int64(4096), np.bool_(False))
         if loc < 0:
             loc = locate_scan(m, x, y)
             if loc < 0:

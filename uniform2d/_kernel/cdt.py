@@ -51,9 +51,10 @@ split at their boundary vertices.  Each operation keeps this by construction:
   of this, so every decision is made on the coordinates actually returned.
 
 The initial triangulation comes from ``shapely.constrained_delaunay_triangles``
-and is then made exactly (constrained) Delaunay by Lawson flips decided with
-our own exact ``incircle``: a flip replaces the diagonal of the quadrilateral
-(a, d, b, c)::
+(loaded by :func:`.adjacency.build_adjacency`) and is then made exactly
+(constrained) Delaunay by Lawson flips (:mod:`.lawson`) decided with our own
+exact ``incircle``: a flip (:func:`flip`) replaces the diagonal of the
+quadrilateral (a, d, b, c)::
 
            c                 c
           /|\\              /   \\
@@ -70,11 +71,10 @@ from numba.experimental import structref
 
 from ._jit import njit
 from .heap import grown
-from .predicates import incircle, orient2d
-from .radix import stable_argsort
+from .predicates import orient2d
 
 __all__ = [
-    "Tri", "allocate", "counts", "set_nv", "build_adjacency", "legalize_all", "legalize_stack",
+    "Tri", "allocate", "counts", "set_nv",
     "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
     "snap", "boundary_is", "count_not_ccw", "constrained",
 ]  # fmt: skip
@@ -267,7 +267,7 @@ def circumcircle(xy, a, b, c):
 
 
 # --------------------------------------------------------------------------------------
-# Building: adjacency from a triangle list, then Lawson flips to exact CDT.
+# Writing triangles and flipping (the loading: .adjacency; the flips' order: .lawson).
 # --------------------------------------------------------------------------------------
 @njit(cache=True)
 def _set_triangle(m, t, a, b, c):
@@ -318,248 +318,17 @@ def flip(m, h):
     m.tc[3 * u + 2] = 0
 
 
-@njit(cache=True, inline="always")
-def _not_delaunay(m, h):
-    g = m.tw[h]
-    if g < 0 or m.tc[h]:
-        return False
-    xy = m.xy
-    a = m.tv[h]
-    b = m.tv[nxt(h)]
-    c = m.tv[prv(h)]
-    d = m.tv[prv(g)]
-    return (
-        incircle(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], xy[d, 0], xy[d, 1])
-        > 0.0
-    )
-
-
-@njit(cache=True)
-def legalize_all(m):
-    """Flip until every unconstrained edge is locally Delaunay; returns the flip count."""
-    nt = m.nt
-    todo = np.empty(6 * nt + 16, np.int32)
-    sp = 0
-    for h in range(3 * nt):
-        if m.tw[h] > h:
-            todo[sp] = h
-            sp += 1
-    return legalize_stack(m, todo, np.int64(sp))
-
-
-@njit(cache=True, inline="always")
-def legalize_stack(m, todo, sp):
-    """Lawson flips starting from the half-edges ``todo[:sp]`` (each edge that
-    becomes suspect is pushed); returns the flip count.  ``todo`` grows as needed."""
-    return _lawson(m, todo, sp, np.int32(-1), np.int64(0))
-
-
-@njit(cache=True)
-def _lawson(m, todo, sp, tag, k):
-    """:func:`legalize_stack`; with ``tag`` >= 0 also appends every rewritten slot
-    not yet marked ``tag`` to ``cav`` from ``cav[k]`` on, and returns the new k."""
-    # no flip recorded (a negative count): the log argument is never touched
-    return lawson_recorded(m, todo, sp, tag, k, todo, np.int64(-1))[0]
-
-
-@njit(cache=True)
-def lawson_recorded(m, todo, sp, tag, k, undo, nu):
-    """:func:`_lawson` that, with ``nu`` >= 0, first records every flip in ``undo``
-    (:func:`record_flip`, from record nu on).  Returns (what :func:`_lawson`
-    returns, undo (grown if needed), the new record count)."""
-    flips = 0
-    while sp > 0:
-        sp -= 1
-        h = todo[sp]
-        if not _not_delaunay(m, h):
-            continue
-        t = h // 3
-        u = m.tw[h] // 3
-        if nu >= 0:
-            undo, nu = record_flip(m, h, undo, nu)
-        flip(m, h)
-        flips += 1
-        if tag >= 0:
-            for s in (t, u):
-                if m.tmark[s] != tag:
-                    m.tmark[s] = tag
-                    reserve(m, k + 1)
-                    m.cav[k] = s
-                    k += 1
-        todo = grown(todo, sp + 4)
-        # the four outer edges of the new pair
-        todo[sp] = 3 * t
-        todo[sp + 1] = 3 * t + 1
-        todo[sp + 2] = 3 * u
-        todo[sp + 3] = 3 * u + 1
-        sp += 4
-    return (k if tag >= 0 else flips), undo, nu
-
-
-#: int32 entries of a flip's record (:func:`record_flip`): its two slots, their
-#: six half-edges' origin, twin and flag, and the ``vseg`` and ``vcs`` of their
-#: four vertices.
-UNDO = 2 + 18 + 12
-
-
-@njit(cache=True)
-def record_flip(m, h, undo, nu):
-    """Append to ``undo`` (record nu on, grown if needed) everything
-    :func:`flip` of h overwrites, for :func:`undo_flips`: the two slots and
-    their vertices' ``vseg`` and ``vcs`` (the outer twins' links follow from
-    the slots').  Returns (undo, nu + 1)."""
-    undo = grown(undo, (nu + 1) * UNDO)
-    h = np.int64(h)
-    g = np.int64(m.tw[h])
-    r = nu * UNDO
-    undo[r] = h // 3
-    undo[r + 1] = g // 3
-    i = r + 2
-    for s in (h // 3, g // 3):
-        for e in range(3 * s, 3 * s + 3):
-            undo[i] = m.tv[e]
-            undo[i + 1] = m.tw[e]
-            undo[i + 2] = m.tc[e]
-            i += 3
-    for e in (h, nxt(h), prv(h), prv(g)):  # the quad's four vertices
-        v = m.tv[e]
-        undo[i] = v
-        undo[i + 1] = m.vseg[v]
-        undo[i + 2] = m.vcs[v]
-        i += 3
-    return undo, nu + 1
-
-
-@njit(cache=True)
-def undo_flips(m, undo, nu):
-    """Undo the ``nu`` flips recorded in ``undo``, the last first: the
-    triangulation (``tv``, ``tw``, ``tc``, ``vseg``, ``vcs``) is then exactly
-    what it was before the first."""
-    for rec in range(nu - 1, -1, -1):
-        r = rec * UNDO
-        i = r + 2
-        for j in range(2):
-            s = np.int64(undo[r + j])
-            for e in range(3 * s, 3 * s + 3):
-                m.tv[e] = undo[i]
-                m.tw[e] = undo[i + 1]
-                m.tc[e] = undo[i + 2]
-                i += 3
-        for j in range(2):  # the outer twins point back into the slots
-            s = np.int64(undo[r + j])
-            for e in range(3 * s, 3 * s + 3):
-                if m.tw[e] >= 0:
-                    m.tw[m.tw[e]] = e
-        for j in range(4):
-            v = undo[i]
-            m.vseg[v] = undo[i + 1]
-            m.vcs[v] = undo[i + 2]
-            i += 3
-
-
-@njit(cache=True)
-def build_adjacency(m, tris):
-    """Load (T, 3) CCW triangles; pair half-edges in the order of their sorted
-    undirected edges (:func:`_edge_order`).
-
-    Returns the number of boundary half-edges.
-    """
-    nt = tris.shape[0]
-    m.vcs[:] = -1  # no constraint flags: the caller flags the segment pieces
-    for t in range(nt):
-        _set_triangle(m, np.int64(t), np.int64(tris[t, 0]), np.int64(tris[t, 1]), np.int64(tris[t, 2]))
-        m.tc[3 * t : 3 * t + 3] = 0
-    m.nt = nt
-    order = _edge_order(m, nt)
-    nb = 0
-    i = 0
-    while i < 3 * nt:
-        h = order[i]
-        if i + 1 < 3 * nt and _same_edge(m, h, order[i + 1]):
-            g = order[i + 1]
-            m.tw[h] = g
-            m.tw[g] = h
-            i += 2
-        else:
-            m.tw[h] = -1
-            m.vseg[m.tv[h]] = h
-            nb += 1
-            i += 1
-    return nb
-
-
-@njit(cache=True, inline="always")
-def _ends(m, h):
-    """(smaller, larger) vertex of half-edge h."""
-    u = np.int64(m.tv[h])
-    v = np.int64(m.tv[nxt(h)])
-    return min(u, v), max(u, v)
-
-
-@njit(cache=True, inline="always")
-def _same_edge(m, h, g):
-    a, b = _ends(m, h)
-    c, d = _ends(m, g)
-    return a == c and b == d
-
-
-#: A vertex's half-edges are put in order by insertion up to this many.
-SHORT_RUN = 32
-
-
-@njit(cache=True, inline="always")
-def _edge_order(m, nt):
-    """The half-edges of the first nt triangles sorted by their (smaller, larger)
-    vertex, equal edges in index order: the order a stable sort of the keys
-    smaller * nv + larger gives.  A counting sort on the smaller vertex (stable)
-    and a stable sort of each vertex's few half-edges by the larger one: no
-    3-per-triangle key arrays (~150 MB at 1e6 points for keys and a radix sort)."""
-    n = 3 * nt
-    top = m.nv
-    for h in range(n):
-        top = max(top, np.int64(m.tv[h]) + 1)
-    start = np.zeros(top + 1, np.int64)
-    for h in range(n):
-        start[_ends(m, h)[0] + 1] += 1
-    for v in range(top):
-        start[v + 1] += start[v]
-    order = np.empty(n, np.int64)
-    fill = start[:-1].copy()
-    for h in range(n):
-        a = _ends(m, h)[0]
-        order[fill[a]] = h
-        fill[a] += 1
-    for v in range(top):
-        lo, hi = start[v], start[v + 1]
-        if hi - lo <= SHORT_RUN:
-            for i in range(lo + 1, hi):  # insertion: stable, equal ones keep their order
-                h = order[i]
-                b = _ends(m, h)[1]
-                j = i - 1
-                while j >= lo and _ends(m, order[j])[1] > b:
-                    order[j + 1] = order[j]
-                    j -= 1
-                order[j + 1] = h
-        else:
-            run = order[lo:hi].copy()
-            second = np.empty(hi - lo, np.int64)
-            for i in range(hi - lo):
-                second[i] = _ends(m, run[i])[1]
-            idx = stable_argsort(second)
-            for i in range(hi - lo):
-                order[lo + i] = run[idx[i]]
-    return order
-
-
 # --------------------------------------------------------------------------------------
 # Point location
 # --------------------------------------------------------------------------------------
 @njit(cache=True)
-def locate(m, t, x, y, max_steps):
+def locate(m, t, x, y, max_steps, pieces):
     """Walk from triangle t towards (x, y).
 
     Returns the triangle containing the point (closed), or ``-(h + 1)`` when the
-    walk must cross the boundary half-edge h, or ``-(3*tmax + 2)`` when it gives up.
+    walk must cross the boundary half-edge h (with ``pieces``, any constrained
+    half-edge h: INSERT puts a point on the side of a piece its candidate is
+    on), or ``-(3*tmax + 2)`` when it gives up.
     """
     xy = m.xy
     for _ in range(max_steps):
@@ -568,7 +337,7 @@ def locate(m, t, x, y, max_steps):
             h = 3 * t + i
             if _orient_v(xy, m.tv[h], m.tv[nxt(h)], x, y) < 0.0:
                 g = m.tw[h]
-                if g < 0:
+                if g < 0 or (pieces and constrained(m, h)):
                     return -(h + 1)
                 t = g // 3
                 moved = True

@@ -9,11 +9,11 @@ from ._jit import njit
 
 from .cdt import nxt, prv, snap
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
-from .star import FIXED, TRIES, accept, counted, dead_part, edge, gather, initial_steps
+from .star import FIXED, TRIES, accept, counted, dead_part, gather, initial_steps
 from .star import keep_state, kept_state, legalize_live, live_slots, measure_live, objective_of
 from .star import place_at, restore_state
 from .star import pw as _pw
-from .star import refresh_sizes, refuse, ring_neighbours, search, stars, star_ok
+from .star import refresh_sizes, refuse, ring_neighbours, search, stars, star_ok, triangle_terms
 
 __all__ = ["descend"]
 
@@ -134,14 +134,10 @@ def _measure_weights(m, hv, href, k, objective, slots, alive, dead):
     s_short = 0.0
     s_per = 0.0
     for t in slots:
-        per = 0.0
-        tgt = 0.0
+        Ls, ss, per, tgt = triangle_terms(xy, tv, hv, href, t)
         for i in range(3):
             h = 3 * t + i
-            L, s = edge(xy, tv, hv, href, h)
-            per += L
-            tgt += s
-            ell = L / s
+            ell = Ls[i] / ss[i]
             lmax = max(lmax, ell)
             lmin = min(lmin, ell)
             if counted(tw, alive, h):  # each edge once

@@ -58,17 +58,16 @@ from ._jit import njit
 from . import heap
 from .borrow import borrowed, settle
 from .cavity import insert_point
-from .cdt import circumcircle, constrained, locate_scan, nxt, prv, snap
-from .predicates import dot2d, orient2d
+from .cdt import allocate, circumcircle, constrained, locate, locate_scan, nxt, prv, snap
+from .predicates import dot2d
+from .outcomes import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
+from .place import between, insert_nearby, near_boundary, project
 from .pool import dump_window, new_pool, pool_add, pool_kill, to_window
 from .rank import REL_TIE, size_at, tied_above
-from .segment import eval_segment, seg_dist2
+from .segment import eval_segment
 
 __all__ = ["REL_TIE", "ERR_EMPTY", "ERR_LOCATE", "ERR_PRECISION", "new_pool", "push_initial", "run"]
 
-ERR_EMPTY = -10  # no candidate left (cannot happen for a valid polygon)
-ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
-ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inserted
 
 
 @njit(cache=True)
@@ -432,19 +431,19 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
             pool_kill(P, np.int64(s))
         if a >= 0:
             x, y = snap(m, x, y)
-            loc = _walk(m, np.int64(a), x, y, np.int64(64))
+            loc = locate(m, np.int64(a), x, y, np.int64(64), np.bool_(True))
             if loc < -(m.tv.shape[0] + 1):  # the walk gave up: look everywhere
                 loc = locate_scan(m, x, y)
                 if loc < 0:
                     return ERR_LOCATE - 100 * j
             if loc >= 0:
                 t0 = loc
-                hsplit = _near_boundary(m, loc, x, y, snap_d)
+                hsplit = near_boundary(m, loc, x, y, snap_d)
             else:
                 hsplit = -loc - 1  # the rounded circumcentre crossed this constraint
                 t0 = hsplit // 3
             if hsplit >= 0:
-                x, y = _project(m, hsplit, x, y)
+                x, y = project(m, hsplit, x, y)
                 x, y = snap(m, x, y)
         else:
             hsplit = find_constrained(m, -a - 1, np.int64(b))
@@ -455,10 +454,10 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
         out_w[j] = w * size_at(m, x, y)  # the distance (w is distance / size)
         out_b[j] = hsplit >= 0
         k = ERR_PRECISION
-        if _between(m, hsplit, x, y):
+        if between(m, hsplit, x, y):
             k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
-            k, x, y = _insert_nearby(m, x, y, t0, hsplit)
+            k, x, y = insert_nearby(m, x, y, t0, hsplit)
             if k < 0:
                 return k - 100 * j
             out_xy[j, 0] = x
@@ -479,98 +478,10 @@ def _room(a, b, c, d, e, f, g, h):
     )
 
 
-@njit(cache=True)
-def _between(m, h, x, y):
-    """Whether (x, y) projects strictly inside boundary subsegment h (exact; True
-    for h = -1).  A point rounded past an end of its subsegment would fold the
-    boundary chain back on itself: valid triangles, but not a mesh of P."""
-    if h < 0:
-        return True
-    xy = m.xy
-    u = m.tv[h]
-    v = m.tv[nxt(h)]
-    return (
-        dot2d(x, y, xy[v, 0], xy[v, 1], xy[u, 0], xy[u, 1]) > 0.0
-        and dot2d(x, y, xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1]) > 0.0
-    )
-
-
-@njit(cache=True, inline="always")
-def _insert_nearby(m, x, y, t0, hs):
-    """Insert at one of the 8 points the caller's coordinates hold next to (x, y).
-
-    Only far from the origin, where those coordinates are coarse, can the
-    rounded point miss the region in which its insertion is valid (a subsegment a
-    few units in the last place long, next to a corner); a neighbouring
-    representable point, tried in a fixed order, may be inside it (and, for a
-    boundary point, strictly between its subsegment's ends).  Returns
-    (status, x, y) as :func:`.cavity.insert_point`."""
-    s = m.gs
-    cx = m.gc[0]
-    cy = m.gc[1]
-    X = x * s + cx
-    Y = y * s + cy
-    for dx in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            if dx == 0 and dy == 0:
-                continue
-            Xn = np.nextafter(X, dx * np.inf) if dx != 0 else X
-            Yn = np.nextafter(Y, dy * np.inf) if dy != 0 else Y
-            xn = (Xn - cx) / s
-            yn = (Yn - cy) / s
-            if not _between(m, hs, xn, yn):
-                continue
-            k = insert_point(m, xn, yn, np.int64(t0), np.int64(hs))
-            if k >= 0:
-                return k, xn, yn
-    return ERR_PRECISION, x, y
-
-
-@njit(cache=True)
-def _near_boundary(m, t, x, y, snap):
-    """A constrained half-edge of t within distance ``snap`` of (x, y), or -1."""
-    xy = m.xy
-    for i in range(3):
-        h = 3 * t + i
-        if not constrained(m, h):
-            continue
-        u = m.tv[h]
-        v = m.tv[nxt(h)]
-        if seg_dist2(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y) <= snap * snap:
-            return h
-    return -1
-
-
-@njit(cache=True)
-def _walk(m, t, x, y, max_steps):
-    """:func:`cdt.locate` that stops at every constraint: the triangle containing
-    (x, y) (closed), ``-(h + 1)`` when the walk must cross the constrained
-    half-edge h (a boundary edge or an interior piece), ``-(3*tmax + 2)`` when it
-    gives up.  A point is inserted on the side of a piece its candidate is on."""
-    xy = m.xy
-    for _ in range(max_steps):
-        moved = False
-        for i in range(3):
-            h = 3 * t + i
-            u = m.tv[h]
-            v = m.tv[nxt(h)]
-            if orient2d(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y) < 0.0:
-                if constrained(m, h):
-                    return -(h + 1)
-                t = m.tw[h] // 3
-                moved = True
-                break
-        if not moved:
-            return t
-    return -(m.tv.shape[0] + 2)
-
-
-@njit(cache=True)
-def _project(m, h, x, y):
-    xy = m.xy
-    u = m.tv[h]
-    v = m.tv[nxt(h)]
-    dx, dy = xy[v, 0] - xy[u, 0], xy[v, 1] - xy[u, 1]
-    s = ((x - xy[u, 0]) * dx + (y - xy[u, 1]) * dy) / (dx * dx + dy * dy)
-    s = min(1.0 - 1e-12, max(1e-12, s))
-    return xy[u, 0] + s * dx, xy[u, 1] + s * dy
+def warm_first_step() -> None:
+    """Compile INSERT's first step (:func:`_gather`, which brings most of its
+    predicates) on a tiny empty triangulation, typed as a run types it: the
+    first thing the command's warmer compiles (:func:`uniform2d.warmup.warm`)."""
+    m, _ = allocate(4, 4)
+    M, P = heap.new_heap(16), new_pool(64)
+    _gather(m, M, P, 0.0)

@@ -13,12 +13,14 @@ decode them by name, not by arithmetic repeated at every call site.
 
 from __future__ import annotations
 
-from .insert import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
-
 __all__ = [
     "ERR_EMPTY", "ERR_LOCATE", "ERR_PRECISION", "RUN_CODES", "RUN_STRIDE", "run_failure",
     "failed_site",
 ]
+
+ERR_EMPTY = -10  # no candidate left (cannot happen for a valid polygon)
+ERR_LOCATE = -11  # a circumcentre could not be located (cannot happen)
+ERR_PRECISION = -12  # no point the caller's coordinates hold there can be inserted
 
 #: Multiplier of the failing step in :func:`uniform2d._kernel.insert.run`'s status.
 RUN_STRIDE = 100

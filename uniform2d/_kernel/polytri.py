@@ -14,7 +14,7 @@ polygon with holes (the only input :class:`uniform2d.Polygon` accepts):
 3. the triangles inside P kept: those reached from the left side of a ring edge
    (outer ring counter-clockwise, holes clockwise) without crossing a ring edge.
 
-The result is a triangle list for :func:`cdt.build_adjacency`; it is not yet
+The result is a triangle list for :func:`.adjacency.build_adjacency`; it is not yet
 Delaunay (the caller legalises).  Cost: O(V log V) for the Delaunay part and
 O(V) per ring edge to find its start, so O(V^2) at worst -- it runs only when
 GEOS's result fails the exact check.
@@ -25,7 +25,9 @@ from ._jit import njit
 
 from ..errors import InternalError, PLEASE_REPORT
 from .cavity import insert_sites
-from .cdt import allocate, build_adjacency, flip, legalize_all, nxt, prv, set_nv, triangle_list
+from .adjacency import build_adjacency
+from .cdt import allocate, flip, nxt, prv, set_nv, triangle_list
+from .lawson import legalize_all
 from .predicates import orient2d
 
 __all__ = ["triangulate", "recover_pieces"]

@@ -23,7 +23,7 @@ rounding off its edge's line, and stays on its constraint by index.
 A move is only made if every triangle around the moved vertex stays strictly
 counter-clockwise (exact ``orient2d``).  With the boundary chain in order that
 means the triangles still tile P, so nothing has to be located again.  After a
-round of moves, :func:`cdt.legalize_stack` (started from the edges around the
+round of moves, :func:`.lawson.legalize_stack` (started from the edges around the
 moved vertices) makes every unconstrained edge locally
 Delaunay with the exact ``incircle`` (Lawson flips never touch a constrained,
 i.e. boundary, edge), so after every round the mesh is again the constrained

@@ -19,8 +19,9 @@ ends at -1)::
 import numpy as np
 from ._jit import njit
 
-from .cdt import UNDO, lawson_recorded, new_tag, nxt, prv, undo_flips
+from .cdt import new_tag, nxt, prv
 from .heap import grown
+from .lawson import UNDO, lawson_recorded, undo_flips
 from .objective import combine
 from .predicates import orient2d
 from .rank import size_at
@@ -123,14 +124,11 @@ def dead_part(m, alive, hv, href, k):
     for t in range(m.nt):
         if alive[t]:
             continue
-        per = 0.0
-        tgt = 0.0
+        Ls, ss, per, tgt = triangle_terms(xy, tv, hv, href, t)
         for i in range(3):
             h = 3 * t + i
-            L, s = edge(xy, tv, hv, href, h)
-            per += L
-            tgt += s
-            ell = L / s
+            L = Ls[i]
+            ell = L / ss[i]
             out[0] = max(out[0], ell)
             out[1] = min(out[1], ell)
             g = tw[h]
@@ -167,6 +165,17 @@ def edge(xy, tv, hv, href, h):
     return np.sqrt(dx * dx + dy * dy), 0.5 * (hv[a] + hv[b]) * href
 
 
+@njit(cache=True, inline="always")
+def triangle_terms(xy, tv, hv, href, t):
+    """The terms every pass over the triangles reads of slot t: its three edges'
+    lengths and targets (:func:`edge`, in half-edge order) and its perimeter
+    and the perimeter's target, summed in that order."""
+    L0, s0 = edge(xy, tv, hv, href, 3 * t)
+    L1, s1 = edge(xy, tv, hv, href, 3 * t + 1)
+    L2, s2 = edge(xy, tv, hv, href, 3 * t + 2)
+    return (L0, L1, L2), (s0, s1, s2), L0 + L1 + L2, s0 + s1 + s2
+
+
 @njit(cache=True)
 def measure(m, hv, href):
     """(longest, shortest, largest perimeter), all normalised by their targets."""
@@ -184,13 +193,9 @@ def measure_live(m, hv, href, slots, dead):
     lmin = np.inf
     pmax = 0.0
     for t in slots:
-        per = 0.0
-        tgt = 0.0
+        Ls, ss, per, tgt = triangle_terms(xy, tv, hv, href, t)
         for i in range(3):
-            L, s = edge(xy, tv, hv, href, 3 * t + i)
-            per += L
-            tgt += s
-            ell = L / s
+            ell = Ls[i] / ss[i]
             lmax = max(lmax, ell)
             lmin = min(lmin, ell)
         pmax = max(pmax, per / tgt)
@@ -407,7 +412,7 @@ def legalize_live(m, moved, todo, alive, slots, undo, nu):
     """Make every edge around the moved vertices locally Delaunay again
     (:func:`suspects`, then Lawson flips), and wake every dead slot a flip
     rewrote.  With ``nu`` >= 0 the flips are recorded in ``undo`` from record nu
-    on (:func:`.cdt.record_flip`).  Returns (todo, grown if needed; slots;
+    on (:func:`.lawson.record_flip`).  Returns (todo, grown if needed; slots;
     whether a slot woke: the caller's :func:`dead_part` is then stale; undo;
     the new record count)."""
     todo, sp = suspects(m, moved, todo, alive, slots)

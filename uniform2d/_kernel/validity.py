@@ -13,7 +13,7 @@ decide), on the arrays the caller gets.  A mesh of P with n Steiner points is va
   in opposite directions;
 * the unpaired (boundary) edges chain, from each polygon vertex, through Steiner
   points only, to the next vertex of its ring, every point on the way within
-  :func:`uniform2d.insert.boundary_tol` of that polygon edge and in order along
+  :func:`uniform2d.tolerance.boundary_tol` of that polygon edge and in order along
   it, and there are no other boundary edges;
 * every interior segment piece is a chain of mesh edges from one end to the
   other through Steiner points within the tolerance of the piece, in order
@@ -34,7 +34,7 @@ from ._jit import njit
 
 from .predicates import orient2d
 
-__all__ = ["mesh_problem"]
+__all__ = ["mesh_problem", "piece_chain"]
 
 
 @njit(cache=True)
@@ -228,14 +228,14 @@ def _pieces_problem(P, u, v, polygon, tol):
     start = np.searchsorted(us, np.arange(len(P) + 1))
     used = np.zeros(len(P), bool)
     for a, b in polygon.segment_edges:
-        chain = _piece_chain(P, vs, start, used, polygon.vertices, int(a), int(b), tol)
+        chain = piece_chain(P, vs, start, used, polygon.vertices, int(a), int(b), tol)
         if chain is None:
             return f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
         used[chain] = True
     return None
 
 
-def _piece_chain(P, vs, start, used, V, a, b, tol):
+def piece_chain(P, vs, start, used, V, a, b, tol):
     """The inner vertices of a chain of mesh edges from a to b through points
     within ``tol`` of the piece a-b, in order along it and not ``used``, or None.
 

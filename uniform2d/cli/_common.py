@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import functools
 import json
 import logging
@@ -13,6 +14,37 @@ from pathlib import Path
 from typing import Callable, Iterable, Iterator
 
 from .._jsonable import jsonable
+
+#: The command's name, which starts every line it prints on stderr.
+PROG = "uniform2d"
+
+
+#: What to do about an operating-system error, by errno.
+_OS_HINTS = {
+    errno.ENOSPC: "free some disk space or write to another disk",
+    errno.EDQUOT: "free some of your disk quota or write to another disk",
+    errno.EROFS: "the file system is read-only: write somewhere else",
+    errno.EACCES: "check its permissions or write somewhere else",
+    errno.EPERM: "check its permissions or write somewhere else",
+}
+
+
+def error_message(exc: BaseException) -> str:
+    """One line describing a user-facing error."""
+    if isinstance(exc, MemoryError):
+        msg = f"out of memory ({exc or 'no details'}); ask for fewer points"
+    elif isinstance(exc, OSError) and exc.strerror and exc.filename:
+        msg = f"{exc.strerror}: {exc.filename}"
+        if exc.errno in _OS_HINTS:
+            msg += f"; {_OS_HINTS[exc.errno]}"
+    elif isinstance(exc, ImportError) and not isinstance(exc, ModuleNotFoundError):
+        msg = str(exc)
+    elif isinstance(exc, ModuleNotFoundError):
+        msg = f"missing optional dependency '{exc.name}' ({exc})"
+    else:
+        msg = str(exc) or type(exc).__name__
+    return " ".join(msg.split())
+
 
 log = logging.getLogger(__name__)
 
@@ -44,8 +76,6 @@ def announce_compile(quiet: bool = False, cold: bool | None = None) -> bool:
     to be (``cold``; by default: a cold numba cache) and not --quiet; return
     whether it was said."""
     from ..compile_cache import COMPILE_NOTICE, kernels_cold
-    from .main import PROG
-
     if quiet or not (kernels_cold() if cold is None else cold):
         return False
     print(f"{PROG}: {COMPILE_NOTICE}", file=sys.stderr, flush=True)
@@ -228,8 +258,6 @@ def _run_batch(args, process, plan, desc, show, document) -> int:
 
 def report_failure(name, exc: BaseException) -> str:
     """Print one ``uniform2d: error: <name>: ...`` line for a failed input; return the message."""
-    from .main import PROG, error_message
-
     msg = error_message(exc)
     if str(name) not in msg:
         msg = f"{name}: {msg}"
@@ -242,8 +270,6 @@ def report_failure(name, exc: BaseException) -> str:
 
 def batch_status(failed: int, total: int) -> int:
     """Exit code of a batch: 0, or 2 after a one-line summary when some inputs failed."""
-    from .main import PROG
-
     if not failed:
         return 0
     print(f"{PROG}: error: {failed} of {total} inputs failed", file=sys.stderr)

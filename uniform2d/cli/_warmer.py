@@ -1,27 +1,14 @@
-"""The first run's second core: compiling the kernels a mesh needs late, ahead of it.
+"""The first run's second core: a process that compiles the kernels a mesh needs late.
 
 numba compiles a kernel when it is first called, one after another, in the
 calling process: on a cold cache the command's first ``mesh`` spends most of its
-time compiling, on one core, while the other cores idle.  What a run compiles
-goes into numba's disk cache (``cache=True``), and numba looks there before it
-compiles anything, a kernel called from Python or one typed as the callee of
-another.  So when the command finds the kernels cold, :func:`start` starts one
-background process that runs :func:`warm`, which compiles in an order chosen
-against the order the run needs the kernels in.  The run first compiles the
-exact triangulation of P and INSERT's queues; the warmer meanwhile compiles
-INSERT's first step, which the run types next.  Then the kernels the run needs
-after INSERT, from the last (the optimiser's spread sweeps) back to the first
-(the measures of T+'s mesh): the run, compiling them from the first, meets
-the warmer halfway instead of following it.  Whatever the warmer finished,
-the run loads; whatever it did not, the run compiles as before.  A second process only helps on a CPU that would
-otherwise idle, so none is started when the system's load leaves none idle.
-
-A kernel is cached per argument types (dtypes, layouts, int32 against int64),
-so the warmer makes its calls with the library's own code on tiny inputs (a
-lattice mesh loaded as the optimiser loads one; INSERT's queues as INSERT makes
-them), and where a call cannot run on those, with signatures written out;
-``tests/test_warmer.py`` checks that a run after it compiles
-none of its kernels again.
+time compiling, on one core, while the other cores idle.  So when the command
+finds the kernels cold, :func:`start` starts one background process that runs
+:func:`uniform2d.warmup.warm` (what it compiles, and in which order, is the
+library's business: see there); whatever it finished, the run loads from
+numba's cache, whatever it did not, the run compiles as before.  A second
+process only helps on a CPU that would otherwise idle, so none is started when
+the system's load leaves none idle.
 
 The warmer prints nothing and writes nothing but numba's cache (each file to a
 temporary name, then renamed: stopping it at any moment leaves no torn entry,
@@ -38,73 +25,9 @@ import subprocess
 import sys
 import threading
 
-__all__ = ["warm", "start", "stop", "spare_cpus", "busy"]
+__all__ = ["start", "stop", "spare_cpus", "busy", "main"]
 
 log = logging.getLogger(__name__)
-
-
-def warm() -> None:
-    """Compile, into numba's cache, kernels a :func:`uniform2d.uniform_mesh` run
-    compiles late, by running the library's code on tiny inputs, in the order
-    the module docstring gives."""
-    from numba import types
-
-    from .._kernel import cdt, heap
-    from .._kernel import insert as kinsert
-    from ..optimize import moves, pipeline
-    from ..optimize import schedule as S
-    from ..optimize.objective import objective_code
-    from ..optimize.seed import target_size, variants
-    from .._kernel.edges import edges_by_vertex
-
-    # INSERT's first step, which brings most of its predicates, while the run
-    # compiles the exact triangulation of P and INSERT's queues (its later
-    # steps the run reaches before the warmer could finish them)
-    m, _ = cdt.allocate(4, 4)
-    M, P = heap.new_heap(16), kinsert.new_pool(64)
-    kinsert._gather(m, M, P, 0.0)
-
-    # then what the run compiles after INSERT, from its end back: the
-    # optimiser's stages, the last first, on a lattice mesh ...
-    polygon, points, triangles, edges = _lattice(4)
-    st = moves._load(polygon, points, triangles, None, None, None, edges)
-    obj = objective_code("balanced")
-    none = moves.default_schedule(len(st.xy), False)._replace(
-        spring_rounds=0, sweeps=1, exponents=(), spread_sweeps=0)
-    for stage in (dict(spread_sweeps=1), dict(exponents=(S.AFTER_TRIALS,)),
-                  dict(spring_rounds=1)):
-        moves.advance(st, none._replace(**stage), obj)
-        moves.rank(st, obj)
-    # ... its start (the distance to P's edges) and the start's check ...
-    n = len(points) - len(polygon.vertices)
-    pipeline._start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
-    moves.finish(polygon, moves.unload(polygon, st), moves.Progress())
-    # ... and the measures of T+'s mesh (always on read-only triangles)
-    edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=True), types.int64))
-
-
-def _lattice(k: int):
-    """(square polygon, points, triangles, edges): the k x k unit lattice of the
-    square [0, k]^2 cut into triangles (Delaunay), its corners first, then the
-    other lattice points, with the polygon edge each lies on (-1 inside)."""
-    import numpy as np
-
-    from ..polygon import Polygon
-
-    g = np.arange(k + 1, dtype=np.float64)
-    x, y = (a.ravel() for a in np.meshgrid(g, g))
-    corner = np.array([0, k, (k + 1) ** 2 - 1, k * (k + 1)])
-    order = np.concatenate([corner, np.setdiff1d(np.arange((k + 1) ** 2), corner)])
-    rank = np.argsort(order)  # lattice index -> place in ``order``
-    a = (np.arange(k)[:, None] * (k + 1) + np.arange(k)[None, :]).ravel()  # lower-left corners
-    cells = np.stack([a, a + 1, a + k + 2, a + k + 1], axis=1)
-    triangles = rank[np.concatenate([cells[:, [0, 1, 2]], cells[:, [0, 2, 3]]])]
-    points = np.column_stack([x, y])[order]
-    edges = np.full(len(points), -1, np.int64)
-    for e, (axis, value) in enumerate([(1, 0.0), (0, k), (1, k), (0, 0.0)]):
-        edges[points[:, axis] == value] = e
-    polygon = Polygon(points[:4])
-    return polygon, points, triangles.astype(np.int64), edges[4:]
 
 
 def spare_cpus() -> int:
@@ -190,8 +113,10 @@ def _exit_at_eof() -> None:
 
 
 def main() -> None:
-    """The warmer process: :func:`warm`, ending early when its stdin closes."""
+    """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin closes."""
     import signal
+
+    from ..warmup import warm
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command decides when to stop
     threading.Thread(target=_exit_at_eof, daemon=True).start()

@@ -19,20 +19,18 @@ subcommand here and arrive as ``args.quiet`` (bool) and ``args.verbose`` (int).
 from __future__ import annotations
 
 import argparse
-import errno
 import importlib
 import logging
 import os
 import sys
 
-__all__ = ["main", "COMMANDS", "build_parser", "error_message"]
+from ._common import PROG, error_message
+
+__all__ = ["main", "COMMANDS", "build_parser"]
 
 #: The subcommands, in the order ``--help`` lists them: one module of
 #: ``uniform2d.cli`` each.  Registering a new one is adding its name here.
 COMMANDS = ("mesh", "info", "remesh", "report", "compare")
-
-PROG = "uniform2d"
-
 
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line usage errors (``uniform2d: error: ...``, exit code 2)."""
@@ -80,33 +78,6 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict]:
             _add_common(sub.choices[new], lambda v: argparse.SUPPRESS)
             modules[new] = module
     return parser, modules
-
-
-#: What to do about an operating-system error, by errno.
-_OS_HINTS = {
-    errno.ENOSPC: "free some disk space or write to another disk",
-    errno.EDQUOT: "free some of your disk quota or write to another disk",
-    errno.EROFS: "the file system is read-only: write somewhere else",
-    errno.EACCES: "check its permissions or write somewhere else",
-    errno.EPERM: "check its permissions or write somewhere else",
-}
-
-
-def error_message(exc: BaseException) -> str:
-    """One line describing a user-facing error."""
-    if isinstance(exc, MemoryError):
-        msg = f"out of memory ({exc or 'no details'}); ask for fewer points"
-    elif isinstance(exc, OSError) and exc.strerror and exc.filename:
-        msg = f"{exc.strerror}: {exc.filename}"
-        if exc.errno in _OS_HINTS:
-            msg += f"; {_OS_HINTS[exc.errno]}"
-    elif isinstance(exc, ImportError) and not isinstance(exc, ModuleNotFoundError):
-        msg = str(exc)
-    elif isinstance(exc, ModuleNotFoundError):
-        msg = f"missing optional dependency '{exc.name}' ({exc})"
-    else:
-        msg = str(exc) or type(exc).__name__
-    return " ".join(msg.split())
 
 
 class _StderrHandler(logging.StreamHandler):

@@ -200,7 +200,7 @@ def _write_both(mesh, dst: Path, fig: Path | None) -> None:
     import os
     import secrets
 
-    from ..io.atomic import _named
+    from ..io.atomic import named_for
 
     if fig is None:
         mesh.write(dst)
@@ -216,14 +216,14 @@ def _write_both(mesh, dst: Path, fig: Path | None) -> None:
         try:
             plt.close(mesh.plot(tmp))
         except OSError as exc:
-            raise _named(exc, tmp, fig) from None
+            raise named_for(exc, tmp, fig) from None
         mesh.write(dst)
         try:
             os.replace(tmp, fig)
         except OSError as exc:
             if not existed:
                 dst.unlink(missing_ok=True)
-            raise _named(exc, tmp, fig) from None
+            raise named_for(exc, tmp, fig) from None
     finally:
         tmp.unlink(missing_ok=True)
 

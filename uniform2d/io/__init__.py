@@ -2,9 +2,13 @@
 
 >>> from uniform2d.io import read_polygon, write_mesh, polygon_formats, mesh_formats
 
-Polygon files (:func:`read_polygon`, :func:`write_polygon`): ``.json`` (our own
-format), ``.geojson``, ``.wkt``, Triangle's ``.poly`` and ``.dxf``, with interior
-segments, fixed points and region labels (:mod:`uniform2d.io.constrained_files`).
+Polygon files (:func:`read_polygon`, :func:`write_polygon`), one module per
+format that reads and writes everything the format carries (rings, interior
+segments, fixed points and region labels): ``.json`` (our own format,
+:mod:`~uniform2d.io.json_file`), ``.geojson`` (:mod:`~uniform2d.io.geojson_file`),
+``.wkt`` (:mod:`~uniform2d.io.wkt_file`), Triangle's ``.poly``
+(:mod:`~uniform2d.io.poly_file`) and ``.dxf`` (:mod:`~uniform2d.io.dxf_file`);
+what they share is :mod:`uniform2d.io.common`.
 Meshes carry their regions as cell data where the format has it
 (:mod:`uniform2d.io.cells`).  Mesh files
 (:func:`write_mesh`, :func:`read_mesh`): meshio formats (``.vtu``, ``.msh``,

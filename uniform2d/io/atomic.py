@@ -38,7 +38,7 @@ import secrets
 from pathlib import Path
 from typing import Callable
 
-__all__ = ["atomic_write"]
+__all__ = ["atomic_write", "named_for"]
 
 
 def atomic_write(path, write: Callable[[Path], object], *, extension: str = "") -> None:
@@ -84,7 +84,7 @@ def atomic_write(path, write: Callable[[Path], object], *, extension: str = "") 
         except FileExistsError:  # pragma: no cover - 32 random bits collided
             continue
         except OSError as exc:  # e.g. a read-only directory: name the user's file
-            raise _named(exc, tmp, path) from None
+            raise named_for(exc, tmp, path) from None
         os.close(fd)
         break
     try:
@@ -96,11 +96,11 @@ def atomic_write(path, write: Callable[[Path], object], *, extension: str = "") 
         except FileNotFoundError:  # pragma: no cover
             pass
         if isinstance(exc, OSError):
-            raise _named(exc, tmp, path) from None
+            raise named_for(exc, tmp, path) from None
         raise
 
 
-def _named(exc: OSError, tmp: Path, path: Path) -> OSError:
+def named_for(exc: OSError, tmp: Path, path: Path) -> OSError:
     """``exc`` about the hidden temporary file (or about no file: a full disk while
     writing), retold about the user's ``path``."""
     if exc.errno is not None and (exc.filename is None or Path(exc.filename) == tmp):

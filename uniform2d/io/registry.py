@@ -39,19 +39,15 @@ uniform2d.errors.UnsupportedFormatError: cannot read a polygon from 'plate.step'
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 from ..errors import UnsupportedFormatError
-from . import constrained_files as _cf
-from . import polygon_files as _pf
-from . import pslg_files as _pslg
+from . import dxf_file, geojson_file, json_file, poly_file, wkt_file
 from . import truss as _truss
+from .fileformat import FileFormat
 from .mesh_files import meshio_reader, meshio_writer
 
 __all__ = [
-    "FileFormat",
     "POLYGON_FORMATS",
     "MESH_FORMATS",
     "polygon_formats",
@@ -62,72 +58,13 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class FileFormat:
-    """One registered file format.
-
-    Attributes
-    ----------
-    extension : str
-        Lower-case extension with its leading dot, possibly compound.
-    description : str
-        One human-readable line.
-    reader, writer : callable
-        See the module docstring for their signatures.
-    point_data : bool
-        Mesh formats only: whether per-point data is stored (otherwise it is
-        dropped with a logged warning).
-    regions : bool
-        Mesh formats only: whether one region per triangle is stored (otherwise
-        the regions are dropped with a logged warning).
-    members : bool
-        Mesh formats only: whether members (edges) on the polygon's segments
-        are marked (the truss formats).
-    """
-
-    extension: str
-    description: str
-    reader: Callable
-    writer: Callable
-    point_data: bool = False
-    regions: bool = False
-    members: bool = False
-
-
 def _table(*formats: FileFormat) -> dict[str, FileFormat]:
     return {f.extension: f for f in formats}
 
 
+#: Each polygon format module declares its own entry (its ``FORMAT``), in this order.
 POLYGON_FORMATS: dict[str, FileFormat] = _table(
-    FileFormat(
-        ".json",
-        'uniform2d polygon JSON {"outer": [[x, y], ...], "holes": [...], "segments": [...], '
-        '"points": [...], "regions": [[x, y, label], ...]} (GeoJSON also accepted)',
-        _cf.read_json,
-        _cf.write_json,
-    ),
-    FileFormat(
-        ".geojson",
-        "GeoJSON Polygon, Feature, or FeatureCollection with one polygon (and LineString "
-        "segments, Point fixed points, labelled Points and zone Polygons)",
-        _cf.read_geojson,
-        _cf.write_geojson,
-    ),
-    FileFormat(".wkt", "Well-Known Text POLYGON, or GEOMETRYCOLLECTION with LINESTRING "
-               "segments and POINTs", _cf.read_wkt, _cf.write_wkt),
-    FileFormat(
-        ".poly",
-        "Triangle .poly: vertices, segments (rings and interior), hole points, regional attributes",
-        _pslg.read_poly,
-        _pslg.write_poly,
-    ),
-    FileFormat(
-        ".dxf",
-        "DXF closed LWPOLYLINE/POLYLINE entities (largest is the outline), open ones and LINEs "
-        "as segments, POINTs, TEXT labels",
-        _pslg.read_dxf,
-        _pslg.write_dxf,
-    ),
+    json_file.FORMAT, geojson_file.FORMAT, wkt_file.FORMAT, poly_file.FORMAT, dxf_file.FORMAT,
 )
 
 

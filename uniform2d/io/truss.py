@@ -205,10 +205,9 @@ def _cell(v) -> str:
     return str(v)
 
 
-def read_truss_csv(path, regions=False):
-    """Read a CSV truss file; returns ``(points (N, 2) float64, triangles (M, 3) int64)``,
-    and with ``regions`` the region of each triangle (None if the file has no
-    ``region`` column)."""
+def _csv_table(path):
+    """The rows of a CSV truss file after its header, as (line number, cells), and
+    the column of every field the header names."""
     try:
         with open(path, encoding="utf-8-sig", newline="") as f:
             rows = [
@@ -235,26 +234,39 @@ def read_truss_csv(path, regions=False):
     col = {name: c for c, name in enumerate(CSV_COLUMNS)}
     if "region" in header:
         col["region"] = header.index("region")
+    return rows[1:], col
+
+
+def _csv_field(path, col, n, row, name, kind):
+    """The value of field ``name`` (a finite float, or an int) in row ``row`` of line ``n``."""
+    c = col[name]
+    text = row[c].strip() if c < len(row) else ""
+    if not text:
+        _fail(path, f"line {n}: {row[0].strip()} row without a value in column {name!r}")
+    try:
+        value = float(text)
+        if kind is int:
+            if not value.is_integer():
+                raise ValueError
+            return int(value)
+        if not np.isfinite(value):
+            raise ValueError
+        return value
+    except ValueError:
+        _fail(path, f"line {n}: unreadable {name} {text!r}")
+
+
+def read_truss_csv(path, regions=False):
+    """Read a CSV truss file; returns ``(points (N, 2) float64, triangles (M, 3) int64)``,
+    and with ``regions`` the region of each triangle (None if the file has no
+    ``region`` column)."""
+    rows, col = _csv_table(path)
 
     def field(n, row, name, kind):
-        c = col[name]
-        text = row[c].strip() if c < len(row) else ""
-        if not text:
-            _fail(path, f"line {n}: {row[0].strip()} row without a value in column {name!r}")
-        try:
-            value = float(text)
-            if kind is int:
-                if not value.is_integer():
-                    raise ValueError
-                return int(value)
-            if not np.isfinite(value):
-                raise ValueError
-            return value
-        except ValueError:
-            _fail(path, f"line {n}: unreadable {name} {text!r}")
+        return _csv_field(path, col, n, row, name, kind)
 
     node_ids, xy, tri_rows, member_rows, region_rows = {}, [], [], [], []
-    for n, row in rows[1:]:
+    for n, row in rows:
         kind = row[0].strip().lower()
         if kind == "node":
             nid = field(n, row, "id", int)

@@ -2,10 +2,11 @@
 
 Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
 
-1. **Target size** (:mod:`~uniform2d.optimize.seed`).  h solves "an
+1. **Target size** (:mod:`~uniform2d.optimize.boundary`).  h solves "an
    equilateral mesh of side h has |V| + n vertices"
    (:func:`uniform2d.geometry.size_for_count`).
-2. **Starts** (:mod:`~uniform2d.optimize.seed`).  Boundary: every polygon edge
+2. **Starts** (:mod:`~uniform2d.optimize.seed`; the lattice
+   :mod:`~uniform2d.optimize.lattice`, the first row :mod:`~uniform2d.optimize.rows`).  Boundary: every polygon edge
    of length L gets m = max(1, round(L / (c h))) equal pieces (fewer if they
    would exceed n).  Interior: the remaining points of a hexagonal lattice
    aligned with one polygon edge, at least half a spacing inside P, optionally
@@ -35,7 +36,7 @@ Pipeline (:func:`optimize_mesh`, in :mod:`~uniform2d.optimize.pipeline`):
    objective improves.
 4. **Certification.**  The mesh is the kernel's own triangulation of the final
    points, the exact CDT it kept throughout, checked once
-   (:func:`uniform2d.triangulation.ensure_valid`); its measures are compared
+   (:func:`uniform2d.validity.ensure_valid`); its measures are compared
    with the paper's T+ on the objective and the better mesh is returned, with
    its certificates (when n is too small for T+, the optimised one).
 
@@ -47,7 +48,8 @@ graded mesh uniform in the field's metric.
 from .moves import improve
 from .objective import OBJECTIVES, objective_value
 from .pipeline import optimize_mesh
-from .seed import lattice_seed, target_size
+from .boundary import target_size
+from .lattice import lattice_seed
 
 __all__ = [
     "optimize_mesh",

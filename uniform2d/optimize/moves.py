@@ -1,13 +1,16 @@
 """Moving the points of a mesh of P: the driver of the kernel :mod:`uniform2d._kernel.relax`.
 
-:func:`improve` loads a mesh into the kernel once (:func:`load`), runs the
-stages of a :class:`~uniform2d.optimize.schedule.Schedule` on it
-(:func:`advance`), reads the points back (:func:`unload`) and triangulates
-them (:func:`finish`); the kernel keeps the triangulation valid and
-constrained Delaunay by exact predicates and flips while the points move.
-:func:`improve_best` does the same from the best of several starts.
+A :class:`KernelMesh` is a mesh loaded into the kernel once (from a triangle
+list, :meth:`KernelMesh.from_mesh`; as the CDT of P and some sites,
+:meth:`KernelMesh.triangulated`; or built where the optimiser placed its own
+sites, :meth:`KernelMesh.built`).  Its :meth:`~KernelMesh.advance` runs the
+stages of a :class:`~uniform2d.optimize.schedule.Schedule` on it; the kernel
+keeps the triangulation valid and constrained Delaunay by exact predicates and
+flips while the points move.  Then either its points are read back and
+triangulated afresh (:func:`improve`, :func:`finish`) or the kernel's own
+triangulation is returned (:func:`improve_kept`, :meth:`KernelMesh.result`).
+:func:`improve_best` moves the best of several starts.
 """
-
 from __future__ import annotations
 
 import math
@@ -18,14 +21,16 @@ import numpy as np
 from .._kernel import cdt, relax
 from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
-from ..polygon import Polygon
-from ..triangulation import edge_parameters, load_mesh, triangulate
+from ..polygon import Polygon, as_polygon
+from ..sites import edge_parameters
+from ..triangulation import load_mesh, triangulate
 from ..triangulation import load as build
 from . import schedule as S
 from .objective import objective_code
-from .seed import target_size
+from .boundary import target_size
 
-__all__ = ["improve", "improve_kept", "improve_best"]
+__all__ = ["improve", "improve_kept", "improve_best", "KernelMesh", "Progress", "finish",
+           "default_schedule"]
 
 
 def improve(
@@ -65,7 +70,7 @@ def improve(
     objective : {"balanced", "ratio", "max_edge", "max_perimeter"}
     href : float, optional
         The uniform target edge length (default: from the point count, as
-        :func:`~uniform2d.optimize.seed.target_size`); ignored with a ``size`` field.
+        :func:`~uniform2d.optimize.boundary.target_size`); ignored with a ``size`` field.
     frozen : array_like of bool, shape (k,), optional
         Sites that must not move (e.g. the deep interior of a lattice that is
         already uniform: the work then scales with the boundary band).
@@ -98,39 +103,36 @@ def improve(
     >>> pts.shape, np.allclose(pts[5, 1], 0.0)   # the boundary site stayed on y = 0
     ((7, 2), True)
     """
-    return _improve(polygon, sites, size=size, objective=objective, href=href, frozen=frozen,
-                    spring_rounds=spring_rounds, sweeps=sweeps, exponents=exponents,
-                    spread_sweeps=spread_sweeps, edges=edges, fresh=True)
-
-
-def improve_kept(polygon: Polygon, sites, **options):
-    """:func:`improve` for the optimiser's own sites: built in the kernel once
-    (:func:`load_built`, with ``edges`` and no size field) and returned as the
-    kernel's own triangulation of the moved points (:func:`finish_kept`) instead
-    of triangulating them again; the optimiser checks the mesh it returns."""
-    return _improve(polygon, sites, fresh=False, **options)
-
-
-def _improve(polygon, sites, *, size=None, objective="balanced", href=None, frozen=None,
-             spring_rounds=None, sweeps=None, exponents=None, spread_sweeps=None, edges=None,
-             fresh=True):
-    if not isinstance(polygon, Polygon):
-        polygon = Polygon(polygon)
-    obj = objective_code(objective)
-    if fresh or size is not None or edges is None:
-        st = load(polygon, sites, size=size, href=href, frozen=frozen, edges=edges)
-    else:
-        st = load_built(polygon, sites, href=href, frozen=frozen, edges=edges)
+    polygon = as_polygon(polygon)
+    st = KernelMesh.triangulated(polygon, sites, size=size, href=href, frozen=frozen, edges=edges)
     if st is None:
         return finish(polygon, None, Progress())
     sched = default_schedule(len(st.xy), size is not None, spring_rounds=spring_rounds,
                              sweeps=sweeps, exponents=exponents, spread_sweeps=spread_sweeps)
-    run = advance(st, sched, obj)
-    if not fresh:
-        return finish_kept(polygon, st, run)
-    unloaded = unload(polygon, st)
+    run = st.advance(sched, objective_code(objective))
+    unloaded = st.sites()
     del st
     return finish(polygon, unloaded, run)
+
+
+def improve_kept(polygon: Polygon, sites, *, size=None, objective: str = "balanced", href=None,
+                 frozen=None, edges=None, **overrides):
+    """:func:`improve` for the optimiser's own sites: built in the kernel once
+    (:meth:`KernelMesh.built`, with ``edges`` and no size field) and returned as
+    the kernel's own triangulation of the moved points (:meth:`KernelMesh.result`)
+    instead of triangulating them again; the optimiser checks the mesh it
+    returns.  ``overrides``: the schedule's fields, as :func:`improve`'s."""
+    polygon = as_polygon(polygon)
+    if size is not None or edges is None:
+        st = KernelMesh.triangulated(polygon, sites, size=size, href=href, frozen=frozen,
+                                     edges=edges)
+    else:
+        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges)
+    if st is None:
+        return finish(polygon, None, Progress())
+    run = st.advance(default_schedule(len(st.xy), size is not None, **overrides),
+                     objective_code(objective))
+    return st.result(run)
 
 
 class Progress(NamedTuple):
@@ -150,70 +152,8 @@ def default_schedule(n_points: int, graded: bool, **overrides) -> S.Schedule:
     )
 
 
-def load(polygon: Polygon, sites, *, size=None, href=None, frozen=None, edges=None):
-    """The constrained Delaunay triangulation of P with ``sites`` loaded into the
-    kernel (:func:`_load`; arguments as :func:`improve`'s), or None if there
-    are no sites."""
-    P0, T0 = triangulate(polygon, sites, edges)
-    if len(P0) == len(polygon.vertices):
-        return None
-    return _load(polygon, P0, T0, size, href, frozen, edges)
-
-
-def load_built(polygon: Polygon, sites, *, href=None, frozen=None, edges=None):
-    """:func:`load` of the optimiser's own sites (``edges`` given, no size field),
-    kept in the kernel the triangulation was built in: no triangle list read
-    out, checked and loaded into a second kernel (the mesh returned is checked
-    at the end).  The kernel's slots then come in the order the build made
-    them, not that of a triangle list, so the moves can take other (equally
-    valid) turns than after :func:`load`."""
-    if len(sites) == 0:
-        return None
-    built = build(polygon, sites, edges=edges)
-    edges = built.edges
-    tb = edge_parameters(polygon, built.sites, edges)
-    boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
-    return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href, frozen)
-
-
-def advance(st: "_Loaded", sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
-    """Run the stages of ``sched`` on a loaded mesh, in place; returns ``before``
-    with this run's rounds and sweeps added.  The kernel's triangulation is the
-    constrained Delaunay one of its points again at the end, so a later call may
-    go on from here."""
-    m, xy, t = st.m, st.xy, st.t
-    args = (m, st.role, st.eid, t, st.ea, st.ed, st.hv, st.href)
-    rounds, done, value = before
-    restrict = st.restrict
-    if sched.spring_rounds:
-        rounds += relax.spring(
-            *args, iters=sched.spring_rounds, dt=S.SPRING_STEP, pressure=S.SPRING_PRESSURE,
-            tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT, restrict=restrict,
-        )
-    for k in sched.exponents:
-        # each stage ends in its best state, the next goes on from there
-        made, value = relax.descend(
-            *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
-            flat=S.FLAT, restrict=restrict,
-        )
-        done += made
-    if sched.spread_sweeps:
-        relax.spread(
-            *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP, flat=S.FLAT,
-            restrict=restrict,
-        )
-    return Progress(rounds, done, value)
-
-
-def unload(polygon: Polygon, st: "_Loaded") -> tuple:
-    """(sites, edges) of a loaded mesh: its points after P's vertices, in the
-    caller's coordinates, and the polygon edge each slides along (-1: none)."""
-    nV = len(polygon.vertices)
-    return _unload(polygon, st)[nV:], st.eid[nV:].copy()
-
-
 def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
-    """:func:`improve`'s result from :func:`unload`'s (None: no sites): the points
+    """:func:`improve`'s result from :meth:`KernelMesh.sites` (None: no sites): the points
     in the caller's coordinates, their exact constrained Delaunay triangulation
     and the info dict.  Callers drop the kernel state first: at 1e6 points its
     arrays would otherwise stand beside the triangulation's own."""
@@ -229,33 +169,15 @@ def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
     return points, triangles, info
 
 
-def finish_kept(polygon: Polygon, st: "_Loaded", run: Progress):
-    """:func:`finish`'s result from the kernel's own triangulation of its points.
-
-    The kernel keeps its mesh the exact constrained Delaunay triangulation of
-    its points after every round, and its points are exactly the ones returned
-    (:func:`_unload`), so this is a CDT of them without a second one built from
-    scratch (at 1e6 points that build costs seconds).  Where four points are
-    cocircular it may pick the other diagonal than a fresh build would."""
-    nV = len(polygon.vertices)
-    points = _unload(polygon, st)
-    triangles = cdt.triangle_list(st.m)
-    info = {
-        "spring_rounds": int(run.spring_rounds), "sweeps": int(run.sweeps),
-        "objective_value": run.value, "edges": st.eid[nV:].copy(),
-    }
-    return points, triangles, info
-
-
 def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=None,
                  report=None, spring_rounds=None, sweeps=None, exponents=None,
                  spread_sweeps=None):
     """:func:`improve` from the best of several starts, found by successive halving.
 
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
-    arguments.  Every start is built in the kernel once (:func:`load_built`)
+    arguments.  Every start is built in the kernel once (:meth:`KernelMesh.built`)
     and runs the first schedule of ``schedule.TRIALS``; the best
-    ``schedule.KEEP`` of them (by :func:`rank`; ``KEEP_LARGE`` above
+    ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE`` above
     ``KEEP_MAX`` points) run the next, and so on; the
     winner's kernel state goes on into the full schedule (overridden as
     :func:`improve`'s) without being loaded again, from the stage
@@ -265,7 +187,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     called before the first trial and after each.
 
     Returns (index of the winning start, points, triangles, info) as :func:`improve`,
-    the triangles the kernel's own (:func:`finish_kept`).
+    the triangles the kernel's own (:meth:`KernelMesh.result`).
     All starts are alive in the kernel at once until the first ranking: fine
     for what :func:`~uniform2d.optimize.seed.variants` gives (up to 12 starts
     of at most ``schedule.SMALL`` points, 2 of at most ``schedule.LARGE``, a
@@ -274,7 +196,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     obj = objective_code(objective)
     alive = []
     for sites, edges, frozen in starts:
-        st = load_built(polygon, sites, href=href, frozen=frozen, edges=edges)
+        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges)
         alive.append((len(alive), st, Progress()))
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
     keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
@@ -287,8 +209,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     for sched, size in zip(S.TRIALS, sizes):
         scored = []
         for i, st, run in alive[:size]:
-            run = advance(st, sched, obj, run) if st is not None else run
-            scored.append((rank(st, obj), i, st, run))
+            run = st.advance(sched, obj, run) if st is not None else run
+            scored.append((st.rank(obj) if st is not None else 0.0, i, st, run))
             done += 1
             if report is not None:
                 report(done, total)
@@ -302,26 +224,16 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
                              exponents=exponents, spread_sweeps=spread_sweeps)
     if exponents is None:
         sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
-    run = advance(st, sched, obj, run)
-    return i, *finish_kept(polygon, st, run)
+    run = st.advance(sched, obj, run)
+    return i, *st.result(run)
 
 
-def rank(st: "_Loaded | None", obj: int) -> float:
-    """How good a loaded start is, lower better: its objective value, from the
-    kernel's own measures; with ``"balanced"``, times the edge CV to the power
-    ``schedule.CV_WEIGHT`` (the start fixes the structure, and with it the CV the
-    moves can reach, which the extremes alone do not see)."""
-    if st is None:
-        return 0.0
-    val = relax.objective_of(obj, *relax.measure(st.m, st.hv, st.href))
-    if obj == BALANCED and S.CV_WEIGHT:
-        val *= relax.edge_cv(st.m, st.hv, st.href) ** S.CV_WEIGHT
-    return float(val)
+class KernelMesh(NamedTuple):
+    """A mesh of P loaded into the kernel, in normalised coordinates, with the role
+    of every point: polygon vertices and ``frozen`` sites fixed, sites on the
+    boundary sliding along their edge, the others free."""
 
-
-class _Loaded(NamedTuple):
-    """A mesh loaded into the kernel (normalised coordinates; see :func:`_load`)."""
-
+    polygon: Polygon
     m: object  # cdt.Tri
     xy: np.ndarray  # (N, 2) its coordinate array
     role: np.ndarray  # (N,) int8 relax.FIXED / FREE / SLIDE
@@ -338,19 +250,115 @@ class _Loaded(NamedTuple):
     # the surface layer's meshes were made
     restrict: bool = False
 
+    @classmethod
+    def from_mesh(cls, polygon: Polygon, points, triangles, *, size=None, href=None,
+                  frozen=None, edges=None) -> "KernelMesh":
+        """Load a mesh of P (its vertices first, then the sites) into the kernel;
+        arguments as :func:`improve`'s."""
+        T0 = np.asarray(triangles, dtype=np.int32)
+        m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
+        return _roles(polygon, m, xy, centre, scale, boundary, href, frozen,
+                      T0 if graded else None)
 
-def _load(polygon: Polygon, points, triangles, size, href, frozen, edges=None) -> _Loaded:
-    """Load a mesh of P (its vertices first, then the sites) into the kernel, with
-    the role of every point: polygon vertices and ``frozen`` sites fixed, sites
-    on the boundary sliding along their edge, the others free; ``edges`` as
-    :func:`improve`'s."""
-    T0 = np.asarray(triangles, dtype=np.int32)
-    m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
-    return _roles(polygon, m, xy, centre, scale, boundary, href, frozen, T0 if graded else None)
+    @classmethod
+    def triangulated(cls, polygon: Polygon, sites, *, size=None, href=None, frozen=None,
+                     edges=None) -> "KernelMesh | None":
+        """The constrained Delaunay triangulation of P with ``sites`` loaded into the
+        kernel (arguments as :func:`improve`'s), or None if there are no sites."""
+        P0, T0 = triangulate(polygon, sites, edges)
+        if len(P0) == len(polygon.vertices):
+            return None
+        return cls.from_mesh(polygon, P0, T0, size=size, href=href, frozen=frozen, edges=edges)
+
+    @classmethod
+    def built(cls, polygon: Polygon, sites, *, href=None, frozen=None,
+              edges=None) -> "KernelMesh | None":
+        """:meth:`triangulated` for the optimiser's own sites (``edges`` given, no
+        size field), kept in the kernel the triangulation was built in: no
+        triangle list read out, checked and loaded into a second kernel (the
+        mesh returned is checked at the end).  The kernel's slots then come in
+        the order the build made them, not that of a triangle list, so the moves
+        can take other (equally valid) turns than after :meth:`triangulated`."""
+        if len(sites) == 0:
+            return None
+        built = build(polygon, sites, edges=edges)
+        edges = built.edges
+        tb = edge_parameters(polygon, built.sites, edges)
+        boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
+        return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href,
+                      frozen)
+
+    def advance(self, sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
+        """Run the stages of ``sched``, in place; returns ``before`` with this run's
+        rounds and sweeps added.  The kernel's triangulation is the constrained
+        Delaunay one of its points again at the end, so a later call may go on
+        from here."""
+        args = (self.m, self.role, self.eid, self.t, self.ea, self.ed, self.hv, self.href)
+        rounds, done, value = before
+        restrict = self.restrict
+        if sched.spring_rounds:
+            rounds += relax.spring(
+                *args, iters=sched.spring_rounds, dt=S.SPRING_STEP, pressure=S.SPRING_PRESSURE,
+                tol=S.SPRING_TOL, cap=S.SPRING_CAP, flat=S.FLAT, restrict=restrict,
+            )
+        for k in sched.exponents:
+            # each stage ends in its best state, the next goes on from there
+            made, value = relax.descend(
+                *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
+                flat=S.FLAT, restrict=restrict,
+            )
+            done += made
+        if sched.spread_sweeps:
+            relax.spread(
+                *args, objective=obj, sweeps=sched.spread_sweeps, step0=S.SEARCH_STEP,
+                flat=S.FLAT, restrict=restrict,
+            )
+        return Progress(rounds, done, value)
+
+    def rank(self, obj: int) -> float:
+        """How good this start is, lower better: its objective value, from the
+        kernel's own measures; with ``"balanced"``, times the edge CV to the power
+        ``schedule.CV_WEIGHT`` (the start fixes the structure, and with it the CV
+        the moves can reach, which the extremes alone do not see)."""
+        val = relax.objective_of(obj, *relax.measure(self.m, self.hv, self.href))
+        if obj == BALANCED and S.CV_WEIGHT:
+            val *= relax.edge_cv(self.m, self.hv, self.href) ** S.CV_WEIGHT
+        return float(val)
+
+    def points(self) -> np.ndarray:
+        """The kernel's points in the caller's coordinates, exactly: the kernel rounds
+        every place to what these coordinates hold (:func:`uniform2d._kernel.cdt.snap`)."""
+        out = self.xy * self.scale + self.centre
+        out[: len(self.polygon.vertices)] = self.polygon.vertices
+        return out
+
+    def sites(self) -> tuple:
+        """(sites, edges): the points after P's vertices, in the caller's
+        coordinates, and the polygon edge each slides along (-1: none)."""
+        nV = len(self.polygon.vertices)
+        return self.points()[nV:], self.eid[nV:].copy()
+
+    def result(self, run: Progress):
+        """:func:`finish`'s result from the kernel's own triangulation of its points.
+
+        The kernel keeps its mesh the exact constrained Delaunay triangulation of
+        its points after every round, and its points are exactly the ones
+        returned (:meth:`points`), so this is a CDT of them without a second one
+        built from scratch (at 1e6 points that build costs seconds).  Where four
+        points are cocircular it may pick the other diagonal than a fresh build
+        would."""
+        nV = len(self.polygon.vertices)
+        points = self.points()
+        triangles = cdt.triangle_list(self.m)
+        info = {
+            "spring_rounds": int(run.spring_rounds), "sweeps": int(run.sweeps),
+            "objective_value": run.value, "edges": self.eid[nV:].copy(),
+        }
+        return points, triangles, info
 
 
-def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -> _Loaded:
-    """:func:`_load` once the mesh is in kernel ``m`` (coordinates ``xy``): the
+def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -> KernelMesh:
+    """The :class:`KernelMesh` of a mesh in kernel ``m`` (coordinates ``xy``): the
     roles, edges and sizes of its points.  ``graded``: the mesh's triangles
     where the kernel reads a size field (None without one)."""
     nV = len(polygon.vertices)
@@ -376,13 +384,5 @@ def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -
     else:
         href_n = (target_size(polygon, N - nV) if href is None else href) / scale
     restrict = frozen is not None and bool(np.any(frozen))
-    return _Loaded(m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n, centre, scale,
-                   restrict)
-
-
-def _unload(polygon: Polygon, st: _Loaded) -> np.ndarray:
-    """The kernel's points in the caller's coordinates, exactly: the kernel rounds
-    every place to what these coordinates hold (:func:`uniform2d._kernel.cdt.snap`)."""
-    out = st.xy * st.scale + st.centre
-    out[: len(polygon.vertices)] = polygon.vertices
-    return out
+    return KernelMesh(polygon, m, xy, role, eid, t, (a - centre) / scale, d / scale, hv, href_n,
+                      centre, scale, restrict)

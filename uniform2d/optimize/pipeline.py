@@ -8,47 +8,23 @@ import numbers
 
 import numpy as np
 
-from .._kernel.distance import to_segments
 from ..errors import InsufficientPointsError, InternalError, PLEASE_REPORT
-from ..geometry import is_vertex, polygon_edges
 from ..insert import min_distance_after
 from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
 from ..tplus import tplus_if_feasible
-from ..triangulation import ensure_valid
+from ..validity import ensure_valid
 from . import schedule as S
 from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
-from .seed import boundary_counts, boundary_points, boundary_rows, seed_interior, target_size, variants
+from .boundary import target_size
+from .seed import start, variants
 
 __all__ = ["optimize_mesh"]
 
 log = logging.getLogger(__name__)
-
-
-def _start(polygon: Polygon, n: int, h: float, variant):
-    """The sites of one start (boundary points, then the lattice), the polygon edge of
-    each (-1 inside) and which stay put."""
-    spacing, edge, layered = variant
-    # points on the rings' edges and on the interior segment pieces (after them)
-    a, d, L = polygon_edges(polygon, constraints=True)
-    m = boundary_counts(L, spacing * h, n)
-    bpts, beid, _ = boundary_points(a, d, m)
-    if polygon.has_constraints:
-        keep = ~is_vertex(polygon, bpts)
-        bpts, beid = bpts[keep], beid[keep]
-    rows = boundary_rows(polygon, m, spacing * h) if layered else None
-    # a large start's short schedule cannot close holes where lattice points
-    # were dropped: it fills a few too few instead (seed_interior's under)
-    large = n + len(polygon.vertices) > S.LARGE
-    ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid, over=True, under=large)
-    # the lattice deeper than BAND sizes inside P is uniform already: it stays
-    deep = to_segments(ipts, a, a + d, 2.0 * S.BAND * h) > S.BAND * h
-    frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
-    edges = np.concatenate([beid, np.full(len(ipts), -1, np.int64)])
-    return np.concatenate([bpts, ipts]), edges, frozen, len(bpts)
 
 
 def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, report):
@@ -57,7 +33,7 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     :func:`~uniform2d.optimize.moves.improve_best`): (points, triangles, improve's
     info, frozen sites, boundary points, variant)."""
     tried = variants(polygon, n)
-    made = [_start(polygon, n, h, variant) for variant in tried]
+    made = [start(polygon, n, h, variant) for variant in tried]
     if len(made) == 1:  # nothing to rank
         report("seed", 0, 1)
         report("seed", 1, 1)

@@ -7,8 +7,8 @@ import numpy as np
 from .._kernel.distance import to_segments
 from ..geometry import is_vertex, polygon_edges
 from ..polygon import Polygon
-from ..quality import edge_lengths
-from ..triangulation import boundary_tol
+from ..measures import edge_lengths
+from ..tolerance import boundary_tol
 from . import schedule as S
 from .moves import improve_kept
 from .objective import extremes, objective_value

@@ -49,6 +49,10 @@ __all__ = [
     "mesh",
     "tune",
     "tuned_mesh",
+    "tuned_planar_mesh",
+    "planar_result",
+    "orient_ccw",
+    "compact",
     "size_for_count",
 ]
 
@@ -281,3 +285,17 @@ def compact(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.n
         return points, triangles
     new = np.cumsum(used) - 1
     return points[used], new[triangles]
+
+
+def planar_result(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A planar mesher's output as every peer returns it: unused vertices dropped,
+    the points contiguous, every triangle counter-clockwise."""
+    points, triangles = compact(points, triangles)
+    return np.ascontiguousarray(points), orient_ccw(points, triangles)
+
+
+def tuned_planar_mesh(mesh_with_size, polygon, n_vertices: int, info) -> PeerMesh:
+    """:func:`tuned_mesh` of a planar mesher ``mesh_with_size(polygon, size)``,
+    from the size of an equilateral mesh with ``n_vertices`` vertices."""
+    size0 = size_for_count(polygon.area, polygon.perimeter, n_vertices, polygon.n_holes)
+    return tuned_mesh(lambda h: mesh_with_size(polygon, h), n_vertices, size0, info)

@@ -24,6 +24,7 @@ import numpy as np
 import shapely
 
 from ..errors import InvalidArgumentError
+from ..insert import insert
 from .base import PeerMesh, size_for_count
 
 log = logging.getLogger(__name__)
@@ -123,8 +124,6 @@ def mesh(polygon, n_vertices: int) -> PeerMesh:
     ValueError
         If ``n_vertices`` is smaller than the number of polygon vertices.
     """
-    from ..insert import insert
-
     nV = len(polygon.vertices)
     if n_vertices < nV:
         raise InvalidArgumentError(f"n_vertices={n_vertices} is below the {nV} polygon vertices")

@@ -21,7 +21,7 @@ import threading
 
 import numpy as np
 
-from .base import PeerMesh, compact, orient_ccw, size_for_count, tuned_mesh
+from .base import PeerMesh, planar_result, tuned_planar_mesh
 
 NAME = "gmsh"
 KIND = "planar"
@@ -108,14 +108,10 @@ def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
     if tri_nodes is None:
         raise RuntimeError("gmsh produced no triangles")
     triangles = np.searchsorted(tags[order], tri_nodes)
-    points, triangles = compact(points, triangles)
-    return np.ascontiguousarray(points), orient_ccw(points, triangles)
+    return planar_result(points, triangles)
 
 
 def mesh(polygon, n_vertices: int) -> PeerMesh:
     """Gmsh mesh of ``polygon`` with its size tuned to ``n_vertices`` vertices."""
-    size0 = size_for_count(polygon.area, polygon.perimeter, n_vertices, polygon.n_holes)
-    return tuned_mesh(
-        lambda h: mesh_with_size(polygon, h), n_vertices, size0,
-        lambda size: {"parameter": "Mesh.MeshSizeMax"},
-    )
+    return tuned_planar_mesh(mesh_with_size, polygon, n_vertices,
+                             lambda size: {"parameter": "Mesh.MeshSizeMax"})

@@ -16,7 +16,7 @@ import threading
 import numpy as np
 import shapely
 
-from .base import PeerMesh, compact, orient_ccw, size_for_count, tuned_mesh
+from .base import PeerMesh, planar_result, tuned_planar_mesh
 
 NAME = "triangle"
 KIND = "planar"
@@ -77,14 +77,12 @@ def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
         out = triangle.triangulate(data, switches(size))
     pts = np.asarray(out["vertices"], dtype=np.float64)
     tri = np.asarray(out["triangles"], dtype=np.int64)
-    pts, tri = compact(pts, tri)
-    return np.ascontiguousarray(pts), orient_ccw(pts, tri)
+    return planar_result(pts, tri)
 
 
 def mesh(polygon, n_vertices: int) -> PeerMesh:
     """Triangle mesh of ``polygon`` with its area bound tuned to ``n_vertices`` vertices."""
-    size0 = size_for_count(polygon.area, polygon.perimeter, n_vertices, polygon.n_holes)
-    return tuned_mesh(
-        lambda h: mesh_with_size(polygon, h), n_vertices, size0,
+    return tuned_planar_mesh(
+        mesh_with_size, polygon, n_vertices,
         lambda size: {"parameter": "edge length h (area sqrt(3)/4 h^2)", "switches": switches(size)},
     )

@@ -1,10 +1,11 @@
-"""Independent checks of a triangulation of a polygon (used by every mesh test).
+"""Independent checks of a triangulation of a polygon (used by every mesh test of uniform2d).
 
 Nothing here uses uniform2d's kernel: adjacency is rebuilt with numpy, and the
 geometric signs are decided in floating point with a conservative error bound,
 falling back to exact rational arithmetic (``fractions.Fraction``) near zero.
 
-``check_mesh(points, triangles, polygon)`` asserts:
+``check_mesh(points, triangles, polygon)`` raises :class:`AssertionError` (with what
+is wrong) unless:
 
 * every triangle is strictly counter-clockwise;
 * every interior edge is shared by exactly two triangles with opposite
@@ -20,7 +21,21 @@ falling back to exact rational arithmetic (``fractions.Fraction``) near zero.
   vertex is not strictly inside the circumcircle) -- with the boundary and the
   segments as constraints, this is the constrained Delaunay property.
 
-``n_steiner`` (optional) also asserts exactly that many points besides P's vertices.
+``n_steiner`` (optional) also asks for exactly that many points besides P's vertices.
+The checks raise :class:`AssertionError` themselves (not ``assert``), so they hold
+under ``python -O`` too, as ``numpy.testing``'s do.
+
+Examples
+--------
+>>> import uniform2d
+>>> from uniform2d.testing import check_mesh
+>>> square = uniform2d.Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+>>> mesh = uniform2d.insert(square, 10)
+>>> check_mesh(mesh.mesh_points, mesh.triangles, square, n_steiner=10)
+>>> check_mesh(square.vertices, [(0, 1, 2)], square)
+Traceback (most recent call last):
+    ...
+AssertionError: boundary vertex 0 is off polygon edge 2->3 by 1
 """
 
 from __future__ import annotations
@@ -28,6 +43,8 @@ from __future__ import annotations
 from fractions import Fraction
 
 import numpy as np
+
+__all__ = ["check_mesh", "orientations", "edge_table", "segment_chains", "non_delaunay_edges"]
 
 
 def _orient_exact(a, b, c) -> int:
@@ -75,30 +92,41 @@ def edge_table(triangles):
 
 
 def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_steiner=None):
+    """Raise :class:`AssertionError` unless ``(points, triangles)`` is a valid
+    (constrained Delaunay, with ``delaunay``) triangulation of ``polygon``, as the
+    module says; ``area_rtol`` is the relative tolerance of the area sum."""
     points = np.asarray(points, dtype=np.float64)
     triangles = np.asarray(triangles, dtype=np.int64)
-    assert points.ndim == 2 and points.shape[1] == 2
-    assert triangles.ndim == 2 and triangles.shape[1] == 3
-    assert triangles.min() >= 0 and triangles.max() < len(points)
-    assert np.isfinite(points).all()
+    if not (points.ndim == 2 and points.shape[1] == 2):
+        raise AssertionError(f"points must be (N, 2), got {points.shape}")
+    if not (triangles.ndim == 2 and triangles.shape[1] == 3):
+        raise AssertionError(f"triangles must be (M, 3), got {triangles.shape}")
+    if not (triangles.min() >= 0 and triangles.max() < len(points)):
+        raise AssertionError(f"triangles refer to points outside 0..{len(points) - 1}")
+    if not np.isfinite(points).all():
+        raise AssertionError("a point has a non-finite coordinate")
 
     # orientation
     o = orientations(points, triangles)
-    assert (o > 0).all(), f"{int((o <= 0).sum())} triangles are not strictly counter-clockwise"
+    if not (o > 0).all():
+        raise AssertionError(f"{int((o <= 0).sum())} triangles are not strictly counter-clockwise")
 
     # neighbour symmetry: no directed edge twice; each undirected edge at most twice
     he, twin, key = edge_table(triangles)
-    assert len(np.unique(key)) == len(key), "a directed edge appears in two triangles"
+    if len(np.unique(key)) != len(key):
+        raise AssertionError("a directed edge appears in two triangles")
 
     # boundary = polygon edges split at mesh vertices on them
     bnd = he[twin < 0]
     succ = {}
     for u, v in bnd:
-        assert int(u) not in succ, f"boundary vertex {int(u)} has two outgoing boundary edges"
+        if int(u) in succ:
+            raise AssertionError(f"boundary vertex {int(u)} has two outgoing boundary edges")
         succ[int(u)] = int(v)
     V = polygon.vertices
     nV = len(V)
-    assert np.array_equal(points[:nV], V), "mesh must start with the polygon vertices"
+    if not np.array_equal(points[:nV], V):
+        raise AssertionError("mesh must start with the polygon vertices")
     # walk each polygon edge from its start vertex; every hop must stay on the edge
     covered = 0
     for a, b in polygon.edges:
@@ -108,7 +136,8 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
         L = float(np.hypot(*d))
         last_t = 0.0
         for _ in range(len(points) + 1):
-            assert cur in succ, f"polygon edge {int(a)}->{int(b)} is not on the mesh boundary"
+            if cur not in succ:
+                raise AssertionError(f"polygon edge {int(a)}->{int(b)} is not on the mesh boundary")
             nxt_v = succ[cur]
             covered += 1
             if nxt_v == b:
@@ -116,23 +145,25 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
             q = points[nxt_v]
             t = float(np.dot(q - pa, d)) / (L * L)
             off = abs(float(d[0] * (q - pa)[1] - d[1] * (q - pa)[0])) / L
-            assert off <= 1e-9 * L + 1e-12 * max(1.0, float(np.abs(V).max())), (
-                f"boundary vertex {nxt_v} is off polygon edge {int(a)}->{int(b)} by {off:g}"
-            )
-            assert last_t < t < 1.0, f"boundary vertex {nxt_v} out of order on edge {int(a)}->{int(b)}"
+            if not (off <= 1e-9 * L + 1e-12 * max(1.0, float(np.abs(V).max()))):
+                raise AssertionError(
+                    f"boundary vertex {nxt_v} is off polygon edge {int(a)}->{int(b)} by {off:g}")
+            if not (last_t < t < 1.0):
+                raise AssertionError(f"boundary vertex {nxt_v} out of order on edge {int(a)}->{int(b)}")
             last_t = t
             cur = nxt_v
         else:
             raise AssertionError("boundary walk did not terminate")
-    assert covered == len(bnd), "the mesh boundary has edges that are not on the polygon"
+    if covered != len(bnd):
+        raise AssertionError("the mesh boundary has edges that are not on the polygon")
     if n_steiner is not None:
-        assert len(points) == nV + n_steiner, f"{len(points) - nV} Steiner points, not {n_steiner}"
+        if len(points) != nV + n_steiner:
+            raise AssertionError(f"{len(points) - nV} Steiner points, not {n_steiner}")
     used = np.zeros(len(points), bool)
     used[triangles.ravel()] = True
     for i, k in enumerate(np.asarray(polygon.fixed)):
-        assert used[k] and np.array_equal(points[k], polygon.points[i]), (
-            f"fixed point {i} is not a mesh vertex where it was given"
-        )
+        if not (used[k] and np.array_equal(points[k], polygon.points[i])):
+            raise AssertionError(f"fixed point {i} is not a mesh vertex where it was given")
     on_segments = segment_chains(points, he, polygon)
 
     # area
@@ -141,12 +172,14 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
         (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
         - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
     ).sum()
-    assert abs(area - polygon.area) <= area_rtol * polygon.area, (area, polygon.area)
+    if not (abs(area - polygon.area) <= area_rtol * polygon.area):
+        raise AssertionError(f"the triangles cover {area!r}, the polygon {polygon.area!r}")
 
     if delaunay:
         bad = non_delaunay_edges(points, triangles, he, twin)
         bad = [h for h in bad if (int(he[h, 0]), int(he[h, 1])) not in on_segments]
-        assert not bad, f"{len(bad)} interior edges are not locally Delaunay, e.g. {bad[:3]}"
+        if bad:
+            raise AssertionError(f"{len(bad)} interior edges are not locally Delaunay, e.g. {bad[:3]}")
 
 
 def segment_chains(points, he, polygon) -> set:
@@ -169,7 +202,8 @@ def segment_chains(points, he, polygon) -> set:
     used: set = set()
     for a, b in np.asarray(polygon.segment_edges):
         chain = _chain(points, nbrs, used, V, int(a), int(b), tol)
-        assert chain is not None, f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges"
+        if chain is None:
+            raise AssertionError(f"segment piece {int(a)}-{int(b)} is not a chain of mesh edges")
         used |= set(chain[1:-1])
         for p, q in zip(chain[:-1], chain[1:]):
             out |= {(p, q), (q, p)}

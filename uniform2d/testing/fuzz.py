@@ -2,7 +2,7 @@
 
 ``domain(seed)`` draws one of the kinds below, then a scale 10**U(-6, 6) and, half
 of the time, an offset up to 1e7 in each coordinate.  A case is fully described by
-its seed (no global random state).  Unlike :mod:`polygen` the shapes are not kept
+its seed (no global random state).  Unlike :mod:`uniform2d.testing.polygons` the shapes are not kept
 "reasonable": they aim at floating-point extremes.
 
 ``star_short``   a star-shaped ring whose vertex angles cluster, so some edges are
@@ -42,7 +42,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from polygen import _convex_ring, _star_ring, with_holes
+from ..polygon import Polygon
+from .polygons import convex_ring, star_ring, with_holes
 
 __all__ = ["KINDS", "CONSTRAINED_KINDS", "domain", "rings", "constrained", "constrained_domain"]
 
@@ -80,7 +81,7 @@ def _collinear(rng):
     if rng.uniform() < 0.5:
         ring = _rectilinear_ring(rng)
     else:
-        ring = _convex_ring(rng, int(rng.integers(3, 9)))
+        ring = convex_ring(rng, int(rng.integers(3, 9)))
     out = []
     for a, b in zip(ring, np.roll(ring, -1, axis=0)):
         out.append(a)
@@ -93,7 +94,7 @@ def _collinear(rng):
 
 
 def _spike(rng):
-    ring = _star_ring(rng, int(rng.integers(6, 13)))
+    ring = star_ring(rng, int(rng.integers(6, 13)))
     i = int(rng.integers(len(ring)))
     ang = np.arctan2(ring[i, 1], ring[i, 0])
     half = 10.0 ** rng.uniform(-3, -1.5)  # half the apex angle, roughly
@@ -161,8 +162,6 @@ def rings(seed, kind: str | None = None):
 
 def domain(seed, kind: str | None = None):
     """(kind, Polygon) of domain ``seed``; raises InvalidPolygonError for an invalid draw."""
-    from uniform2d import Polygon
-
     kind, outer, holes = rings(seed, kind)
     return kind, Polygon(outer, holes)
 
@@ -171,7 +170,7 @@ def domain(seed, kind: str | None = None):
 def _base(rng):
     """An outline (convex or rectilinear, about unit size) and maybe a small hole."""
     if rng.uniform() < 0.5:
-        outer = _convex_ring(rng, int(rng.integers(4, 10)))
+        outer = convex_ring(rng, int(rng.integers(4, 10)))
     else:
         outer = _rectilinear_ring(rng) * 2.0
     holes = []
@@ -234,7 +233,7 @@ def _c_free(rng, outer, holes, shape):
 def _c_tjunction(rng, outer, holes, shape):
     # a convex outline, so that every chord and every segment between two points
     # of one side of a chord stays inside and crosses nothing
-    outer = _convex_ring(rng, int(rng.integers(5, 10)))
+    outer = convex_ring(rng, int(rng.integers(5, 10)))
     k = len(outer)
     i = int(rng.integers(k))
     j = (i + int(rng.integers(3, k - 1))) % k
@@ -252,7 +251,7 @@ def _c_closed(rng, outer, holes, shape):
     segs = []
     for c in _inside(rng, shape, int(rng.integers(1, 3)), margin=0.15):
         r = rng.uniform(0.02, 0.1)
-        ring = _convex_ring(rng, int(rng.integers(3, 7))) * r + c
+        ring = convex_ring(rng, int(rng.integers(3, 7))) * r + c
         segs.append(np.vstack([ring, ring[:1]]))
     if segs:
         segs.append(np.array([segs[0][0], segs[0][0] + rng.uniform(-0.05, 0.05, 2)]))
@@ -306,7 +305,5 @@ def constrained(seed, kind: str | None = None):
 def constrained_domain(seed, kind: str | None = None):
     """(kind, Polygon) of constrained domain ``seed``; raises InvalidPolygonError
     (an InvalidConstraintError for the constraints) for an invalid draw."""
-    from uniform2d import Polygon
-
     kind, outer, holes, segs, pts = constrained(seed, kind)
     return kind, Polygon(outer, holes, segments=segs, points=pts)

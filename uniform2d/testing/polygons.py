@@ -1,5 +1,4 @@
-"""Deterministic test polygons: random convex, star-shaped and holed polygons, and
-the shared benchmark polygons.
+"""Random test polygons: convex, star-shaped and holed, fully described by a seed.
 
 Every generator takes an ``np.random.Generator`` or an integer seed (anything
 ``np.random.default_rng`` accepts) and never touches a global random state, so a
@@ -11,17 +10,13 @@ holes -- rather than floating-point extremes.  All return :class:`uniform2d.Poly
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
-
 import numpy as np
 import shapely
 
-from uniform2d import Polygon
+from ..errors import InvalidArgumentError
+from ..polygon import Polygon
 
-__all__ = ["convex", "star", "with_holes", "benchmark_polygons", "benchmark_dir"]
-
-_REPO = Path(__file__).resolve().parents[1]
+__all__ = ["convex", "star", "with_holes", "convex_ring", "star_ring"]
 
 
 def _rng(rng) -> np.random.Generator:
@@ -43,13 +38,14 @@ def _place(rng: np.random.Generator, ring: np.ndarray, size: float) -> np.ndarra
     return ring @ rot.T * size + off
 
 
-def _convex_ring(rng: np.random.Generator, k: int) -> np.ndarray:
+def convex_ring(rng: np.random.Generator, k: int) -> np.ndarray:
+    """A strictly convex ring of ``k`` vertices on a random ellipse."""
     ang = _angles(rng, k)
     ax = rng.uniform(0.45, 1.0)  # ellipse: strictly convex, no collinear vertices
     return np.stack([np.cos(ang), ax * np.sin(ang)], axis=1)
 
 
-def _star_ring(rng: np.random.Generator, k: int) -> np.ndarray:
+def star_ring(rng: np.random.Generator, k: int) -> np.ndarray:
     """Radial polygon at sorted angles with random radii; has at least one reflex vertex."""
     while True:
         ang = _angles(rng, k)
@@ -67,23 +63,24 @@ def _star_ring(rng: np.random.Generator, k: int) -> np.ndarray:
 
 def convex(rng, k: int | None = None) -> Polygon:
     """A random strictly convex polygon with ``k`` vertices (default: 3..10)."""
-    rng = _rng(rng)
-    if k is None:
-        k = int(rng.integers(3, 11))
-    if k < 3:
-        raise ValueError("a polygon needs k >= 3 vertices")
-    return Polygon(_place(rng, _convex_ring(rng, k), rng.uniform(0.5, 2.0)))
+    return _one_ring(rng, k, convex_ring, (3, 11), 3, "a polygon")
 
 
 def star(rng, k: int | None = None) -> Polygon:
     """A random star-shaped, non-convex polygon with ``k`` vertices (default 6..14),
     vertices at sorted angles with random radii, at least one reflex vertex."""
+    return _one_ring(rng, k, star_ring, (6, 15), 4, "a non-convex polygon")
+
+
+def _one_ring(rng, k, ring, default: tuple, least: int, what: str) -> Polygon:
+    """A polygon of one ``ring(rng, k)`` (k drawn from ``default``, a half-open
+    range, when not given; at least ``least``), at a random size and offset."""
     rng = _rng(rng)
     if k is None:
-        k = int(rng.integers(6, 15))
-    if k < 4:
-        raise ValueError("a non-convex polygon needs k >= 4 vertices")
-    return Polygon(_place(rng, _star_ring(rng, k), rng.uniform(0.5, 2.0)))
+        k = int(rng.integers(*default))
+    if k < least:
+        raise InvalidArgumentError(f"{what} needs k >= {least} vertices")
+    return Polygon(_place(rng, ring(rng, k), rng.uniform(0.5, 2.0)))
 
 
 def with_holes(rng, n_holes: int | None = None, margin: float = 0.06) -> Polygon:
@@ -96,9 +93,9 @@ def with_holes(rng, n_holes: int | None = None, margin: float = 0.06) -> Polygon
         n_holes = int(rng.integers(1, 4))
     for _attempt in range(1000):
         if rng.uniform() < 0.5:
-            outer = _convex_ring(rng, int(rng.integers(4, 11)))
+            outer = convex_ring(rng, int(rng.integers(4, 11)))
         else:
-            outer = _star_ring(rng, int(rng.integers(6, 13)))
+            outer = star_ring(rng, int(rng.integers(6, 13)))
         shell = shapely.Polygon(outer)
         inner = shell.buffer(-margin, join_style="mitre")
         if inner.is_empty:
@@ -111,9 +108,9 @@ def with_holes(rng, n_holes: int | None = None, margin: float = 0.06) -> Polygon
                 break
             r = rng.uniform(0.08, 0.2)
             if rng.uniform() < 0.5:
-                h = _convex_ring(rng, int(rng.integers(3, 7)))
+                h = convex_ring(rng, int(rng.integers(3, 7)))
             else:
-                h = _star_ring(rng, int(rng.integers(5, 9)))
+                h = star_ring(rng, int(rng.integers(5, 9)))
             th = rng.uniform(0.0, 2.0 * np.pi)
             rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
             h = h @ rot.T * r + rng.uniform([x0, y0], [x1, y1])
@@ -128,26 +125,6 @@ def with_holes(rng, n_holes: int | None = None, margin: float = 0.06) -> Polygon
             size = rng.uniform(0.5, 2.0)
             off = rng.uniform(-2.0, 2.0, 2)
             return Polygon(outer * size + off, [h * size + off for h in holes])
-    raise RuntimeError("could not place the holes")  # pragma: no cover
-
-
-def benchmark_dir() -> Path:
-    """``data/benchmarks`` in the repository if present, else ``../shared/benchmarks/polygons``."""
-    local = _REPO / "data" / "benchmarks"
-    if local.is_dir() and any(local.rglob("*.json")):
-        return local
-    return Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "polygons"
-
-
-def benchmark_polygons() -> dict[str, Polygon]:
-    """name -> Polygon for every benchmark JSON file ({"outer": [...], "holes": [...]})."""
-    out: dict[str, Polygon] = {}
-    root = benchmark_dir()
-    for path in sorted(root.rglob("*.json")):
-        data = json.loads(path.read_text())
-        if not isinstance(data, dict) or "outer" not in data:
-            continue
-        out[path.stem] = Polygon(data["outer"], data.get("holes", []))
-    if not out:
-        raise FileNotFoundError(f"no benchmark polygons found in {root}")
-    return out
+    raise InvalidArgumentError(  # pragma: no cover
+        f"could not place {n_holes} holes {margin} apart in 1000 outlines; ask for fewer "
+        "holes or a smaller margin")

@@ -1,0 +1,301 @@
+"""The interior of a start: a hexagonal lattice with exactly the count wanted.
+
+:func:`lattice_seed` (public) and the optimiser's starts place their interior
+points with :func:`seed_interior`: a lattice aligned with an edge of P, its
+spacing searched (:func:`closest_count`) so that the count comes out, within a
+tolerance the :class:`Fit` names, then made exact; where segments split P into
+regions, a lattice per region, with its share of the points.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from .._kernel.distance import to_segments
+from ..geometry import polygon_edges
+from ..polygon import Polygon
+from .boundary import target_size
+from .fill import fill_band_gaps, fill_largest_gaps
+from .rows import boundary_rows, keep_clear
+from .shares import anchor, region_shares, sides_of
+
+__all__ = ["lattice_seed", "seed_interior", "Fit", "Candidates", "closest_count", "drop_nearest",
+           "hex_lattice", "LATTICE_ROWS"]
+
+#: Rows of :func:`hex_lattice` made at a time: a dozen full-size temporaries of
+#: the lattice over the polygon's box cost hundreds of MB at 1e6 points; row
+#: blocks keep those to a few MB, the result unchanged.
+LATTICE_ROWS = 64
+
+
+def hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
+    """The points of a hexagonal lattice (anchored at ``origin``, rows at ``angle``)
+    within ``bounds`` = (xmin, ymin, xmax, ymax): the only ones that can lie inside
+    a shape with those bounds.  Row by row, in a fixed order."""
+    xmin, ymin, xmax, ymax = bounds
+    dy = spacing * math.sqrt(3.0) / 2
+    c, s = math.cos(angle), math.sin(angle)
+    # the rows and columns that can reach the box (a margin of two steps for
+    # the half-step shift of odd rows and for rounding), in lattice coordinates
+    X = np.array([xmin, xmax, xmax, xmin]) - origin[0]
+    Y = np.array([ymin, ymin, ymax, ymax]) - origin[1]
+    U, V = c * X + s * Y, -s * X + c * Y
+    j0, j1 = math.floor(V.min() / dy) - 2, math.ceil(V.max() / dy) + 2
+    i0, i1 = math.floor(U.min() / spacing) - 2, math.ceil(U.max() / spacing) + 2
+    out = []
+    for jb in range(j0, j1 + 1, LATTICE_ROWS):
+        j, i = np.meshgrid(np.arange(jb, min(jb + LATTICE_ROWS, j1 + 1)), np.arange(i0, i1 + 1),
+                           indexing="ij")
+        u = (i + 0.5 * (j & 1)) * spacing
+        v = j * dy
+        x = origin[0] + c * u - s * v
+        y = origin[1] + s * u + c * v
+        keep = (x >= xmin) & (x <= xmax) & (y >= ymin) & (y <= ymax)
+        out.append(np.stack([x[keep], y[keep]], axis=1))
+    return np.concatenate(out, axis=0)
+
+
+def lattice_seed(polygon: Polygon, count: int, *, rows: bool = True) -> np.ndarray:
+    """Exactly ``count`` points of a hexagonal lattice inside P, away from its boundary.
+
+    With ``rows`` (default), the first layer is a fan at every corner of
+    90 degrees or more that is not within 30 degrees of straight (points one
+    edge length from the corner that split its angle into near-60-degree
+    parts), then one point above the middle of every polygon edge, at the apex
+    of the equilateral triangle on it (those crowding a point before them
+    dropped): the boundary's own spacing, wherever it is.  Interior segments
+    count as boundary on both sides (a free end is a corner of 360 degrees).
+    The lattice, aligned with P's longest edge, fills the rest; its spacing is
+    chosen so that the count comes out (the last few are dropped near the
+    boundary or added in the largest gaps).  Where segments split P into
+    regions, each region gets its share of the count and a lattice of its own.
+    A structured start for :func:`uniform2d.optimize.improve`: relaxing a
+    lattice ends far more uniform than relaxing scattered points.
+
+    Parameters
+    ----------
+    polygon : Polygon
+    count : int
+    rows : bool
+
+    Returns
+    -------
+    ndarray, shape (count, 2)
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.optimize import lattice_seed
+    >>> lattice_seed(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 9).shape
+    (9, 2)
+    """
+    if not isinstance(polygon, Polygon):
+        polygon = Polygon(polygon)
+    count = int(count)
+    h = target_size(polygon, count)
+    pieces = np.ones(len(polygon.constraint_edges), np.int64)
+    first = boundary_rows(polygon, pieces, h) if rows else None
+    return seed_interior(polygon, count, h, np.empty((0, 2)), None, first)
+
+
+class Fit(enum.Enum):
+    """How :func:`closest_count`'s search on the lattice spacing may miss the count
+    by up to ``count // 500`` candidates (the tolerance), and how the start is
+    then made exact.
+
+    NEAREST  either side, the nearer found; :func:`lattice_seed`'s points.
+    ABOVE    only too many (the fix-up drops the extra ones nearest to the
+             boundary, :func:`drop_nearest`): the optimiser's starts, whose
+             filling a shortfall (:func:`~uniform2d.optimize.fill.fill_largest_gaps`)
+             would triangulate the whole seed.
+    BELOW    only too few, filled where the lattice meets the boundary
+             (:func:`~uniform2d.optimize.fill.fill_band_gaps`): the optimiser's
+             large starts, whose short schedule does not close the holes that
+             points dropped from that layer leave (regions use ABOVE).
+    """
+
+    NEAREST = "nearest"
+    ABOVE = "above"
+    BELOW = "below"
+
+
+class Candidates:
+    """Lattice points of a given spacing inside P (or inside ``face``, one of its
+    regions, anchored at ``origin``), clear of its boundary and of the first rows
+    (when given): the candidates :func:`seed_interior` counts."""
+
+    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows, face=None, origin=None):
+        a, d, L = polygon_edges(polygon)
+        e = int(np.argmax(L)) if edge is None else int(edge)
+        self.angle = math.atan2(d[e, 1], d[e, 0])
+        # anchor a lattice row at distance h·√3/2 inside the chosen edge
+        nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: inside for the CCW outer ring
+        self.origin = a[e] + nrm * h * math.sqrt(3) / 2 + d[e] / L[e] * (h / 2)
+        if origin is not None:
+            self.origin = origin
+        self.shape = polygon.to_shapely() if face is None else face
+        self.bounds = polygon.bounds if face is None else face.bounds
+        shapely.prepare(self.shape)
+        self.sa, self.sb = keep_clear(polygon)  # clear of the segments and fixed points too
+        self.rows = rows
+        if rows is not None:
+            self.rtree = cKDTree(rows)
+            self.band = h * math.sqrt(3) / 2
+
+    def __call__(self, sp):
+        P = hex_lattice(self.bounds, sp, self.angle, self.origin)
+        inside = shapely.contains_xy(self.shape, P[:, 0], P[:, 1])
+        P = P[inside]
+        rows = self.rows is not None
+        # only distances below the cap matter, here and in the drop below
+        cap = (2.0 * self.band + 2.0 * sp) if rows else 2.0 * sp
+        dist = to_segments(P, self.sa, self.sb, cap)
+        ok = dist >= 0.5 * sp
+        if rows:  # rows lie within ~band of the boundary: test only near ones
+            ok &= dist >= self.band + 0.5 * sp
+            near = np.flatnonzero(ok & (dist < 2.0 * self.band + sp))
+            ok[near] = self.rtree.query(P[near])[0] >= 0.75 * sp
+        return P[ok], dist[ok]
+
+
+def closest_count(cand: Candidates, count: int, h: float, fit: Fit = Fit.NEAREST):
+    """Search on the lattice spacing for ``count`` candidates (the count
+    decreases with the spacing); the best (points, distances) found.  ``fit``
+    as :class:`Fit` says.
+
+    Bisection, stopping within ``count // 500`` of the count.  With ABOVE
+    (the optimiser's starts) it stops only at up to that many candidates too
+    many (the fix-up, :func:`drop_nearest`, drops the extra ones nearest to
+    the boundary), not too few: filling those (:func:`fill_largest_gaps`)
+    triangulates the whole seed.  With ABOVE and a tolerance (count >= 500)
+    each step also aims where the count, about proportional to 1/spacing**2,
+    says the target is (:func:`_aim`), bisecting only where that would not
+    halve the bracket, and gives up where the bracket is 1e-4 h wide (the
+    count jumps there: a row of an aligned lattice enters at once): 9 lattices
+    a start instead of 14 on the benchmark polygons at n = 1000.  Below 500
+    the count must come out exactly, and the plain bisection's lattice (which
+    can sit a hair from such a jump) gave better minimum angles at n = 200.
+    BELOW (the optimiser's large starts) is ABOVE's search stopping at
+    up to ``count // 500`` candidates too few instead, which
+    :func:`fill_band_gaps` adds where the lattice meets the boundary: points
+    dropped from that layer leave holes there that the short schedule of a
+    large mesh does not close (its longest edges and largest triangles)."""
+    over, under = fit is Fit.ABOVE, fit is Fit.BELOW
+    lo, hi = 0.5 * h, 1.5 * h
+    best = None
+    mid = 0.5 * (lo + hi)
+    fast = (over or under) and count // 500 > 0
+    aimed = False
+    for _ in range(30):
+        P, dist = cand(mid)
+        if best is None or abs(len(P) - count) < abs(len(best[0]) - count) or (
+            abs(len(P) - count) == abs(len(best[0]) - count) and len(P) >= count
+        ):
+            best = (P, dist)
+        if over and 0 <= len(P) - count <= count // 500:
+            return P, dist
+        if under and 0 <= count - len(P) <= count // 500:
+            return P, dist
+        if not (over or under) and abs(len(P) - count) <= count // 500:  # the fix-up after it is exact
+            break
+        width = hi - lo
+        if len(P) > count:
+            lo = mid
+        else:
+            hi = mid
+        if fast and hi - lo < 1e-4 * h:
+            break
+        # aim, unless the last aim left more than half the bracket (then bisect)
+        aimed = fast and not (aimed and hi - lo > 0.5 * width)
+        mid = _aim(mid, len(P), count, lo, hi, under) if aimed else 0.5 * (lo + hi)
+    return best
+
+
+def _aim(sp: float, got: int, count: int, lo: float, hi: float, under: bool = False) -> float:
+    """The next spacing to try after ``got`` candidates at ``sp``: where the
+    count would be ``count`` (plus a quarter of the tolerance, to land above
+    it; minus, ``under``, to land below) if it went as 1/spacing**2, strictly
+    inside the bracket (lo, hi)."""
+    want = count + (-1.0 if under else 1.0) * (0.25 * (count // 500) + 0.5)
+    x = sp * math.sqrt(max(got, 1) / want)
+    margin = 1e-3 * (hi - lo)
+    return min(max(x, lo + margin), hi - margin)
+
+
+def drop_nearest(cand: Candidates, P, dist, count: int) -> np.ndarray:
+    """The ``count`` of the lattice points P farthest from the boundary (in
+    their order)."""
+    if len(P) <= count:
+        return P
+    if np.count_nonzero(dist < dist.max()) < len(P) - count:  # capped ones would go
+        dist = to_segments(P, cand.sa, cand.sb, np.inf)
+    order = np.lexsort((np.arange(len(P)), dist))
+    return P[np.sort(order[len(P) - count :])]
+
+
+def seed_interior(
+    polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
+    rows: np.ndarray | None = None, bedges: np.ndarray | None = None, fit: Fit = Fit.NEAREST,
+) -> np.ndarray:
+    """``count`` interior points on a hexagonal lattice aligned with polygon edge
+    ``edge`` (default: the longest), deterministic.  With ``rows`` (from
+    :func:`boundary_rows`) those come first and the lattice fills the rest,
+    clear of them.  Where the segments split P into regions, each region gets
+    its own share of the points (:func:`region_shares`): points cannot cross
+    a segment afterwards, so a region seeded too densely stays so.  ``bedges``
+    (optional): the polygon edge of each boundary point ``bpts``, as the caller
+    placed them, so that gaps are found without judging them by distance.
+    ``over``: as :func:`closest_count`'s (the optimiser's starts; the default
+    keeps :func:`lattice_seed`'s points as they were); ``under``: also as
+    its, where the lattice is not split into regions."""
+    if count <= 0:
+        return np.empty((0, 2))
+    if rows is not None and len(rows) >= count:
+        rows = None
+    if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
+        return _seed_regions(polygon, count, h, bpts, edge, rows, bedges, fit is not Fit.NEAREST)
+    cand = Candidates(polygon, h, edge, rows)
+    total = count
+    if rows is not None:
+        count = total - len(rows)
+    P, dist = closest_count(cand, count, h, fit)
+    P = drop_nearest(cand, P, dist, count)
+    if rows is not None:
+        P = np.concatenate([rows, P])
+        count = total
+    if fit is Fit.BELOW:
+        return fill_band_gaps(polygon, bpts, P, count, h, cand.sa, cand.sb, bedges)
+    return fill_largest_gaps(polygon, bpts, P, count, bedges=bedges)
+
+
+def _seed_regions(
+    polygon: Polygon, count: int, h: float, bpts, edge, rows, bedges=None, over=False
+) -> np.ndarray:
+    """:func:`seed_interior` region by region: the rows, then in each region a
+    lattice (of its own spacing, see :func:`anchor`) topped up to the region's
+    share."""
+    faces = polygon.regions.faces
+    sides = sides_of(polygon, faces)
+    share = region_shares(polygon, faces, sides, h, count)
+    P = np.empty((0, 2)) if rows is None else rows
+    angle = Candidates(polygon, h, edge, None).angle
+    for r, face in enumerate(faces):
+        have = int(np.count_nonzero(shapely.contains_xy(face, P[:, 0], P[:, 1])))
+        need = share[r] - have
+        if need <= 0:
+            continue
+        cand = Candidates(polygon, h, edge, rows, face, anchor(polygon, sides, r, angle, h))
+        Q, dist = closest_count(cand, need, h, Fit.ABOVE if over else Fit.NEAREST)
+        P = np.concatenate([P, drop_nearest(cand, Q, dist, need)])
+        P = fill_largest_gaps(polygon, bpts, P, len(P) + need - min(need, len(Q)), face, bedges)
+    if len(P) > count:  # rows beyond some region's share: drop lattice points instead
+        first = 0 if rows is None else len(rows)
+        dist = to_segments(P[first:], *keep_clear(polygon), np.inf)
+        order = np.lexsort((np.arange(len(dist)), dist))
+        P = np.concatenate([P[:first], P[first:][np.sort(order[len(P) - count:])]])
+    return fill_largest_gaps(polygon, bpts, P, count, bedges=bedges)[:count]
