@@ -68,7 +68,8 @@ import time
 
 import numpy as np
 
-from surface.models import MODELS, model_facts
+from surface.model_facts import model_facts
+from surface.models import MODELS
 
 ALL = ["sphere", "capsule", "tank", "box", "torus", "two_hole_plate", "two_bodies",
        "pierced_sphere"]  # fmt: skip

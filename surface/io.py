@@ -31,7 +31,9 @@ log = logging.getLogger(__name__)
 WRITE_FORMATS = ("obj", "off", "ply", "stl", "glb")
 
 
-def _suffix(path: Path) -> str:
+def suffix(path: Path) -> str:
+    """The file's format extension, lower case, without the dot (``stl_ascii``,
+    ``vol.gz`` and such double extensions whole)."""
     name = path.name.lower()
     for double in ("stl_ascii", "dato.gz", "post.gz", "vol.gz"):
         if name.endswith("." + double):
@@ -83,7 +85,7 @@ def _load(path) -> tuple[np.ndarray, np.ndarray]:
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no such mesh file: {path}")
-    ext = _suffix(path)
+    ext = suffix(path)
     if ext not in trimesh.available_formats():
         raise UnsupportedFormatError(
             f"{path}: trimesh cannot read '.{ext}' files; use one of "
@@ -170,7 +172,7 @@ def write_patch(path, vertices, faces) -> Path:
     import trimesh
 
     path = Path(path)
-    ext = _suffix(path)
+    ext = suffix(path)
     if ext not in WRITE_FORMATS:
         raise UnsupportedFormatError(
             f"{path}: cannot write '.{ext}' files; use one of {', '.join(WRITE_FORMATS)}"

@@ -14,7 +14,7 @@ from uniform2d.errors import UnsupportedFormatError
 
 from . import _igl
 from ._figures import plot_result
-from .io import WRITE_FORMATS, _suffix, read_model, read_patch
+from .io import WRITE_FORMATS, read_model, read_patch, suffix
 from .measure import edge_stats, face_edge_lengths, unique_edges
 from .remesh import remesh
 
@@ -26,7 +26,7 @@ __all__ = [
 
 def check_output(path) -> None:
     """UnsupportedFormatError unless :func:`surface.write_patch` can write ``path``."""
-    if _suffix(Path(path)) not in WRITE_FORMATS:
+    if suffix(Path(path)) not in WRITE_FORMATS:
         raise UnsupportedFormatError(
             f"cannot write a surface mesh to '{path}'; use one of "
             + ", ".join("." + e for e in WRITE_FORMATS)

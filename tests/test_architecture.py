@@ -1,9 +1,10 @@
 """The library's structure stays as docs/architecture.md draws it (issue 31's rules).
 
 Read from the source with ``ast`` (nothing is imported): no import cycle among
-uniform2d's modules, imports inside functions included; no module takes another
-module's private names (the kernel's modules among themselves aside); no module
-over 500 lines and no function over 80 lines of code.
+the modules of uniform2d and the surface layer, imports inside functions
+included; no module takes another module's private names (the kernel's modules
+among themselves aside); no module over 500 lines and no function over 80 lines
+of code; and the surface layer builds on uniform2d, never the other way.
 """
 
 from __future__ import annotations
@@ -13,16 +14,17 @@ from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "uniform2d"
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("uniform2d", "surface")
 MAX_MODULE_LINES = 500
 MAX_FUNCTION_CODE_LINES = 80
 
 
 def _modules() -> dict[str, tuple[Path, bool]]:
-    """name -> (path, is a package's __init__) of every module of uniform2d."""
+    """name -> (path, is a package's __init__) of every module of the packages."""
     out = {}
-    for path in sorted(PACKAGE.rglob("*.py")):
-        parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    for path in sorted(p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")):
+        parts = list(path.relative_to(ROOT).with_suffix("").parts)
         package = parts[-1] == "__init__"
         out[".".join(parts[:-1] if package else parts)] = (path, package)
     return out
@@ -40,12 +42,12 @@ def _owner(name: str) -> str:
 
 def _imports(module: str):
     """(imported module, name taken or None, local name, line) of every import
-    of uniform2d in ``module``, at any depth."""
+    of the packages in ``module``, at any depth."""
     path, package = MODULES[module]
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.Import):
             for a in node.names:
-                if a.name.split(".")[0] == "uniform2d":
+                if a.name.split(".")[0] in PACKAGES:
                     yield _owner(a.name), None, a.asname, node.lineno
         elif isinstance(node, ast.ImportFrom):
             if node.level:
@@ -54,7 +56,7 @@ def _imports(module: str):
                 target = ".".join(base + ([node.module] if node.module else []))
             else:
                 target = node.module or ""
-            if target.split(".")[0] != "uniform2d":
+            if target.split(".")[0] not in PACKAGES:
                 continue
             for a in node.names:
                 full = f"{target}.{a.name}"
@@ -138,3 +140,9 @@ def test_no_function_over_80_lines_of_code():
                 if n > MAX_FUNCTION_CODE_LINES:
                     long.append(f"{m}.{node.name}: {n}")
     assert not long, long
+
+
+def test_surface_builds_on_uniform2d_never_back():
+    back = [f"{m}:{line} imports {t}" for m in MODULES if m.split(".")[0] == "uniform2d"
+            for t, _, _, line in _imports(m) if t.split(".")[0] == "surface"]
+    assert not back

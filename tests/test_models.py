@@ -16,7 +16,8 @@ pytest.importorskip("pymeshlab")
 trimesh = pytest.importorskip("trimesh")
 
 from surface import models
-from surface.models import MODELS, model_facts
+from surface.model_facts import model_facts
+from surface.models import MODELS
 from uniform2d.errors import InvalidArgumentError
 
 # name: (components, euler, boundary loops, genus per component)
