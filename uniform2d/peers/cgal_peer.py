@@ -16,12 +16,10 @@ from __future__ import annotations
 
 import importlib.util
 import math
-import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
-from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
+from ..geometry import boundary_edges
 from .base import PeerMesh, tuned_mesh
 
 NAME = "cgal"
@@ -90,17 +88,15 @@ def remesh(V, F, h: float, keep: set) -> tuple[np.ndarray, np.ndarray]:
 def mesh(patch, n_vertices: int) -> PeerMesh:
     """CGAL remesh of ``patch`` (a ``(V, F)`` pair) tuned to ``n_vertices``.
 
-    Runs in a child process: the bindings crash the process (a segmentation
-    fault) on some meshes with a boundary (the cone patch), which must not take
-    the report down with them; a crash is a RuntimeError, a failed peer."""
-    ctx = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=1, mp_context=ctx) as pool:
-        try:
-            return pool.submit(_mesh_here, np.asarray(patch[0]), np.asarray(patch[1]),
-                               int(n_vertices)).result()
-        except BrokenProcessPool:
-            raise RuntimeError("CGAL's bindings crashed the process remeshing this mesh "
-                               "(they do on some meshes with a boundary)") from None
+    Closed meshes only: the bindings crash the process (a segmentation fault) on
+    some meshes with a boundary (the cone and cylinder patches), and a child
+    process to contain that breaks the report's own worker pool when Gmsh ran in
+    the same worker; an open mesh is a RuntimeError, a failed peer."""
+    V, F = (np.asarray(a) for a in patch)
+    if len(boundary_edges(F, len(V))):
+        raise RuntimeError("the cgal peer remeshes closed models only (CGAL's Python bindings "
+                           "crash on some meshes with a boundary)")
+    return _mesh_here(V, F, int(n_vertices))
 
 
 def _mesh_here(V, F, n_vertices: int) -> PeerMesh:
