@@ -76,7 +76,7 @@ def test_files_and_cases(serial):
         for m in ("tplus", "uniform", "gmsh", "triangle", "cvt"):
             assert (stem, m) in methods
     assert ("cap60", "remesh") in methods and ("cap60", "meshlab") in methods
-    assert [p["name"] for p in res["peers"]] == list(peers.names())
+    assert [p["name"] for p in res["peers"]] == list(peers.defaults())
     for c in res["cases"]:
         if c["family"] == "ours" or peers.available(c["method"]):
             assert c["status"] == "ok", c["message"]
@@ -132,7 +132,7 @@ def test_html_structure(serial):
         assert status == c["status"]
         assert ancestors[:2] == ["html", "body"] and "section" in ancestors and "table" in ancestors
     assert t.inputs == [i["name"] for i in res["inputs"]] == ["square", "lshape", "cap60"]
-    assert set(t.peers) == set(peers.names())
+    assert set(t.peers) == set(peers.defaults())
     assert len(t.imgs) == 3  # one figure per (input, n)
     for src in t.imgs:
         assert src.startswith("data:image/png;base64,")

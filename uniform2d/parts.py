@@ -52,6 +52,7 @@ def allocate(weights, total: int) -> np.ndarray:
         raise InvalidArgumentError("weights must be a non-empty list of non-negative numbers, not all 0")
     if int(total) != total or total < 0:
         raise InvalidArgumentError(f"total must be a non-negative integer, got {total!r}")
+    w = w / w.max()  # a sum of at least 1: subnormal weights would overflow the ratio
     exact = w * (int(total) / w.sum())
     out = np.floor(exact).astype(np.int64)
     rest = int(total) - int(out.sum())

@@ -40,7 +40,8 @@ def add_parser(subparsers):
                    help="Steiner points for polygons, vertices for patches; repeat for "
                    f"several (default {DEFAULT_N[0]})")
     p.add_argument("--peers", type=_peer_list, metavar="LIST",
-                   help="comma-separated peers (default: gmsh,triangle,cvt,meshlab)")
+                   help="comma-separated peers (default: gmsh,triangle,cvt,meshlab; also cgal, pyacvd "
+                   "where installed by hand)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory")
     add_parallel_options(p, "cases")
     p.add_argument("--no-figures", action="store_true", help="leave the pictures out of index.html")

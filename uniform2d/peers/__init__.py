@@ -16,6 +16,7 @@ from .base import (
     PeerMesh,
     Tuned,
     available,
+    defaults,
     describe,
     kind,
     load,
@@ -27,6 +28,7 @@ from .base import (
 
 __all__ = [
     "names",
+    "defaults",
     "load",
     "available",
     "kind",

@@ -66,6 +66,11 @@ PEERS: dict[str, str] = {
     "pyacvd": "uniform2d.peers.pyacvd_peer",
 }
 
+#: The peers a report compares with when none are named: those of the project's
+#: extras.  CGAL's bindings and pyacvd (comparison-only, installed by hand) run
+#: when named (``--peers``).
+DEFAULT = ("gmsh", "triangle", "cvt", "meshlab")
+
 
 @dataclass(frozen=True, eq=False)
 class PeerMesh:
@@ -115,6 +120,11 @@ class Tuned:
     count: int
     evaluations: int
     history: tuple
+
+
+def defaults() -> tuple[str, ...]:
+    """The peers of a report that names none (:data:`DEFAULT`)."""
+    return DEFAULT
 
 
 def names() -> tuple[str, ...]:

@@ -88,7 +88,8 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
     ns : sequence of int
         Steiner points for polygons; vertex counts for surface patches.
     peers : sequence of str, optional
-        Peer names (default: all registered, :func:`uniform2d.peers.names`).
+        Peer names (default: :func:`uniform2d.peers.defaults`, those of the
+        project's extras; any of :func:`uniform2d.peers.names` may be named).
         Peers that are not installed are listed as such, never dropped.
     jobs : int
         Local worker processes.
@@ -119,7 +120,7 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
     if not ns or min(ns) < 1:
         raise InvalidArgumentError(f"every n must be a positive integer, got {ns}")
     ns = list(dict.fromkeys(ns))
-    names = list(_peers.names()) if peers is None else list(dict.fromkeys(peers))
+    names = list(_peers.defaults()) if peers is None else list(dict.fromkeys(peers))
     unknown = [p for p in names if p not in _peers.names()]
     if unknown:
         raise InvalidArgumentError(
