@@ -25,7 +25,7 @@ from .base import PeerMesh, tuned_mesh
 NAME = "cgal"
 KIND = "surface"
 DESCRIPTION = "CGAL isotropic remeshing (3 iterations, creases constrained), tuned target length"
-REQUIRES = ("CGAL",)
+REQUIRES = ("cgal",)
 
 #: Remeshing iterations passed to CGAL.
 ITERATIONS = 3
