@@ -68,8 +68,10 @@ FLIP_SLACK = 0.15
 FOLD_ANGLE = 60.0
 
 
-def band(faces, seeds, n: int, rings: int = BAND_RINGS) -> np.ndarray:
-    """(n,) bool: the vertices within ``rings`` edges of the ``seeds``."""
+def band(faces, seeds, n: int, rings: int | None = None) -> np.ndarray:
+    """(n,) bool: the vertices within ``rings`` edges (default :data:`BAND_RINGS`)
+    of the ``seeds``."""
+    rings = BAND_RINGS if rings is None else rings
     E = unique_edges(faces)
     inside = np.zeros(n, dtype=bool)
     inside[np.asarray(seeds, dtype=np.int64)] = True
