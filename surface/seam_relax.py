@@ -175,9 +175,10 @@ def _opposite_angle(X, at, p, q) -> np.ndarray:
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
 
 
-def _flip_pass(X, F, free, locked, rule: str) -> int:
+def _flip_pass(X, F, free, locked, rule: str, Xl) -> int:
     """One pass of flips over the edges with a free end, in place: ``"delaunay"``
-    (3-D angles) or ``"valence"`` (towards valence 6)."""
+    (3-D angles) or ``"valence"`` (towards valence 6).  ``Xl`` is ``X.tolist()``
+    (per-edge reads in plain Python: numpy scalars cost more; flips move no point)."""
     E = unique_edges(F)
     val = np.bincount(E.ravel(), minlength=len(X))
     mean = np.linalg.norm(X[E[:, 1]] - X[E[:, 0]], axis=1).mean()
@@ -191,7 +192,6 @@ def _flip_pass(X, F, free, locked, rule: str) -> int:
         for u, v in ((a, b), (b, c), (c, a)):
             edge_faces.setdefault((u, v) if u < v else (v, u), []).append(f)
     flips = 0
-    Xl = X.tolist()  # per-edge reads in plain Python: numpy scalars cost more
     cand = _candidates(X, F[rows], free, locked, rule, val, mean)
     val = val.tolist()
     free_l = free.tolist()
@@ -265,8 +265,9 @@ def relax(X, F, free_seeds, fixed, V0, F0):
     for _ in range(ROUNDS):
         move = band(F, free_seeds, len(X)) & ~fixed
         X0, F_0 = X.copy(), F.copy()
-        flips += _flip_pass(X, F, move, locked, "delaunay")
-        flips += _flip_pass(X, F, move, locked, "valence")
+        Xl = X.tolist()
+        flips += _flip_pass(X, F, move, locked, "delaunay", Xl)
+        flips += _flip_pass(X, F, move, locked, "valence", Xl)
         X = _smooth(X, F, move, tree, N0, SMOOTH_STEPS)
         if _folded(X, F, tree, N0):
             log.info("seam relaxation stopped: a round would fold a triangle")
