@@ -10,7 +10,7 @@ from ._jit import njit
 
 from .cdt import new_tag, nxt, prv, reserve
 from .predicates import dot2d, orient2d
-from .rank import better, size_at
+from .rank import _right_of, better, size_at, tied_above
 
 __all__ = ["eval_segment", "seg_dist2", "DISK_SLACK"]
 
@@ -18,6 +18,9 @@ DISK_SLACK = 1e-12  # inclusive slack when collecting sites near a subsegment (h
 # relative slack on the bound of eval_segment: values may rise by the tie
 # tolerance (1e-9) between evaluations, where rounding computes them differently
 NEAR_SLACK = 1e-6
+# relative distance below the best value found, under which points are dismissed
+# by their bound (:func:`_prune_level`); any value > REL_TIE keeps the result exact
+PRUNE_REL = 1e-7
 
 
 @njit(cache=True)
@@ -124,22 +127,219 @@ def _nearest_visible(m, sites, ne, x, y):
 
 
 @njit(cache=True, inline="always")
-def _envelope_max(m, h, nv, ne, mx, my, xtol):
-    """(value, x, y) of the best point of h equidistant from two of its ends and
-    the nv collected sites, by the visible distance and the tie rule; value < 0
-    when there is none."""
-    xy = m.xy
-    a = m.tv[h]
-    b = m.tv[nxt(h)]
-    ax, ay = xy[a, 0], xy[a, 1]
-    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+def _site_list(m, h, nv):
+    """The sites a candidate point of h is measured against: h's ends a, b first
+    (always visible), then the nv gathered ones in gathering order -- the order
+    that makes the pairs' order, which the tie rule's scan depends on."""
     ns = nv + 2
     sites = np.empty(ns, np.int32)
-    sites[0] = a
-    sites[1] = b
+    sites[0] = m.tv[h]
+    sites[1] = m.tv[nxt(h)]
     for i in range(nv):
         sites[2 + i] = m.vbuf[i]
-    bv, bx_, by_ = -1.0, mx, my
+    return sites
+
+
+@njit(cache=True)
+def _lower_envelope(c, t):
+    """The lower envelope over s in [0, 1] of the lines c[k] - 2 s t[k]: (sites, cuts),
+    the envelope's lines from s = 0 to s = 1 and the s between consecutive ones.
+
+    With x(s) = a + s (b - a), |x(s) - p|^2 = |b - a|^2 s^2 + c_p - 2 s t_p for
+    c_p = |p - a|^2 and t_p = (b - a).(p - a): the common term aside, the
+    squared distances to the sites along h are lines, and their lower envelope
+    (the nearest site, visibility aside) is a convex-hull-trick sweep over the
+    lines sorted by slope, O(sites log sites).  Plain floating point: it only
+    chooses which site bounds which part of h (:func:`_certify` and
+    :func:`_envelope_max` check everything they rely on exactly).
+    """
+    n = c.shape[0]
+    order = np.argsort(t, kind="mergesort")
+    st = np.empty(n, np.int64)
+    k = 0
+    for r in range(n):
+        i = order[r]
+        if k > 0 and t[st[k - 1]] == t[i]:
+            if c[i] >= c[st[k - 1]]:
+                continue
+            k -= 1
+        while k >= 2:
+            i1, i2 = st[k - 2], st[k - 1]
+            # i2 is not on the envelope if i crosses i1 no later than i2 does
+            if (c[i] - c[i1]) * (t[i2] - t[i1]) <= (c[i2] - c[i1]) * (t[i] - t[i1]):
+                k -= 1
+            else:
+                break
+        st[k] = i
+        k += 1
+    sites = np.empty(k, np.int64)
+    cuts = np.empty(max(k - 1, 0), np.float64)
+    np_ = 0
+    lo = 0.0
+    for r in range(k):
+        hi = 1.0
+        if r + 1 < k:
+            i1, i2 = st[r], st[r + 1]
+            hi = (c[i2] - c[i1]) / (2.0 * (t[i2] - t[i1]))
+        if hi > lo or (r + 1 == k and np_ == 0):
+            if np_ > 0:
+                cuts[np_ - 1] = lo
+            sites[np_] = st[r]
+            np_ += 1
+            lo = max(lo, hi)
+        if lo >= 1.0:
+            break
+    return sites[:np_], cuts[: max(np_ - 1, 0)]
+
+
+@njit(cache=True)
+def _certify(m, ne, z, x1, y1, x2, y2):
+    """True if site z sees every point of the closed triangle (z, (x1, y1), (x2, y2))
+    by :func:`_visible`'s rule: each collected constrained edge not at z lies in
+    the closed outer half-plane of one of the triangle's sides, or the triangle
+    in a closed half-plane of the edge's line (exact signs; the separating-axis
+    test of two convex sets, up to touching).
+
+    Why that is enough: for x in the triangle the open segment x -> z lies in
+    it, and an edge crossing that segment properly would have a point inside
+    the triangle off that side's line, or -- on a side through z -- would not
+    have its ends strictly on both sides of the line x -> z; and it would have
+    x and z strictly on both sides of its own line.  O(edges).
+    """
+    xy = m.xy
+    zx, zy = xy[z, 0], xy[z, 1]
+    if orient2d(x1, y1, x2, y2, zx, zy) <= 0.0:
+        return False
+    for k in range(ne):
+        h = m.ebuf[k]
+        e0 = m.tv[h]
+        e1 = m.tv[nxt(h)]
+        if e0 == z or e1 == z:
+            continue
+        px, py, qx, qy = xy[e0, 0], xy[e0, 1], xy[e1, 0], xy[e1, 1]
+        if orient2d(x1, y1, x2, y2, px, py) <= 0.0 and orient2d(x1, y1, x2, y2, qx, qy) <= 0.0:
+            continue
+        if orient2d(x2, y2, zx, zy, px, py) <= 0.0 and orient2d(x2, y2, zx, zy, qx, qy) <= 0.0:
+            continue
+        if orient2d(zx, zy, x1, y1, px, py) <= 0.0 and orient2d(zx, zy, x1, y1, qx, qy) <= 0.0:
+            continue
+        # or the triangle on one closed side of the edge's line: x and z are
+        # then never strictly on both sides of it
+        o1 = orient2d(px, py, qx, qy, zx, zy)
+        o2 = orient2d(px, py, qx, qy, x1, y1)
+        o3 = orient2d(px, py, qx, qy, x2, y2)
+        if (o1 >= 0.0 and o2 >= 0.0 and o3 >= 0.0) or (o1 <= 0.0 and o2 <= 0.0 and o3 <= 0.0):
+            continue
+        return False
+    return True
+
+
+@njit(cache=True, inline="always")
+def _inside(zx, zy, x1, y1, x2, y2, x, y):
+    """Whether (x, y) lies in the closed counter-clockwise triangle (z, 1, 2) (exact)."""
+    return (orient2d(x1, y1, x2, y2, x, y) >= 0.0
+            and orient2d(x2, y2, zx, zy, x, y) >= 0.0
+            and orient2d(zx, zy, x1, y1, x, y) >= 0.0)
+
+
+@njit(cache=True, inline="always")
+def _prune_level(L, wg):
+    """Points whose value is certainly below this are not gathered once a point of
+    value L is known: far enough below L's tie threshold (:func:`tied_above`)
+    that the tied group of the maximum (>= L) almost never reaches it."""
+    return L * (1.0 - PRUNE_REL) - 4.0 * wg
+
+
+@njit(cache=True)
+def _group_floor(vals, n, wg):
+    """The smallest value of the maximum's tied group among vals[:n]: values taken
+    from the largest down while each is tied with the one above it."""
+    v = np.sort(vals[:n])
+    lo = v[n - 1]
+    for i in range(n - 2, -1, -1):
+        if v[i] >= tied_above(lo, wg):
+            lo = v[i]
+        else:
+            break
+    return lo
+
+
+@njit(cache=True)
+def _pieces(m, sites, ne):
+    """The nearest site along h (visibility aside) as pieces, and where each piece's
+    site is certainly seen from: (pz, cuts, cert, tri).  Piece k is
+    s in [cuts[k-1], cuts[k]], nearest to site index pz[k]; if cert[k], that site
+    sees the whole triangle tri[k] = (x1, y1, x2, y2) with it, which holds that
+    part of h with a margin for the rounding of points computed on it."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    ns = sites.shape[0]
+    c = np.empty(ns, np.float64)
+    t = np.empty(ns, np.float64)
+    for i in range(ns):
+        p = sites[i]
+        c[i] = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
+        t[i] = dx * (xy[p, 0] - ax) + dy * (xy[p, 1] - ay)
+    pz, cuts = _lower_envelope(c, t)
+    npc = pz.shape[0]
+    cert = np.zeros(npc, np.bool_)
+    tri = np.empty((npc, 4), np.float64)
+    # rounding of a + s (b - a) and then some, in units of s, and across h
+    marg = 1e-9 + 16.0 * 2.0**-53 * (abs(ax) + abs(ay) + abs(dx) + abs(dy)) / np.sqrt(dx * dx + dy * dy)
+    for k in range(npc):
+        if pz[k] < 2:
+            continue  # h's ends are counted everywhere (_nearest_visible)
+        s0 = (cuts[k - 1] if k > 0 else 0.0) - marg
+        s1 = (cuts[k] if k < npc - 1 else 1.0) + marg
+        x1 = ax + s0 * dx + marg * dy
+        y1 = ay + s0 * dy - marg * dx
+        x2 = ax + s1 * dx + marg * dy
+        y2 = ay + s1 * dy - marg * dx
+        tri[k, 0], tri[k, 1], tri[k, 2], tri[k, 3] = x1, y1, x2, y2
+        cert[k] = _certify(m, np.int64(ne), sites[pz[k]], x1, y1, x2, y2)
+    return pz, cuts, cert, tri
+
+
+@njit(cache=True, inline="always")
+def _bound(m, sites, pz, cuts, cert, tri, s, x, y):
+    """A value the point (x, y) = a + s (b - a) of h certainly does not exceed:
+    the distance to h's ends or to its piece's site where that site certainly
+    sees it, over the size field, in :func:`_nearest_visible`'s arithmetic
+    (so >= the value :func:`_envelope_max` computes there, bit for bit)."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    w = min((xy[a, 0] - x) ** 2 + (xy[a, 1] - y) ** 2, (xy[b, 0] - x) ** 2 + (xy[b, 1] - y) ** 2)
+    k = _right_of(cuts, s)
+    if cert[k]:
+        z = sites[pz[k]]
+        zx, zy = xy[z, 0], xy[z, 1]
+        d2 = (zx - x) ** 2 + (zy - y) ** 2
+        if d2 < w and _inside(zx, zy, tri[k, 0], tri[k, 1], tri[k, 2], tri[k, 3], x, y):
+            w = d2
+    return np.sqrt(w) / size_at(m, x, y)
+
+
+@njit(cache=True)
+def _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed):
+    """Pass over every pair of sites, in the order the tie scan takes them: the
+    points of h equidistant from a pair (the pair's arithmetic unchanged) whose
+    bound (:func:`_bound`) is not below the pruning level, with their exact
+    values.  The level is ``tau`` if ``fixed``, else it follows the largest
+    value seen (from L).  Returns (vals, xs, ys, count, level reached, L)."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    ns = sites.shape[0]
+    cap = 16
+    vals = np.empty(cap, np.float64)
+    xs = np.empty(cap, np.float64)
+    ys = np.empty(cap, np.float64)
+    cnt = 0
+    if not fixed:
+        tau = _prune_level(L, m.wg)
     for i in range(ns):
         p = sites[i]
         pa2 = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
@@ -154,9 +354,103 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
                 continue
             x = ax + s * dx
             y = ay + s * dy
+            if _bound(m, sites, pz, cuts, cert, tri, s, x, y) < tau:
+                continue
             val = np.sqrt(_nearest_visible(m, sites, ne, x, y)) / size_at(m, x, y)
-            if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol, m.wg):
-                bv, bx_, by_ = val, x, y
+            if cnt == cap:
+                cap *= 2
+                vals2 = np.empty(cap, np.float64)
+                xs2 = np.empty(cap, np.float64)
+                ys2 = np.empty(cap, np.float64)
+                vals2[:cnt] = vals[:cnt]
+                xs2[:cnt] = xs[:cnt]
+                ys2[:cnt] = ys[:cnt]
+                vals, xs, ys = vals2, xs2, ys2
+            vals[cnt], xs[cnt], ys[cnt] = val, x, y
+            cnt += 1
+            if val > L:
+                L = val
+                if not fixed:
+                    tau = max(tau, _prune_level(L, m.wg))
+    return vals, xs, ys, cnt, tau, L
+
+
+@njit(cache=True, inline="always")
+def _seed(m, sites, ne, pz, cuts):
+    """The exact value of one pair's point, a lower bound of the maximum to prune
+    against from the start: the envelope's breakpoint farthest from its two
+    sites (visibility aside), if it is a point the pair scan makes.  -1 if none."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    best, bi = -1.0, -1
+    for k in range(cuts.shape[0]):
+        s = cuts[k]
+        x = ax + s * dx
+        y = ay + s * dy
+        z = sites[pz[k]]
+        d2 = (xy[z, 0] - x) ** 2 + (xy[z, 1] - y) ** 2
+        if d2 > best:
+            best, bi = d2, k
+    if bi < 0:
+        return -1.0
+    p = sites[pz[bi]]
+    q = sites[pz[bi + 1]]
+    # the pair's own arithmetic (its point does not depend on the pair's order)
+    pa2 = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
+    qa2 = (xy[q, 0] - ax) ** 2 + (xy[q, 1] - ay) ** 2
+    den = 2.0 * (dx * (xy[q, 0] - xy[p, 0]) + dy * (xy[q, 1] - xy[p, 1]))
+    if den == 0.0:
+        return -1.0
+    s = (qa2 - pa2) / den
+    if not (0.0 < s < 1.0):
+        return -1.0
+    x = ax + s * dx
+    y = ay + s * dy
+    return np.sqrt(_nearest_visible(m, sites, ne, x, y)) / size_at(m, x, y)
+
+
+@njit(cache=True, inline="always")
+def _envelope_max(m, h, nv, ne, mx, my, xtol):
+    """(value, x, y) of the best point of h equidistant from two of its ends and
+    the nv collected sites, by the visible distance and the tie rule; value < 0
+    when there is none.
+
+    The result is, bit for bit, that of scanning every pair's point in pair
+    order and keeping the best by :func:`better` (the reference,
+    ``tests/reference_envelope.py``).  That scan's result depends only on the
+    *tied group* of the maximum V -- the values taken from V down while each is
+    tied (:func:`tied_above`) with the one above, down to theta: a point below
+    ``tied_above(theta)`` never beats one of the group, and loses to the first
+    of them it meets.  So only the points whose value may reach the pruning
+    level tau <= tied_above(theta) need their exact value (O(sites) each); the
+    others are dismissed by an upper bound, the distance to a site certainly
+    visible from them (:func:`_bound`), in O(log sites).  If the group turns out
+    to reach below the level, the pass is repeated with a lower one.  The pass
+    still visits every pair (O(sites^2) cheap steps), plus O(sites x edges) to
+    certify the envelope's sites.
+    """
+    sites = _site_list(m, h, nv)
+    pz, cuts, cert, tri = _pieces(m, sites, ne)
+    L = _seed(m, sites, ne, pz, cuts)
+    tau = -np.inf
+    fixed = False
+    for rounds in range(4):
+        vals, xs, ys, cnt, tau, L = _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed)
+        if cnt == 0:
+            return -1.0, mx, my
+        theta = _group_floor(vals, cnt, m.wg)
+        if tau <= tied_above(theta, m.wg):
+            break
+        # the group reaches below the level: gather again from lower down
+        tau = _prune_level(tied_above(theta, m.wg), m.wg) if rounds < 2 else -np.inf
+        fixed = True
+    bv, bx_, by_ = -1.0, mx, my
+    for k in range(cnt):
+        val, x, y = vals[k], xs[k], ys[k]
+        if bv < 0.0 or better(val, x, y, bv, bx_, by_, xtol, m.wg):
+            bv, bx_, by_ = val, x, y
     return bv, bx_, by_
 
 

@@ -1,0 +1,213 @@
+"""The pruned subsegment evaluation against the old one, bit for bit.
+
+:func:`uniform2d._kernel.segment.eval_segment` no longer values every pair of the
+sites near a subsegment against every site (O(sites^3)): it dismisses the pairs'
+points by a certified upper bound and values exactly only those that may belong
+to the maximum's tied group.  INSERT ranks the result against other candidates
+with exact ties, so it must be the very same (value, x, y) bits as the old
+evaluation, kept as the slow reference ``tests/reference_envelope.py``.
+
+Each case builds INSERT's triangulation of a polygon with sites
+(:func:`uniform2d.triangulation.load`) and evaluates every subsegment candidate
+both ways, without a bound and with the bounds the kernel passes (its last
+value, or more).  Site sets (hypothesis): uniform random, collinear (on lines
+parallel, perpendicular and oblique to the long edge), on the long edge itself,
+on a lattice (many equal distances, ties by symmetry), mirror-symmetric, and
+behind constrained edges (interior segments, a zigzag outline, holes) that
+block visibility; with and without a size field.
+"""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+import uniform2d
+from reference_envelope import reference_eval_segment, subsegment_edges
+from uniform2d import Polygon
+from uniform2d.errors import InvalidSitesError
+from uniform2d.sizefield import SizeField
+from uniform2d.triangulation import load
+from uniform2d._kernel.segment import _group_floor, _lower_envelope, eval_segment
+from uniform2d._kernel.rank import tied_above
+
+W = 8.0  # the long edge (0, 0) -> (W, 0)
+H = 3.0
+
+
+def _bits(t) -> tuple:
+    return tuple(struct.pack("<d", float(v)) for v in t)
+
+
+def _check_all(polygon: Polygon, sites, size=None) -> int:
+    """Every subsegment of the loaded triangulation, new vs reference; returns how
+    many were compared."""
+    try:
+        loaded = load(polygon, None if sites is None or len(sites) == 0 else np.asarray(sites), size=size)
+    except InvalidSitesError:
+        assume(False)
+    m = loaded.m
+    xtol = 1e-9 * max(W, H) / loaded.scale
+    hs = subsegment_edges(m)
+    for h in hs:
+        new = eval_segment(m, h, xtol, np.inf)
+        old = reference_eval_segment(m, h, xtol, np.inf)
+        assert _bits(new) == _bits(old), f"h={h}: new {new} != old {old}"
+        for bound in (old[0], old[0] * (1 + 1e-9), old[0] * 1.7):
+            new = eval_segment(m, h, xtol, bound)
+            old = reference_eval_segment(m, h, xtol, bound)
+            assert _bits(new) == _bits(old), f"h={h} bound={bound}: new {new} != old {old}"
+    return len(hs)
+
+
+def _box(segments=(), holes=()) -> Polygon:
+    return Polygon([(0.0, 0.0), (W, 0.0), (W, H), (0.0, H)], holes=holes, segments=segments)
+
+
+def _inside(pts, margin=1e-3):
+    pts = np.asarray(pts, dtype=np.float64).reshape(-1, 2)
+    keep = (pts[:, 0] > margin) & (pts[:, 0] < W - margin) & (pts[:, 1] > margin) & (pts[:, 1] < H - margin)
+    pts = pts[keep]
+    return np.unique(pts, axis=0) if len(pts) else pts
+
+
+coord = st.floats(0.0, 1.0, allow_nan=False, allow_infinity=False)
+pts = st.lists(st.tuples(coord, coord), min_size=1, max_size=45)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(pts, st.floats(0.05, 1.0))
+def test_random_sites(p, ymax):
+    """Sites scattered above the long edge, inside its diametral disk or not."""
+    s = np.array(p) * [W, H * ymax]
+    _check_all(_box(), _inside(s))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(2, 40), st.floats(0.02, 2.9), st.floats(-1.0, 1.0), st.sampled_from(["par", "perp", "obl"]),
+       st.floats(0.5, 7.5))
+def test_collinear_sites(k, y0, slope, kind, x0):
+    """Sites on one line: parallel to the edge (equal distances to it), perpendicular
+    to it (pairs with den == 0 or nearly), or oblique."""
+    t = np.linspace(0.0, 1.0, k)
+    if kind == "par":
+        s = np.c_[0.1 + 7.8 * t, np.full(k, y0)]
+    elif kind == "perp":
+        s = np.c_[np.full(k, x0), 0.02 + 2.9 * t]
+    else:
+        s = np.c_[x0 + (t - 0.5) * 4.0, y0 + slope * (t - 0.5) * 4.0]
+    _check_all(_box(), _inside(s))
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.floats(0.05, 7.95), min_size=1, max_size=8, unique=True), pts)
+def test_sites_on_the_edge(on, p):
+    """Sites on the long edge split it into subsegments (on its line), with sites above."""
+    s = np.r_[np.c_[np.array(on), np.zeros(len(on))], _inside(np.array(p) * [W, H * 0.6])]
+    _check_all(_box(), s)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(2, 8), st.integers(1, 5), st.floats(0.1, 1.0), st.booleans())
+def test_lattice_and_symmetric_sites(nx, ny, step, jitter):
+    """A lattice centred over the edge: mirror-symmetric, many equal distances and
+    tied maxima (the tie rule decides)."""
+    xs = W / 2 + (np.arange(nx) - (nx - 1) / 2) * step
+    ys = 0.25 + np.arange(ny) * step * 0.5
+    s = np.array([(x, y) for x in xs for y in ys])
+    if jitter:
+        s = s + np.where(np.arange(len(s))[:, None] % 3 == 0, 1e-12, 0.0)
+    _check_all(_box(), _inside(s))
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.floats(0.3, 7.7), st.floats(0.1, 1.2), st.floats(-1.5, 1.5), st.floats(0.2, 1.5)),
+                min_size=1, max_size=4), pts)
+def test_blocking_segments(segs, p):
+    """Interior segments above the edge hide sites behind them from parts of it."""
+    segments = []
+    for x, y, dx, dy in segs:
+        a = (x, y)
+        b = (min(max(x + dx, 0.1), W - 0.1), min(y + dy, H - 0.1))
+        if np.hypot(b[0] - a[0], b[1] - a[1]) > 0.05:
+            segments.append([a, b])
+    assume(segments)
+    try:
+        poly = _box(segments=segments)
+    except Exception:
+        assume(False)
+    s = _inside(np.array(p) * [W, H * 0.7], margin=0.02)
+    # keep the sites off the segments
+    keep = np.ones(len(s), bool)
+    for a, b in segments:
+        a, b = np.array(a), np.array(b)
+        d = b - a
+        t = np.clip(((s - a) @ d) / (d @ d), 0.0, 1.0)
+        keep &= np.hypot(*(a + t[:, None] * d - s).T) > 1e-3
+    _check_all(poly, s[keep])
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(6, 60), st.floats(0.5, 2.5), st.floats(0.05, 0.4), st.integers(0, 2**31 - 1), pts)
+def test_zigzag_outline(k, depth, rel, seed, p):
+    """A coastline above a straight cut (the benchmark's shape, small): its notches
+    are hidden from parts of the cut by the outline's own edges."""
+    rng = np.random.default_rng(seed)
+    amp = rel * depth
+    x = np.linspace(W, 0.0, k)
+    y = depth + amp * (-1.0) ** np.arange(k) + rng.uniform(-0.05, 0.05, k)
+    poly = Polygon([(0.0, 0.0), (W, 0.0)] + list(zip(x, y)))
+    s = np.array(p) * [W, depth - amp - 0.06]
+    s = s[(s[:, 0] > 1e-3) & (s[:, 0] < W - 1e-3) & (s[:, 1] > 1e-3)]
+    _check_all(poly, np.unique(s, axis=0) if len(s) else None)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(pts, st.floats(0.2, 3.0), st.floats(0.2, 3.0))
+def test_with_size_field(p, h0, h1):
+    """A size field: values are distance / h at the point (no gathering bound)."""
+    field = SizeField(np.array([0.0, W]), np.array([0.0, H]), np.array([[h0, h1], [h1, h0]]))
+    _check_all(_box(), _inside(np.array(p) * [W, H * 0.8]), size=field)
+
+
+@pytest.mark.parametrize("n", [60, 200])
+@pytest.mark.parametrize("holes", [False, True])
+def test_after_insert(n, holes):
+    """The states INSERT itself reaches: all of its points loaded as sites."""
+    hole = [[(3.0, 0.8), (5.0, 0.8), (4.0, 1.6)]] if holes else []
+    poly = _box(segments=[[(1.0, 0.5), (2.5, 1.5)]], holes=hole)
+    r = uniform2d.insert(poly, n)
+    assert _check_all(poly, r.points) > 0
+
+
+def test_group_floor():
+    """The tied group of the maximum: values from the largest down while each is
+    tied with the one above it (a chain), nothing below a gap."""
+    v = np.array([1.0, 1.0 - 5e-10, 1.0 - 9e-10, 0.5, 1.0 - 1.4e-9])
+    lo = _group_floor(v, len(v), 0.0)
+    assert lo == 1.0 - 1.4e-9  # the chain reaches past one tie width of the maximum
+    assert _group_floor(np.array([2.0, 1.0]), 2, 0.0) == 2.0
+    assert tied_above(lo, 0.0) > 0.5
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.floats(-2.0, 2.0), st.floats(0.0, 3.0)), min_size=1, max_size=30))
+def test_lower_envelope(lines):
+    """The envelope's pieces cover [0, 1] in order and name the lowest line there
+    (up to rounding at the cuts)."""
+    c = np.array([a for a, _ in lines])
+    t = np.array([b for _, b in lines])
+    sites, cuts = _lower_envelope(c, t)
+    assert len(sites) == len(cuts) + 1
+    assert np.all(np.diff(cuts) >= 0) and (len(cuts) == 0 or (cuts[0] >= 0 and cuts[-1] <= 1))
+    bounds = np.r_[0.0, cuts, 1.0]
+    for k, i in enumerate(sites):
+        if bounds[k + 1] - bounds[k] < 1e-6:
+            continue
+        s = 0.5 * (bounds[k] + bounds[k + 1])
+        vals = c - 2 * s * t
+        assert vals[i] <= vals.min() + 1e-9 * (1 + np.abs(c).max() + np.abs(t).max())
