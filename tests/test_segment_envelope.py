@@ -174,6 +174,16 @@ def test_with_size_field(p, h0, h1):
     _check_all(_box(), _inside(np.array(p) * [W, H * 0.8]), size=field)
 
 
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(pts, st.sampled_from([1e3, 1e6, 3e7]))
+def test_far_from_origin(p, far):
+    """Far from the origin the kernel's distances carry the rounding grain (wg > 0),
+    which widens the ties and the pruning level."""
+    box = np.array([(0.0, 0.0), (W, 0.0), (W, H), (0.0, H)]) + far
+    s = _inside(np.array(p) * [W, H * 0.8]) + far
+    _check_all(Polygon(box), s)
+
+
 @pytest.mark.parametrize("n", [60, 200])
 @pytest.mark.parametrize("holes", [False, True])
 def test_after_insert(n, holes):

@@ -10,6 +10,7 @@ from ._jit import njit
 
 from .cdt import new_tag, nxt, prv, reserve
 from .predicates import dot2d, orient2d
+from .radix import stable_argsort
 from .rank import _right_of, better, size_at, tied_above
 
 __all__ = ["eval_segment", "seg_dist2", "DISK_SLACK"]
@@ -21,6 +22,8 @@ NEAR_SLACK = 1e-6
 # relative distance below the best value found, under which points are dismissed
 # by their bound (:func:`_prune_level`); any value > REL_TIE keeps the result exact
 PRUNE_REL = 1e-7
+# spans of h searched pair by pair at most (:func:`_region`); more are merged
+MAX_SPANS = 16
 
 
 @njit(cache=True)
@@ -264,13 +267,23 @@ def _group_floor(vals, n, wg):
     return lo
 
 
+@njit(cache=True, inline="always")
+def _point_error(ax, ay, dx, dy):
+    """A bound on how far, in each coordinate, the computed point
+    ``(ax + s * dx, ay + s * dy)`` for 0 <= s <= 1 is from the exact a + s (b - a):
+    two roundings, each at most u |operand| (u = 2**-53)."""
+    return 2.01 * 2.0**-53 * (abs(ax) + abs(ay) + abs(dx) + abs(dy)) + 1e-300
+
+
 @njit(cache=True)
 def _pieces(m, sites, ne):
     """The nearest site along h (visibility aside) as pieces, and where each piece's
     site is certainly seen from: (pz, cuts, cert, tri).  Piece k is
     s in [cuts[k-1], cuts[k]], nearest to site index pz[k]; if cert[k], that site
-    sees the whole triangle tri[k] = (x1, y1, x2, y2) with it, which holds that
-    part of h with a margin for the rounding of points computed on it."""
+    sees the whole triangle tri[k] = (x1, y1, x2, y2) with it, and that triangle
+    holds every point computed as a + s (b - a) for s in the piece: it holds
+    (exact orient2d) the four corners of the rectangle around the piece that is
+    twice as wide as the rounding (:func:`_point_error`) could move such a point."""
     xy = m.xy
     a, b = sites[0], sites[1]
     ax, ay = xy[a, 0], xy[a, 1]
@@ -286,19 +299,42 @@ def _pieces(m, sites, ne):
     npc = pz.shape[0]
     cert = np.zeros(npc, np.bool_)
     tri = np.empty((npc, 4), np.float64)
-    # rounding of a + s (b - a) and then some, in units of s, and across h
-    marg = 1e-9 + 16.0 * 2.0**-53 * (abs(ax) + abs(ay) + abs(dx) + abs(dy)) / np.sqrt(dx * dx + dy * dy)
+    ln = np.sqrt(dx * dx + dy * dy)
+    ux, uy = dx / ln, dy / ln
+    e = 4.0 * _point_error(ax, ay, dx, dy)  # the rectangle's half-width
+    # the triangle's base: below h by twice that (and 1e-9 |h|), in units of s
+    marg = 1e-9 + 2.0 * e / ln
     for k in range(npc):
         if pz[k] < 2:
             continue  # h's ends are counted everywhere (_nearest_visible)
-        s0 = (cuts[k - 1] if k > 0 else 0.0) - marg
-        s1 = (cuts[k] if k < npc - 1 else 1.0) + marg
+        z = sites[pz[k]]
+        lo = cuts[k - 1] if k > 0 else 0.0
+        hi = cuts[k] if k < npc - 1 else 1.0
+        sz = t[pz[k]] / (ln * ln)
+        hz = (dx * (xy[z, 1] - ay) - dy * (xy[z, 0] - ax)) / ln
+        if not hz > 0.0:
+            continue
+        # beyond the piece along h by more than the base's drop, times the slope
+        # of the sides, so that the rectangle fits under them
+        s0 = lo - marg * (2.0 + 4.0 * abs(sz - lo) * ln / hz)
+        s1 = hi + marg * (2.0 + 4.0 * abs(sz - hi) * ln / hz)
         x1 = ax + s0 * dx + marg * dy
         y1 = ay + s0 * dy - marg * dx
         x2 = ax + s1 * dx + marg * dy
         y2 = ay + s1 * dy - marg * dx
         tri[k, 0], tri[k, 1], tri[k, 2], tri[k, 3] = x1, y1, x2, y2
-        cert[k] = _certify(m, np.int64(ne), sites[pz[k]], x1, y1, x2, y2)
+        zx, zy = xy[z, 0], xy[z, 1]
+        fits = True
+        for end in range(2):
+            se = lo if end == 0 else hi
+            sg = -1.0 if end == 0 else 1.0
+            for side in range(2):
+                sn = -1.0 if side == 0 else 1.0
+                px = ax + se * dx + e * (sg * ux - sn * uy)
+                py = ay + se * dy + e * (sg * uy + sn * ux)
+                if not _inside(zx, zy, x1, y1, x2, y2, px, py):
+                    fits = False
+        cert[k] = fits and _certify(m, np.int64(ne), z, x1, y1, x2, y2)
     return pz, cuts, cert, tri
 
 
@@ -375,6 +411,177 @@ def _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed):
     return vals, xs, ys, cnt, tau, L
 
 
+@njit(cache=True)
+def _region(m, sites, pz, cuts, cert, tau):
+    """Where along h a computed point's bound (:func:`_bound`) may reach tau:
+    (lo, hi, count), disjoint intervals of s in increasing order, at most
+    MAX_SPANS of them (nearby ones merged: a superset).  Without a size field
+    only; tau > 0.
+
+    A point's bound is its distance to a or b, or to its piece's certified site z,
+    which in exact terms along h is |h| s, |h| (1 - s) and
+    sqrt(|h|^2 (s - s_z)^2 + h_z^2); the bound of the computed point (rounded
+    by :func:`_point_error`, its distances and square root by a few ulps) reaches
+    tau only where these exact distances all reach tau' = tau - 2 e - a few ulps,
+    a piece of [tau'/|h|, 1 - tau'/|h|] minus an interval around s_z.  Every
+    end is moved outwards by 1e-12 (its own rounding is ~1e-15 in s)."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    ln = np.sqrt(dx * dx + dy * dy)
+    e = _point_error(ax, ay, dx, dy)
+    tp = tau * (1.0 - 1e-14) - 2.0 * e
+    npc = pz.shape[0]
+    lo = np.empty(2 * npc + 1, np.float64)
+    hi = np.empty(2 * npc + 1, np.float64)
+    cnt = 0
+    if not tp > 0.0:
+        lo[0], hi[0] = 0.0, 1.0
+        return lo, hi, 1
+    e0 = tp / ln * (1.0 - 1e-12) - 1e-12
+    e1 = 1.0 - e0
+    for k in range(npc):
+        plo = max(cuts[k - 1] if k > 0 else 0.0, e0)
+        phi = min(cuts[k] if k < npc - 1 else 1.0, e1)
+        if plo > phi:
+            continue
+        xlo, xhi = 1.0, -1.0  # the excluded open interval, empty
+        if cert[k]:
+            z = sites[pz[k]]
+            zx, zy = xy[z, 0] - ax, xy[z, 1] - ay
+            sz = (dx * zx + dy * zy) / (ln * ln)
+            hz = (dx * zy - dy * zx) / ln
+            r2 = tp * tp - hz * hz - 1e-12 * (tp * tp + hz * hz + ln * ln)
+            if r2 > 0.0:
+                r = np.sqrt(r2) / ln * (1.0 - 1e-12) - 1e-12
+                if r > 0.0:
+                    xlo, xhi = sz - r, sz + r
+        if xlo < xhi:
+            if plo < xlo:
+                cnt = _add_span(lo, hi, cnt, plo - 1e-12, min(phi, xlo) + 1e-12)
+            if xhi < phi:
+                cnt = _add_span(lo, hi, cnt, max(plo, xhi) - 1e-12, phi + 1e-12)
+        else:
+            cnt = _add_span(lo, hi, cnt, plo - 1e-12, phi + 1e-12)
+    if cnt > MAX_SPANS:
+        # merge into MAX_SPANS runs of consecutive spans (each run: first lo, last hi)
+        per = (cnt + MAX_SPANS - 1) // MAX_SPANS
+        k2 = 0
+        for i in range(0, cnt, per):
+            lo[k2] = lo[i]
+            hi[k2] = hi[min(i + per, cnt) - 1]
+            k2 += 1
+        cnt = k2
+    return lo, hi, cnt
+
+
+@njit(cache=True, inline="always")
+def _add_span(lo, hi, cnt, s0, s1):
+    """Append [s0, s1] to the increasing spans, merging it into the last one if
+    they overlap or touch.  Returns the new count."""
+    if cnt > 0 and s0 <= hi[cnt - 1]:
+        hi[cnt - 1] = max(hi[cnt - 1], s1)
+        return cnt
+    lo[cnt] = s0
+    hi[cnt] = s1
+    return cnt + 1
+
+
+@njit(cache=True)
+def _gather_near(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed, lo, hi, nspan):
+    """:func:`_gather_points` for the pairs whose point falls in the spans only
+    (:func:`_region`), found without visiting the others: returns the same
+    (vals, xs, ys, count, level, L), in pair order.
+
+    A pair (p, q) whose computed s lies in [S1, S2] has
+    |k_q - k_p| <= |h|^2 (1.01 (S2 - S1) + 128 u) for k = c - 2 S t at the middle S
+    of the span (c, t as in :func:`_lower_envelope`; the pair's point solves
+    c_q - c_p = 2 s (t_q - t_p), |t_q - t_p| <= 1.01 |h|^2 since all sites lie in
+    h's diametral disk, and the rounding of s, of the denominator and of k costs
+    at most 128 u |h|^2 however ill-conditioned the pair).  So the sites sorted
+    by k are scanned with a window of that width: O(sites log sites) a span
+    plus the pairs in the windows."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    l2 = dx * dx + dy * dy
+    ns = sites.shape[0]
+    c = np.empty(ns, np.float64)
+    t = np.empty(ns, np.float64)
+    for i in range(ns):
+        p = sites[i]
+        c[i] = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
+        t[i] = dx * (xy[p, 0] - ax) + dy * (xy[p, 1] - ay)
+    kv = np.empty(ns, np.float64)
+    cap = 16
+    keys = np.empty(cap, np.int64)
+    vals = np.empty(cap, np.float64)
+    xs = np.empty(cap, np.float64)
+    ys = np.empty(cap, np.float64)
+    cnt = 0
+    for r in range(nspan):
+        s1, s2 = lo[r], hi[r]
+        sm = 0.5 * (s1 + s2)
+        width = l2 * (1.01 * (s2 - s1) + 128.0 * 2.0**-53)
+        for i in range(ns):
+            kv[i] = c[i] - 2.0 * sm * t[i]
+        order = np.argsort(kv)
+        for u in range(ns):
+            iu = order[u]
+            for w in range(u + 1, ns):
+                iw = order[w]
+                if kv[iw] - kv[iu] > width:
+                    break
+                i, j = min(iu, iw), max(iu, iw)
+                p = sites[i]
+                q = sites[j]
+                pa2 = c[i]
+                qa2 = c[j]
+                den = 2.0 * (dx * (xy[q, 0] - xy[p, 0]) + dy * (xy[q, 1] - xy[p, 1]))
+                if den == 0.0:
+                    continue
+                s = (qa2 - pa2) / den
+                if not (0.0 < s < 1.0 and s1 <= s <= s2):
+                    continue
+                x = ax + s * dx
+                y = ay + s * dy
+                if _bound(m, sites, pz, cuts, cert, tri, s, x, y) < tau:
+                    continue
+                val = np.sqrt(_nearest_visible(m, sites, ne, x, y)) / size_at(m, x, y)
+                if cnt == cap:
+                    cap *= 2
+                    keys, vals, xs, ys = _grown(keys, vals, xs, ys, cnt, cap)
+                keys[cnt] = i * ns + j
+                vals[cnt], xs[cnt], ys[cnt] = val, x, y
+                cnt += 1
+                if val > L:
+                    L = val
+                    if not fixed:
+                        tau = max(tau, _prune_level(L, m.wg))
+    # the scan's order: by pair
+    idx = stable_argsort(keys[:cnt])
+    v2 = np.empty(max(cnt, 1), np.float64)
+    x2 = np.empty(max(cnt, 1), np.float64)
+    y2 = np.empty(max(cnt, 1), np.float64)
+    for k in range(cnt):
+        v2[k], x2[k], y2[k] = vals[idx[k]], xs[idx[k]], ys[idx[k]]
+    return v2, x2, y2, cnt, tau, L
+
+
+@njit(cache=True)
+def _grown(keys, vals, xs, ys, cnt, cap):
+    """The four record arrays copied into new ones of length cap."""
+    k2 = np.empty(cap, np.int64)
+    v2 = np.empty(cap, np.float64)
+    x2 = np.empty(cap, np.float64)
+    y2 = np.empty(cap, np.float64)
+    for k in range(cnt):
+        k2[k], v2[k], x2[k], y2[k] = keys[k], vals[k], xs[k], ys[k]
+    return k2, v2, x2, y2
+
+
 @njit(cache=True, inline="always")
 def _seed(m, sites, ne, pz, cuts):
     """The exact value of one pair's point, a lower bound of the maximum to prune
@@ -434,12 +641,21 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     sites = _site_list(m, h, nv)
     pz, cuts, cert, tri = _pieces(m, sites, ne)
     L = _seed(m, sites, ne, pz, cuts)
-    tau = -np.inf
+    tau = _prune_level(L, m.wg) if L >= 0.0 else -np.inf
     fixed = False
     for rounds in range(4):
-        vals, xs, ys, cnt, tau, L = _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed)
+        if not m.sized and tau > 0.0:
+            lo, hi, nspan = _region(m, sites, pz, cuts, cert, tau)
+            vals, xs, ys, cnt, tau, L = _gather_near(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed,
+                                                     lo, hi, nspan)
+        else:
+            vals, xs, ys, cnt, tau, L = _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed)
         if cnt == 0:
-            return -1.0, mx, my
+            if tau == -np.inf:
+                return -1.0, mx, my
+            tau = -np.inf  # cannot happen (the seed's point is gathered): every pair then
+            fixed = True
+            continue
         theta = _group_floor(vals, cnt, m.wg)
         if tau <= tied_above(theta, m.wg):
             break
