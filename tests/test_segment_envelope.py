@@ -166,6 +166,21 @@ def test_zigzag_outline(k, depth, rel, seed, p):
     _check_all(poly, np.unique(s, axis=0) if len(s) else None)
 
 
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(5, 60), st.floats(0.005, 0.2), st.floats(0.3, 0.95), pts)
+def test_dome_outline(k, gap, r, p):
+    """A dome of k vertices over the cut, its ends joined to the box's top corners
+    by long edges: the dome's lowest vertices hide behind those edges from the
+    box's sides (their nearest sites along a side are not the visible ones)."""
+    th = np.linspace(np.pi * (1 - gap), np.pi * gap, k)[::-1]
+    cx, rad = W / 2, r * W / 2
+    dome = [(cx + rad * np.cos(t), 0.3 + rad * np.sin(t) * (H - 0.4) / rad) for t in th]
+    poly = Polygon([(0.0, 0.0), (W, 0.0), (W, H + 0.5)] + dome + [(0.0, H + 0.5)])
+    s = np.array(p) * [W, 0.25] + [0.0, 0.02]
+    s = s[(s[:, 0] > 1e-3) & (s[:, 0] < W - 1e-3)]
+    _check_all(poly, np.unique(s, axis=0) if len(s) else None)
+
+
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(pts, st.floats(0.2, 3.0), st.floats(0.2, 3.0))
 def test_with_size_field(p, h0, h1):

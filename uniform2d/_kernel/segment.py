@@ -3,6 +3,15 @@
 :func:`eval_segment` gives the value and place of the subsegment candidate (see
 :mod:`.insert`): the midpoint when nothing encroaches, else the maximum of the
 visible lower envelope of the sites near it.
+
+That maximum is defined by a scan (:func:`_envelope_max`): every pair of the
+gathered sites gives the point of h equidistant from both, each point is valued
+by its nearest visible site, and the best by the tie rule wins.  INSERT ranks
+the result against other candidates with exact ties, so the scan's result is
+kept bit for bit (the plain scan, O(sites^3), is ``tests/reference_envelope.py``)
+while only the few points that can matter are valued: those whose certified
+upper bound reaches just below the best value found, found by sorting the sites
+(near-linear in the sites for a straight edge facing a long coastline).
 """
 
 import numpy as np
@@ -201,7 +210,8 @@ def _certify(m, ne, z, x1, y1, x2, y2):
     by :func:`_visible`'s rule: each collected constrained edge not at z lies in
     the closed outer half-plane of one of the triangle's sides, or the triangle
     in a closed half-plane of the edge's line (exact signs; the separating-axis
-    test of two convex sets, up to touching).
+    test of two convex sets, up to touching), after the cheap test against the
+    triangle's bounding box.
 
     Why that is enough: for x in the triangle the open segment x -> z lies in
     it, and an edge crossing that segment properly would have a point inside
@@ -213,6 +223,8 @@ def _certify(m, ne, z, x1, y1, x2, y2):
     zx, zy = xy[z, 0], xy[z, 1]
     if orient2d(x1, y1, x2, y2, zx, zy) <= 0.0:
         return False
+    xlo, xhi = min(zx, x1, x2), max(zx, x1, x2)
+    ylo, yhi = min(zy, y1, y2), max(zy, y1, y2)
     for k in range(ne):
         h = m.ebuf[k]
         e0 = m.tv[h]
@@ -220,6 +232,10 @@ def _certify(m, ne, z, x1, y1, x2, y2):
         if e0 == z or e1 == z:
             continue
         px, py, qx, qy = xy[e0, 0], xy[e0, 1], xy[e1, 0], xy[e1, 1]
+        # beside the triangle's bounding box (an axis-parallel separating line)
+        if ((px < xlo and qx < xlo) or (px > xhi and qx > xhi)
+                or (py < ylo and qy < ylo) or (py > yhi and qy > yhi)):
+            continue
         if orient2d(x1, y1, x2, y2, px, py) <= 0.0 and orient2d(x1, y1, x2, y2, qx, qy) <= 0.0:
             continue
         if orient2d(x2, y2, zx, zy, px, py) <= 0.0 and orient2d(x2, y2, zx, zy, qx, qy) <= 0.0:
@@ -277,13 +293,17 @@ def _point_error(ax, ay, dx, dy):
 
 @njit(cache=True)
 def _pieces(m, sites, ne):
-    """The nearest site along h (visibility aside) as pieces, and where each piece's
-    site is certainly seen from: (pz, cuts, cert, tri).  Piece k is
-    s in [cuts[k-1], cuts[k]], nearest to site index pz[k]; if cert[k], that site
-    sees the whole triangle tri[k] = (x1, y1, x2, y2) with it, and that triangle
-    holds every point computed as a + s (b - a) for s in the piece: it holds
-    (exact orient2d) the four corners of the rectangle around the piece that is
-    twice as wide as the rounding (:func:`_point_error`) could move such a point."""
+    """The nearest site along h (visibility aside) as pieces, and a site certainly
+    seen from each piece: (pz, cuts, cz, tri).  Piece k is s in
+    [cuts[k-1], cuts[k]], nearest to site index pz[k]; if cz[k] >= 0, site index
+    cz[k] sees the whole triangle tri[k] = (x1, y1, x2, y2) with it, which holds
+    every point computed as a + s (b - a) for s in the piece (:func:`_triangle`).
+
+    The piece's own site is tried first.  Where a constrained edge hides it (a
+    site behind the outline), the site certified for the piece before it, then
+    the one for the piece after it, is tried instead: the sites that do see a
+    stretch of h usually see its neighbours too.  O(pieces x edges).
+    """
     xy = m.xy
     a, b = sites[0], sites[1]
     ax, ay = xy[a, 0], xy[a, 1]
@@ -297,49 +317,73 @@ def _pieces(m, sites, ne):
         t[i] = dx * (xy[p, 0] - ax) + dy * (xy[p, 1] - ay)
     pz, cuts = _lower_envelope(c, t)
     npc = pz.shape[0]
-    cert = np.zeros(npc, np.bool_)
+    cz = np.full(npc, -1, np.int64)
     tri = np.empty((npc, 4), np.float64)
+    for k in range(npc):
+        if pz[k] >= 2:  # h's ends are counted everywhere (_nearest_visible)
+            _try_site(m, ne, sites, pz[k], cuts, k, cz, tri)
+    for sweep in range(2):
+        last = np.int64(-1)
+        for r in range(npc):
+            k = r if sweep == 0 else npc - 1 - r
+            if cz[k] >= 0:
+                last = cz[k]
+            elif last >= 0 and pz[k] >= 2:
+                _try_site(m, ne, sites, last, cuts, k, cz, tri)
+    return pz, cuts, cz, tri
+
+
+@njit(cache=True)
+def _try_site(m, ne, sites, i, cuts, k, cz, tri):
+    """Certify site index i for piece k (see :func:`_pieces`): set cz[k] = i and
+    tri[k] if the triangle from it over the piece holds the piece's rectangle and
+    is seen whole from it (:func:`_certify`).
+
+    The rectangle is twice as wide as the rounding of a computed point
+    (:func:`_point_error`) could move it off h; the triangle's base lies below
+    h by twice that (and 1e-9 |h|) and reaches beyond the piece along h by more
+    than that drop times the slope of its sides, so that the rectangle fits
+    under them.  Whether it does is checked exactly (orient2d on its four
+    corners), so the margins only decide how often a site is certified."""
+    xy = m.xy
+    npc = cz.shape[0]
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    z = sites[i]
+    zx, zy = xy[z, 0], xy[z, 1]
     ln = np.sqrt(dx * dx + dy * dy)
     ux, uy = dx / ln, dy / ln
     e = 4.0 * _point_error(ax, ay, dx, dy)  # the rectangle's half-width
-    # the triangle's base: below h by twice that (and 1e-9 |h|), in units of s
-    marg = 1e-9 + 2.0 * e / ln
-    for k in range(npc):
-        if pz[k] < 2:
-            continue  # h's ends are counted everywhere (_nearest_visible)
-        z = sites[pz[k]]
-        lo = cuts[k - 1] if k > 0 else 0.0
-        hi = cuts[k] if k < npc - 1 else 1.0
-        sz = t[pz[k]] / (ln * ln)
-        hz = (dx * (xy[z, 1] - ay) - dy * (xy[z, 0] - ax)) / ln
-        if not hz > 0.0:
-            continue
-        # beyond the piece along h by more than the base's drop, times the slope
-        # of the sides, so that the rectangle fits under them
-        s0 = lo - marg * (2.0 + 4.0 * abs(sz - lo) * ln / hz)
-        s1 = hi + marg * (2.0 + 4.0 * abs(sz - hi) * ln / hz)
-        x1 = ax + s0 * dx + marg * dy
-        y1 = ay + s0 * dy - marg * dx
-        x2 = ax + s1 * dx + marg * dy
-        y2 = ay + s1 * dy - marg * dx
+    marg = 1e-9 + 2.0 * e / ln  # the base's drop, in units of s
+    lo = cuts[k - 1] if k > 0 else 0.0
+    hi = cuts[k] if k < npc - 1 else 1.0
+    sz = (dx * (zx - ax) + dy * (zy - ay)) / (ln * ln)
+    hz = (dx * (zy - ay) - dy * (zx - ax)) / ln
+    if not hz > 0.0:
+        return
+    s0 = lo - marg * (2.0 + 4.0 * abs(sz - lo) * ln / hz)
+    s1 = hi + marg * (2.0 + 4.0 * abs(sz - hi) * ln / hz)
+    x1 = ax + s0 * dx + marg * dy
+    y1 = ay + s0 * dy - marg * dx
+    x2 = ax + s1 * dx + marg * dy
+    y2 = ay + s1 * dy - marg * dx
+    for end in range(2):
+        se = lo if end == 0 else hi
+        sg = -1.0 if end == 0 else 1.0
+        for side in range(2):
+            sn = -1.0 if side == 0 else 1.0
+            px = ax + se * dx + e * (sg * ux - sn * uy)
+            py = ay + se * dy + e * (sg * uy + sn * ux)
+            if not _inside(zx, zy, x1, y1, x2, y2, px, py):
+                return
+    if _certify(m, np.int64(ne), z, x1, y1, x2, y2):
+        cz[k] = i
         tri[k, 0], tri[k, 1], tri[k, 2], tri[k, 3] = x1, y1, x2, y2
-        zx, zy = xy[z, 0], xy[z, 1]
-        fits = True
-        for end in range(2):
-            se = lo if end == 0 else hi
-            sg = -1.0 if end == 0 else 1.0
-            for side in range(2):
-                sn = -1.0 if side == 0 else 1.0
-                px = ax + se * dx + e * (sg * ux - sn * uy)
-                py = ay + se * dy + e * (sg * uy + sn * ux)
-                if not _inside(zx, zy, x1, y1, x2, y2, px, py):
-                    fits = False
-        cert[k] = fits and _certify(m, np.int64(ne), z, x1, y1, x2, y2)
-    return pz, cuts, cert, tri
 
 
 @njit(cache=True, inline="always")
-def _bound(m, sites, pz, cuts, cert, tri, s, x, y):
+def _bound(m, sites, cz, cuts, tri, s, x, y):
     """A value the point (x, y) = a + s (b - a) of h certainly does not exceed:
     the distance to h's ends or to its piece's site where that site certainly
     sees it, over the size field, in :func:`_nearest_visible`'s arithmetic
@@ -348,8 +392,8 @@ def _bound(m, sites, pz, cuts, cert, tri, s, x, y):
     a, b = sites[0], sites[1]
     w = min((xy[a, 0] - x) ** 2 + (xy[a, 1] - y) ** 2, (xy[b, 0] - x) ** 2 + (xy[b, 1] - y) ** 2)
     k = _right_of(cuts, s)
-    if cert[k]:
-        z = sites[pz[k]]
+    if cz[k] >= 0:
+        z = sites[cz[k]]
         zx, zy = xy[z, 0], xy[z, 1]
         d2 = (zx - x) ** 2 + (zy - y) ** 2
         if d2 < w and _inside(zx, zy, tri[k, 0], tri[k, 1], tri[k, 2], tri[k, 3], x, y):
@@ -358,11 +402,12 @@ def _bound(m, sites, pz, cuts, cert, tri, s, x, y):
 
 
 @njit(cache=True)
-def _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed):
+def _gather_points(m, sites, ne, cz, cuts, tri, L, tau, fixed):
     """Pass over every pair of sites, in the order the tie scan takes them: the
     points of h equidistant from a pair (the pair's arithmetic unchanged) whose
     bound (:func:`_bound`) is not below the pruning level, with their exact
-    values.  The level is ``tau`` if ``fixed``, else it follows the largest
+    values.  O(sites^2) cheap steps: used with a size field (whose bound
+    :func:`_region` does not describe) or when no level is known.  The level is ``tau`` if ``fixed``, else it follows the largest
     value seen (from L).  Returns (vals, xs, ys, count, level reached, L)."""
     xy = m.xy
     a, b = sites[0], sites[1]
@@ -390,7 +435,7 @@ def _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed):
                 continue
             x = ax + s * dx
             y = ay + s * dy
-            if _bound(m, sites, pz, cuts, cert, tri, s, x, y) < tau:
+            if _bound(m, sites, cz, cuts, tri, s, x, y) < tau:
                 continue
             val = np.sqrt(_nearest_visible(m, sites, ne, x, y)) / size_at(m, x, y)
             if cnt == cap:
@@ -412,7 +457,7 @@ def _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed):
 
 
 @njit(cache=True)
-def _region(m, sites, pz, cuts, cert, tau):
+def _region(m, sites, cz, cuts, tau):
     """Where along h a computed point's bound (:func:`_bound`) may reach tau:
     (lo, hi, count), disjoint intervals of s in increasing order, at most
     MAX_SPANS of them (nearby ones merged: a superset).  Without a size field
@@ -432,7 +477,7 @@ def _region(m, sites, pz, cuts, cert, tau):
     ln = np.sqrt(dx * dx + dy * dy)
     e = _point_error(ax, ay, dx, dy)
     tp = tau * (1.0 - 1e-14) - 2.0 * e
-    npc = pz.shape[0]
+    npc = cz.shape[0]
     lo = np.empty(2 * npc + 1, np.float64)
     hi = np.empty(2 * npc + 1, np.float64)
     cnt = 0
@@ -447,8 +492,8 @@ def _region(m, sites, pz, cuts, cert, tau):
         if plo > phi:
             continue
         xlo, xhi = 1.0, -1.0  # the excluded open interval, empty
-        if cert[k]:
-            z = sites[pz[k]]
+        if cz[k] >= 0:
+            z = sites[cz[k]]
             zx, zy = xy[z, 0] - ax, xy[z, 1] - ay
             sz = (dx * zx + dy * zy) / (ln * ln)
             hz = (dx * zy - dy * zx) / ln
@@ -489,7 +534,7 @@ def _add_span(lo, hi, cnt, s0, s1):
 
 
 @njit(cache=True)
-def _gather_near(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed, lo, hi, nspan):
+def _gather_near(m, sites, ne, cz, cuts, tri, L, tau, fixed, lo, hi, nspan):
     """:func:`_gather_points` for the pairs whose point falls in the spans only
     (:func:`_region`), found without visiting the others: returns the same
     (vals, xs, ys, count, level, L), in pair order.
@@ -547,7 +592,7 @@ def _gather_near(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed, lo, hi, nspan
                     continue
                 x = ax + s * dx
                 y = ay + s * dy
-                if _bound(m, sites, pz, cuts, cert, tri, s, x, y) < tau:
+                if _bound(m, sites, cz, cuts, tri, s, x, y) < tau:
                     continue
                 val = np.sqrt(_nearest_visible(m, sites, ne, x, y)) / size_at(m, x, y)
                 if cnt == cap:
@@ -630,26 +675,32 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     *tied group* of the maximum V -- the values taken from V down while each is
     tied (:func:`tied_above`) with the one above, down to theta: a point below
     ``tied_above(theta)`` never beats one of the group, and loses to the first
-    of them it meets.  So only the points whose value may reach the pruning
-    level tau <= tied_above(theta) need their exact value (O(sites) each); the
-    others are dismissed by an upper bound, the distance to a site certainly
-    visible from them (:func:`_bound`), in O(log sites).  If the group turns out
-    to reach below the level, the pass is repeated with a lower one.  The pass
-    still visits every pair (O(sites^2) cheap steps), plus O(sites x edges) to
-    certify the envelope's sites.
+    of them it meets.  So only the points whose value may reach a pruning level
+    tau <= tied_above(theta) need their exact value (O(sites) each, as before);
+    the others are dismissed by an upper bound, the distance to h's ends or to a
+    site certainly visible from them (:func:`_bound`, :func:`_pieces`).  The
+    level starts from one point's exact value (:func:`_seed`) and rises with
+    the values found; without a size field the pairs whose point may reach it
+    are found by sorting (:func:`_region`, :func:`_gather_near`), else every
+    pair is visited (:func:`_gather_points`).  The points kept are scanned in
+    pair order.  If the group turns out to reach below the level, the pass is
+    repeated from lower down (twice; then over every pair, unpruned).
+
+    Cost: O(sites log sites) for the envelope, O(pieces x edges) to certify its
+    sites, O(sites log sites) per span searched, and O(sites) per point valued.
     """
     sites = _site_list(m, h, nv)
-    pz, cuts, cert, tri = _pieces(m, sites, ne)
+    pz, cuts, cz, tri = _pieces(m, sites, ne)
     L = _seed(m, sites, ne, pz, cuts)
     tau = _prune_level(L, m.wg) if L >= 0.0 else -np.inf
     fixed = False
     for rounds in range(4):
         if not m.sized and tau > 0.0:
-            lo, hi, nspan = _region(m, sites, pz, cuts, cert, tau)
-            vals, xs, ys, cnt, tau, L = _gather_near(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed,
+            lo, hi, nspan = _region(m, sites, cz, cuts, tau)
+            vals, xs, ys, cnt, tau, L = _gather_near(m, sites, ne, cz, cuts, tri, L, tau, fixed,
                                                      lo, hi, nspan)
         else:
-            vals, xs, ys, cnt, tau, L = _gather_points(m, sites, ne, pz, cuts, cert, tri, L, tau, fixed)
+            vals, xs, ys, cnt, tau, L = _gather_points(m, sites, ne, cz, cuts, tri, L, tau, fixed)
         if cnt == 0:
             if tau == -np.inf:
                 return -1.0, mx, my
@@ -696,10 +747,10 @@ def eval_segment(m, h, xtol, bound):
     and the rounding grain to spare) of h are gathered: a site farther away is
     farther than the value from every point of h, so it is nobody's nearest and
     leaves every point's visible distance as it was, while the two sites that
-    make the maximum are at the value from it.  The maximum is found over every
-    pair of gathered sites (O(sites^3)), and a long subsegment shadowed by a
-    piece running close beside it keeps hundreds of sites in its disk as the
-    mesh around it fills up: gathering them all made each step cost ~1 s.
+    make the maximum are at the value from it.  (A long subsegment shadowed by
+    a piece running close beside it keeps hundreds of sites in its disk as the
+    mesh around it fills up.)  The maximum is found by :func:`_envelope_max`,
+    which values only the pairs' points that may reach it.
     """
     xy = m.xy
     a = m.tv[h]
