@@ -153,6 +153,34 @@ def _site_list(m, h, nv):
 
 
 @njit(cache=True)
+def _argsort(keys):
+    """Indices (int64) that sort the float64 ``keys`` ascending, equal keys in index
+    order (a bottom-up merge sort: numba's generic argsort costs far more to
+    compile)."""
+    n = keys.shape[0]
+    order = np.empty(n, np.int64)
+    spare = np.empty(n, np.int64)
+    for i in range(n):
+        order[i] = i
+    width = 1
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid = min(lo + width, n)
+            hi = min(lo + 2 * width, n)
+            i, j = lo, mid
+            for k in range(lo, hi):
+                if i < mid and (j >= hi or keys[order[i]] <= keys[order[j]]):
+                    spare[k] = order[i]
+                    i += 1
+                else:
+                    spare[k] = order[j]
+                    j += 1
+        order, spare = spare, order
+        width *= 2
+    return order
+
+
+@njit(cache=True)
 def _lower_envelope(c, t):
     """The lower envelope over s in [0, 1] of the lines c[k] - 2 s t[k]: (sites, cuts),
     the envelope's lines from s = 0 to s = 1 and the s between consecutive ones.
@@ -166,7 +194,7 @@ def _lower_envelope(c, t):
     :func:`_envelope_max` check everything they rely on exactly).
     """
     n = c.shape[0]
-    order = np.argsort(t, kind="mergesort")
+    order = _argsort(t)
     st = np.empty(n, np.int64)
     k = 0
     for r in range(n):
@@ -272,15 +300,19 @@ def _prune_level(L, wg):
 @njit(cache=True)
 def _group_floor(vals, n, wg):
     """The smallest value of the maximum's tied group among vals[:n]: values taken
-    from the largest down while each is tied with the one above it."""
-    v = np.sort(vals[:n])
-    lo = v[n - 1]
-    for i in range(n - 2, -1, -1):
-        if v[i] >= tied_above(lo, wg):
-            lo = v[i]
-        else:
-            break
-    return lo
+    from the largest down while each is tied with the one above it.  O(n) per
+    distinct value of the group (a handful)."""
+    lo = vals[0]
+    for i in range(1, n):
+        lo = max(lo, vals[i])
+    while True:
+        nxt_ = -np.inf
+        for i in range(n):
+            if vals[i] < lo and vals[i] > nxt_:
+                nxt_ = vals[i]
+        if nxt_ == -np.inf or nxt_ < tied_above(lo, wg):
+            return lo
+        lo = nxt_
 
 
 @njit(cache=True, inline="always")
@@ -317,7 +349,9 @@ def _pieces(m, sites, ne):
         t[i] = dx * (xy[p, 0] - ax) + dy * (xy[p, 1] - ay)
     pz, cuts = _lower_envelope(c, t)
     npc = pz.shape[0]
-    cz = np.full(npc, -1, np.int64)
+    cz = np.empty(npc, np.int64)
+    for k in range(npc):
+        cz[k] = -1
     tri = np.empty((npc, 4), np.float64)
     for k in range(npc):
         if pz[k] >= 2:  # h's ends are counted everywhere (_nearest_visible)
@@ -402,61 +436,6 @@ def _bound(m, sites, cz, cuts, tri, s, x, y):
 
 
 @njit(cache=True)
-def _gather_points(m, sites, ne, cz, cuts, tri, L, tau, fixed):
-    """Pass over every pair of sites, in the order the tie scan takes them: the
-    points of h equidistant from a pair (the pair's arithmetic unchanged) whose
-    bound (:func:`_bound`) is not below the pruning level, with their exact
-    values.  O(sites^2) cheap steps: used with a size field (whose bound
-    :func:`_region` does not describe) or when no level is known.  The level is ``tau`` if ``fixed``, else it follows the largest
-    value seen (from L).  Returns (vals, xs, ys, count, level reached, L)."""
-    xy = m.xy
-    a, b = sites[0], sites[1]
-    ax, ay = xy[a, 0], xy[a, 1]
-    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
-    ns = sites.shape[0]
-    cap = 16
-    vals = np.empty(cap, np.float64)
-    xs = np.empty(cap, np.float64)
-    ys = np.empty(cap, np.float64)
-    cnt = 0
-    if not fixed:
-        tau = _prune_level(L, m.wg)
-    for i in range(ns):
-        p = sites[i]
-        pa2 = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
-        for j in range(i + 1, ns):
-            q = sites[j]
-            qa2 = (xy[q, 0] - ax) ** 2 + (xy[q, 1] - ay) ** 2
-            den = 2.0 * (dx * (xy[q, 0] - xy[p, 0]) + dy * (xy[q, 1] - xy[p, 1]))
-            if den == 0.0:
-                continue
-            s = (qa2 - pa2) / den
-            if not (0.0 < s < 1.0):
-                continue
-            x = ax + s * dx
-            y = ay + s * dy
-            if _bound(m, sites, cz, cuts, tri, s, x, y) < tau:
-                continue
-            val = np.sqrt(_nearest_visible(m, sites, ne, x, y)) / size_at(m, x, y)
-            if cnt == cap:
-                cap *= 2
-                vals2 = np.empty(cap, np.float64)
-                xs2 = np.empty(cap, np.float64)
-                ys2 = np.empty(cap, np.float64)
-                vals2[:cnt] = vals[:cnt]
-                xs2[:cnt] = xs[:cnt]
-                ys2[:cnt] = ys[:cnt]
-                vals, xs, ys = vals2, xs2, ys2
-            vals[cnt], xs[cnt], ys[cnt] = val, x, y
-            cnt += 1
-            if val > L:
-                L = val
-                if not fixed:
-                    tau = max(tau, _prune_level(L, m.wg))
-    return vals, xs, ys, cnt, tau, L
-
-
-@njit(cache=True)
 def _region(m, sites, cz, cuts, tau):
     """Where along h a computed point's bound (:func:`_bound`) may reach tau:
     (lo, hi, count), disjoint intervals of s in increasing order, at most
@@ -522,6 +501,15 @@ def _region(m, sites, cz, cuts, tau):
 
 
 @njit(cache=True, inline="always")
+def _whole():
+    """The span of :func:`_region` that is all of h (a little more)."""
+    lo = np.empty(1, np.float64)
+    hi = np.empty(1, np.float64)
+    lo[0], hi[0] = -1e-12, 1.0 + 1e-12
+    return lo, hi, 1
+
+
+@njit(cache=True, inline="always")
 def _add_span(lo, hi, cnt, s0, s1):
     """Append [s0, s1] to the increasing spans, merging it into the last one if
     they overlap or touch.  Returns the new count."""
@@ -535,9 +523,13 @@ def _add_span(lo, hi, cnt, s0, s1):
 
 @njit(cache=True)
 def _gather_near(m, sites, ne, cz, cuts, tri, L, tau, fixed, lo, hi, nspan):
-    """:func:`_gather_points` for the pairs whose point falls in the spans only
-    (:func:`_region`), found without visiting the others: returns the same
-    (vals, xs, ys, count, level, L), in pair order.
+    """The points of h equidistant from a pair of sites (the pair's arithmetic
+    unchanged) that fall in the spans (:func:`_region`, or all of h) and whose
+    bound (:func:`_bound`) is not below the pruning level, with their exact
+    values, in the order of the pairs (the tie scan's): (vals, xs, ys, count,
+    level reached, L).  The level is ``tau`` if ``fixed``, else it follows the
+    largest value seen (from L).  The pairs outside the spans' windows are not
+    visited.
 
     A pair (p, q) whose computed s lies in [S1, S2] has
     |k_q - k_p| <= |h|^2 (1.01 (S2 - S1) + 128 u) for k = c - 2 S t at the middle S
@@ -572,7 +564,7 @@ def _gather_near(m, sites, ne, cz, cuts, tri, L, tau, fixed, lo, hi, nspan):
         width = l2 * (1.01 * (s2 - s1) + 128.0 * 2.0**-53)
         for i in range(ns):
             kv[i] = c[i] - 2.0 * sm * t[i]
-        order = np.argsort(kv)
+        order = _argsort(kv)
         for u in range(ns):
             iu = order[u]
             for w in range(u + 1, ns):
@@ -682,7 +674,7 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     level starts from one point's exact value (:func:`_seed`) and rises with
     the values found; without a size field the pairs whose point may reach it
     are found by sorting (:func:`_region`, :func:`_gather_near`), else every
-    pair is visited (:func:`_gather_points`).  The points kept are scanned in
+    pair is visited (one span over all of h, O(sites^2) cheap steps).  The points kept are scanned in
     pair order.  If the group turns out to reach below the level, the pass is
     repeated from lower down (twice; then over every pair, unpruned).
 
@@ -690,6 +682,7 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     sites, O(sites log sites) per span searched, and O(sites) per point valued.
     """
     sites = _site_list(m, h, nv)
+    ne = np.int64(ne)  # one specialisation of the callees (not a literal 0)
     pz, cuts, cz, tri = _pieces(m, sites, ne)
     L = _seed(m, sites, ne, pz, cuts)
     tau = _prune_level(L, m.wg) if L >= 0.0 else -np.inf
@@ -697,10 +690,10 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     for rounds in range(4):
         if not m.sized and tau > 0.0:
             lo, hi, nspan = _region(m, sites, cz, cuts, tau)
-            vals, xs, ys, cnt, tau, L = _gather_near(m, sites, ne, cz, cuts, tri, L, tau, fixed,
-                                                     lo, hi, nspan)
-        else:
-            vals, xs, ys, cnt, tau, L = _gather_points(m, sites, ne, cz, cuts, tri, L, tau, fixed)
+        else:  # every pair: one span over all of h
+            lo, hi, nspan = _whole()
+        vals, xs, ys, cnt, tau, L = _gather_near(m, sites, ne, cz, cuts, tri, L, np.float64(tau),
+                                                 np.bool_(fixed), lo, hi, np.int64(nspan))
         if cnt == 0:
             if tau == -np.inf:
                 return -1.0, mx, my
