@@ -14,7 +14,11 @@ value, or more).  Site sets (hypothesis): uniform random, collinear (on lines
 parallel, perpendicular and oblique to the long edge), on the long edge itself,
 on a lattice (many equal distances, ties by symmetry), mirror-symmetric, and
 behind constrained edges (interior segments, a zigzag outline, holes) that
-block visibility; with and without a size field.
+block visibility, a dome whose lowest vertices hide behind long edges; with and
+without a size field, and far from the origin.  Then the benchmark's shapes
+(``benchmarks/bench_insert_edges.py``) at 120 vertices in the states INSERT
+passes through, and the pieces of the new evaluation: the envelope of lines
+and the tied group's floor.
 """
 
 from __future__ import annotations
@@ -207,6 +211,44 @@ def test_after_insert(n, holes):
     poly = _box(segments=[[(1.0, 0.5), (2.5, 1.5)]], holes=hole)
     r = uniform2d.insert(poly, n)
     assert _check_all(poly, r.points) > 0
+
+
+def _coastline(k):
+    """bench_insert_edges.py's coastline above a straight cut 360 long, k vertices."""
+    rng = np.random.default_rng(35)
+    x = np.linspace(360.0, 0.0, k)
+    u = np.linspace(0.0, 1.0, k)
+    y = 80.0 - 30.0 * np.sin(np.pi * u) + 6.0 * (-1.0) ** np.arange(k) + rng.uniform(-2.0, 2.0, k)
+    return Polygon([(0.0, 0.0), (360.0, 0.0)] + list(zip(x, y)))
+
+
+def _dome(k):
+    """bench_insert_edges.py's dome over the cut, its lowest vertices hidden from
+    the sides by long edges."""
+    th = np.linspace(np.pi * 0.02, np.pi * 0.98, k)
+    arc = [(180.0 + 150.0 * np.cos(t), 20.0 + 150.0 * np.sin(t)) for t in th]
+    return Polygon([(0.0, 0.0), (360.0, 0.0), (360.0, 200.0)] + arc + [(0.0, 200.0)])
+
+
+@pytest.mark.parametrize("shape", [_coastline, _dome], ids=["coastline", "dome"])
+@pytest.mark.parametrize("sized", [False, True], ids=["plain", "sized"])
+def test_long_edge_states(shape, sized):
+    """The benchmark's shapes (120 vertices facing the cut) in the states INSERT
+    passes through (1 to 128 points), with and without a size field: hundreds of
+    sites near the cut, most of them hidden or far from the maximum."""
+    p = shape(120)
+    size = None
+    if sized:
+        size = SizeField(np.array([0.0, 360.0]), np.array([0.0, 200.0]), np.array([[20.0, 35.0], [35.0, 15.0]]))
+    for n in (1, 8, 128):
+        r = uniform2d.insert(p, n, size=size)
+        loaded = load(p, r.points, size=size)
+        m = loaded.m
+        xtol = 1e-9 * 360.0 / loaded.scale
+        for h in subsegment_edges(m):
+            old = reference_eval_segment(m, h, xtol, np.inf)
+            assert _bits(eval_segment(m, h, xtol, np.inf)) == _bits(old), (n, h)
+            assert _bits(eval_segment(m, h, xtol, old[0])) == _bits(reference_eval_segment(m, h, xtol, old[0]))
 
 
 def test_group_floor():
