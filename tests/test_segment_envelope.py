@@ -185,11 +185,17 @@ def test_dome_outline(k, gap, r, p):
     _check_all(poly, np.unique(s, axis=0) if len(s) else None)
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(pts, st.floats(0.2, 3.0), st.floats(0.2, 3.0))
-def test_with_size_field(p, h0, h1):
-    """A size field: values are distance / h at the point (no gathering bound)."""
-    field = SizeField(np.array([0.0, W]), np.array([0.0, H]), np.array([[h0, h1], [h1, h0]]))
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(pts, st.integers(2, 7), st.integers(2, 5), st.integers(0, 2**31 - 1))
+def test_with_size_field(p, nx, ny, seed):
+    """A size field (a random grid, coarse or fine, some of it beyond the box):
+    values are distance / h at the point, and the sorting search bounds h below
+    by the grid near the edge."""
+    rng = np.random.default_rng(seed)
+    gx = np.sort(rng.uniform(-1.0, W + 1.0, nx))
+    gy = np.sort(rng.uniform(-1.0, H + 1.0, ny))
+    assume(np.all(np.diff(gx) > 1e-3) and np.all(np.diff(gy) > 1e-3))
+    field = SizeField(gx, gy, rng.uniform(0.2, 3.0, (ny, nx)))
     _check_all(_box(), _inside(np.array(p) * [W, H * 0.8]), size=field)
 
 

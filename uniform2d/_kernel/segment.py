@@ -436,11 +436,35 @@ def _bound(m, sites, cz, cuts, tri, s, x, y):
 
 
 @njit(cache=True)
+def _size_floor(m, sites):
+    """A size no computed point of h goes below (with a size field): the smallest
+    grid value at the corners of the cells around h's bounding box (grown by the
+    rounding of its points), less a relative 1e-12.  :func:`size_at` is a
+    bilinear mean of one cell's corners, so at most a few ulps below them."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    e = 2.0 * _point_error(ax, ay, dx, dy)
+    gx, gy, gv = m.sgx, m.sgy, m.sgv
+    nx, ny = gx.shape[0], gy.shape[0]
+    i0 = min(max(_right_of(gx, min(ax, ax + dx) - e) - 1, 0), nx - 2)
+    i1 = min(max(_right_of(gx, max(ax, ax + dx) + e) - 1, 0), nx - 2)
+    j0 = min(max(_right_of(gy, min(ay, ay + dy) - e) - 1, 0), ny - 2)
+    j1 = min(max(_right_of(gy, max(ay, ay + dy) + e) - 1, 0), ny - 2)
+    lo = np.inf
+    for j in range(j0, j1 + 2):
+        for i in range(i0, i1 + 2):
+            lo = min(lo, gv[j, i])
+    return lo * (1.0 - 1e-12)
+
+
+@njit(cache=True)
 def _region(m, sites, cz, cuts, tau):
-    """Where along h a computed point's bound (:func:`_bound`) may reach tau:
-    (lo, hi, count), disjoint intervals of s in increasing order, at most
-    MAX_SPANS of them (nearby ones merged: a superset).  Without a size field
-    only; tau > 0.
+    """Where along h a computed point's bound (:func:`_bound`, without its division
+    by the size field) may reach tau: (lo, hi, count), disjoint intervals of s in
+    increasing order, at most MAX_SPANS of them (nearby ones merged: a
+    superset); tau > 0.
 
     A point's bound is its distance to a or b, or to its piece's certified site z,
     which in exact terms along h is |h| s, |h| (1 - s) and
@@ -672,9 +696,11 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     the others are dismissed by an upper bound, the distance to h's ends or to a
     site certainly visible from them (:func:`_bound`, :func:`_pieces`).  The
     level starts from one point's exact value (:func:`_seed`) and rises with
-    the values found; without a size field the pairs whose point may reach it
-    are found by sorting (:func:`_region`, :func:`_gather_near`), else every
-    pair is visited (one span over all of h, O(sites^2) cheap steps).  The points kept are scanned in
+    the values found; the pairs whose point may reach it are found by sorting
+    (:func:`_region`, :func:`_gather_near`; with a size field, against the
+    level times the field's least value near h, :func:`_size_floor`), or,
+    before any value is known,
+    every pair is visited (one span over all of h, O(sites^2) cheap steps).  The points kept are scanned in
     pair order.  If the group turns out to reach below the level, the pass is
     repeated from lower down (twice; then over every pair, unpruned).
 
@@ -688,8 +714,9 @@ def _envelope_max(m, h, nv, ne, mx, my, xtol):
     tau = _prune_level(L, m.wg) if L >= 0.0 else -np.inf
     fixed = False
     for rounds in range(4):
-        if not m.sized and tau > 0.0:
-            lo, hi, nspan = _region(m, sites, cz, cuts, tau)
+        if tau > 0.0:
+            # a value reaching tau is a distance reaching tau times the size there
+            lo, hi, nspan = _region(m, sites, cz, cuts, tau if not m.sized else tau * _size_floor(m, sites))
         else:  # every pair: one span over all of h
             lo, hi, nspan = _whole()
         vals, xs, ys, cnt, tau, L = _gather_near(m, sites, ne, cz, cuts, tri, L, np.float64(tau),
