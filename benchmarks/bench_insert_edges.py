@@ -23,6 +23,7 @@ Run:  python benchmarks/bench_insert_edges.py [--k 275 550 1100 2200] [--shape d
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import math
 import os
@@ -99,7 +100,7 @@ def _fmt(t: float | None, timeout: float) -> str:
 def _slope(rows, col):
     """Growth exponents between consecutive rows of column col (None where unknown)."""
     out = [None]
-    for (k0, *r0), (k1, *r1) in zip(rows, rows[1:]):
+    for (k0, *r0), (k1, *r1) in itertools.pairwise(rows):
         a, b = r0[col], r1[col]
         out.append(None if a is None or b is None or a <= 0 or b <= 0
                    else math.log(b / a) / math.log(k1 / k0))

@@ -29,15 +29,15 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
+from reference_envelope import reference_eval_segment, subsegment_edges
 
 import uniform2d
-from reference_envelope import reference_eval_segment, subsegment_edges
 from uniform2d import Polygon
-from uniform2d.errors import InvalidSitesError
+from uniform2d._kernel.rank import tied_above
+from uniform2d._kernel.segment import _group_floor, _lower_envelope, eval_segment
+from uniform2d.errors import InvalidPolygonError, InvalidSitesError
 from uniform2d.sizefield import SizeField
 from uniform2d.triangulation import load
-from uniform2d._kernel.segment import _group_floor, _lower_envelope, eval_segment
-from uniform2d._kernel.rank import tied_above
 
 W = 8.0  # the long edge (0, 0) -> (W, 0)
 H = 3.0
@@ -142,7 +142,7 @@ def test_blocking_segments(segs, p):
     assume(segments)
     try:
         poly = _box(segments=segments)
-    except Exception:
+    except InvalidPolygonError:
         assume(False)
     s = _inside(np.array(p) * [W, H * 0.7], margin=0.02)
     # keep the sites off the segments
