@@ -17,7 +17,8 @@ from uniform2d._kernel.cdt import counts, nxt, prv
 from uniform2d._kernel.insert import _subsegment
 from uniform2d._kernel.predicates import dot2d
 from uniform2d._kernel.rank import better, size_at
-from uniform2d._kernel.segment import DISK_SLACK, NEAR_SLACK, _collect, _nearest_visible
+from uniform2d._kernel.segment import DISK_SLACK, NEAR_SLACK, _collect
+from uniform2d._kernel.visible import _nearest_visible
 
 
 @njit(cache=True)

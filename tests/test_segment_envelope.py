@@ -34,7 +34,8 @@ from reference_envelope import reference_eval_segment, subsegment_edges
 import uniform2d
 from uniform2d import Polygon
 from uniform2d._kernel.rank import tied_above
-from uniform2d._kernel.segment import _group_floor, _lower_envelope, eval_segment
+from uniform2d._kernel.envelope import _group_floor, _lower_envelope
+from uniform2d._kernel.segment import eval_segment
 from uniform2d.errors import InvalidPolygonError, InvalidSitesError
 from uniform2d.sizefield import SizeField
 from uniform2d.triangulation import load
