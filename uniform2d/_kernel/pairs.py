@@ -20,6 +20,25 @@ __all__ = ["MAX_SPANS"]
 MAX_SPANS = 16
 
 
+@njit(cache=True, inline="always")
+def _along(m, sites):
+    """Every site's squared distance c from h's start a and its projection t on
+    h (unnormalised: (p - a) . (b - a)): the site's distance to a + s (b - a) is
+    c - 2 s t + s^2 |h|^2 (the form :func:`_lower_envelope` takes)."""
+    xy = m.xy
+    a, b = sites[0], sites[1]
+    ax, ay = xy[a, 0], xy[a, 1]
+    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
+    ns = sites.shape[0]
+    c = np.empty(ns, np.float64)
+    t = np.empty(ns, np.float64)
+    for i in range(ns):
+        p = sites[i]
+        c[i] = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
+        t[i] = dx * (xy[p, 0] - ax) + dy * (xy[p, 1] - ay)
+    return c, t
+
+
 @njit(cache=True)
 def _pieces(m, sites, ne):
     """The nearest site along h (visibility aside) as pieces, and a site certainly
@@ -33,17 +52,7 @@ def _pieces(m, sites, ne):
     the one for the piece after it, is tried instead: the sites that do see a
     stretch of h usually see its neighbours too.  O(pieces x edges).
     """
-    xy = m.xy
-    a, b = sites[0], sites[1]
-    ax, ay = xy[a, 0], xy[a, 1]
-    dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
-    ns = sites.shape[0]
-    c = np.empty(ns, np.float64)
-    t = np.empty(ns, np.float64)
-    for i in range(ns):
-        p = sites[i]
-        c[i] = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
-        t[i] = dx * (xy[p, 0] - ax) + dy * (xy[p, 1] - ay)
+    c, t = _along(m, sites)
     pz, cuts = _lower_envelope(c, t)
     npc = pz.shape[0]
     cz = np.empty(npc, np.int64)
@@ -266,12 +275,7 @@ def _gather_near(m, sites, ne, cz, cuts, tri, L, tau, fixed, lo, hi, nspan):
     dx, dy = xy[b, 0] - ax, xy[b, 1] - ay
     l2 = dx * dx + dy * dy
     ns = sites.shape[0]
-    c = np.empty(ns, np.float64)
-    t = np.empty(ns, np.float64)
-    for i in range(ns):
-        p = sites[i]
-        c[i] = (xy[p, 0] - ax) ** 2 + (xy[p, 1] - ay) ** 2
-        t[i] = dx * (xy[p, 0] - ax) + dy * (xy[p, 1] - ay)
+    c, t = _along(m, sites)
     kv = np.empty(ns, np.float64)
     cap = 16
     keys = np.empty(cap, np.int64)
