@@ -76,16 +76,12 @@ def _charts3d(ax, V, F, chart, zoom=1.0):
     """The faces coloured by chart (an atlas's), seams drawn where colours meet."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    colours = plt_colormap("tab20")(np.asarray(chart) % 20)
+    from matplotlib import colormaps
+
+    colours = colormaps["tab20"](np.asarray(chart) % 20)
     pc = Poly3DCollection(V[F], facecolors=colours, edgecolors="none", linewidths=0)
     ax.add_collection3d(pc)
     _edges3d(ax, V, F, colour="0.25", lw=0.15, zoom=zoom)
-
-
-def plt_colormap(name):
-    from matplotlib import colormaps
-
-    return colormaps[name]
 
 
 def plot_result(result, path) -> None:

@@ -193,7 +193,7 @@ def _mesh_chart(item):
     if (boundary_edges(T, len(P)) >= K).any():
         raise InternalError("the planar mesher put a point on a chart's ring (a bug: please report it)")
     xyz = lift(P[K:], chart.patch.vertices, chart.patch.faces, chart.param.uv).xyz
-    return P, T, xyz
+    return T, xyz
 
 
 def mesh_atlas(atlas: Atlas, n_vertices: int, spacing: float, *, compensate: bool = True,
@@ -207,9 +207,9 @@ def mesh_atlas(atlas: Atlas, n_vertices: int, spacing: float, *, compensate: boo
     counts = chart_counts(atlas, n_vertices, spacing)
     items = [(c, p, k, spacing, compensate) for c, p, k in zip(atlas.charts, atlas.polygons, counts)]
     done = map_parts(_mesh_chart, items, jobs=jobs, scheduler=scheduler)
-    parts = [(idx, xyz, T) for idx, (_, T, xyz) in zip(atlas.index, done)]
+    parts = [(idx, xyz, T) for idx, (T, xyz) in zip(atlas.index, done)]
     xyz, faces = stitch(atlas.seams.xyz, parts)
     if len(xyz) != n_vertices:
         raise InternalError(f"the stitched mesh has {len(xyz)} vertices, not {n_vertices} (a bug)")
-    chart = np.repeat(np.arange(len(done), dtype=np.int64), [len(T) for _, T, _ in done])
+    chart = np.repeat(np.arange(len(done), dtype=np.int64), [len(T) for T, _ in done])
     return xyz, faces, chart

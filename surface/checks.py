@@ -18,7 +18,7 @@ from scipy.sparse.csgraph import connected_components
 from .errors import InvalidPatchError
 
 __all__ = [
-    "CheckedMesh", "DEGENERATE_RATIO", "as_arrays", "face_areas", "check_degenerate", "check_manifold",
+    "CheckedMesh", "DEGENERATE_RATIO", "read_only", "as_arrays", "face_areas", "check_degenerate", "check_manifold",
     "check_connected", "components", "boundary_loops",
 ]
 
@@ -236,7 +236,8 @@ def boundary_loops(boundary_next):
     return loops
 
 
-def _ro(a: np.ndarray) -> np.ndarray:
+def read_only(a: np.ndarray) -> np.ndarray:
+    """``a``, made read-only (the checked meshes' arrays are immutable)."""
     a.setflags(write=False)
     return a
 
@@ -248,10 +249,10 @@ class CheckedMesh:
     __slots__ = ("_vertices", "_faces", "_edges", "_loops", "_n_dropped")
 
     def _keep(self, V, F, edges, loops, dropped) -> None:
-        self._vertices = _ro(V)
-        self._faces = _ro(F)
-        self._edges = _ro(edges)
-        self._loops = tuple(_ro(lp) for lp in loops)
+        self._vertices = read_only(V)
+        self._faces = read_only(F)
+        self._edges = read_only(edges)
+        self._loops = tuple(read_only(lp) for lp in loops)
         self._n_dropped = dropped
 
     @property

@@ -17,15 +17,11 @@ import numpy as np
 
 from .checks import (
     CheckedMesh, as_arrays, boundary_loops, check_degenerate, check_manifold, components,
+    read_only,
 )
 from .patch import Patch
 
 __all__ = ["Model"]
-
-
-def _ro(a: np.ndarray) -> np.ndarray:
-    a.setflags(write=False)
-    return a
 
 
 class Model(CheckedMesh):
@@ -53,7 +49,7 @@ class Model(CheckedMesh):
     True
     """
 
-    __slots__ = ("_vlabel", "_flabel", "_chi")
+    __slots__ = ("_vlabel", "_chi")
 
     def __init__(self, vertices, faces):
         V, F, dropped = as_arrays(vertices, faces)
@@ -61,31 +57,15 @@ class Model(CheckedMesh):
         edges, boundary_next = check_manifold(V, F)
         ncomp, vlabel = components(len(V), edges)
         self._keep(V, F, edges, boundary_loops(boundary_next), dropped)
-        self._vlabel = _ro(vlabel)
-        self._flabel = _ro(vlabel[F[:, 0]])
+        self._vlabel = read_only(vlabel)
         nv = np.bincount(vlabel, minlength=ncomp)
         ne = np.bincount(vlabel[edges[:, 0]], minlength=ncomp)
-        nf = np.bincount(self._flabel, minlength=ncomp)
+        nf = np.bincount(vlabel[F[:, 0]], minlength=ncomp)
         self._chi = tuple(int(x) for x in nv - ne + nf)
 
     @property
     def n_components(self) -> int:
         return len(self._chi)
-
-    @property
-    def component_of_face(self) -> np.ndarray:
-        """(M,) int64: the component of every face."""
-        return self._flabel
-
-    @property
-    def component_of_vertex(self) -> np.ndarray:
-        """(N,) int64: the component of every vertex."""
-        return self._vlabel
-
-    @property
-    def component_euler(self) -> tuple[int, ...]:
-        """Euler characteristic V - E + F of every component."""
-        return self._chi
 
     @property
     def euler_characteristic(self) -> int:

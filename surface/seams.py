@@ -316,10 +316,3 @@ def _chart_rings(chart, node_id, on_edge) -> list[np.ndarray]:
         rings.append(np.asarray(ring, dtype=np.int64))
     return rings
 
-
-def chain_of_points(seams: Seams) -> np.ndarray:
-    """(S,) int64: the chain holding each non-node seam point (-1 for nodes)."""
-    out = np.full(seams.n_points, -1, dtype=np.int64)
-    for k, c in enumerate(seams.chains):
-        out[c[1:-1]] = k
-    return out

@@ -288,3 +288,23 @@ def test_scale_and_translation_invariant(scale, offset):
     e = r.report.edges
     assert abs(e["ratio"] / ref["ratio"] - 1) < 0.05 and abs(e["cv"] / ref["cv"] - 1) < 0.1
     assert abs(e["mean"] / (ref["mean"] * scale) - 1) < 0.01
+
+
+def test_atlas_refuses_what_it_cannot_keep():
+    V, F = torus()
+    with pytest.raises(surface.InvalidPatchError.__mro__[1], match="fixed vertices"):
+        surface.remesh((V, F), 500, fixed=[0], check=False, hausdorff=False)
+    with pytest.raises(surface.InvalidPatchError.__mro__[1], match="optimize=False"):
+        surface.remesh((V, F), 500, optimize=False, check=False, hausdorff=False)
+
+
+def test_remesh_command_refuses_a_count_below_the_seams(tmp_path, capsys):
+    from uniform2d.cli.main import main
+
+    V, F = torus()
+    src, dst = tmp_path / "torus.obj", tmp_path / "out.obj"
+    surface.write_patch(src, V, F)
+    code = main(["remesh", str(src), "-n", "5", "-o", str(dst)])
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and "ask for more vertices" in lines[0]
+    assert not dst.exists() and sorted(x.name for x in tmp_path.iterdir()) == ["torus.obj"]
