@@ -29,11 +29,10 @@ ratio 2.15 (size ratio 1.47); a hemisphere has 4.6 and two thirds of a sphere
 9.8, where the single-patch remesh loses its uniformity (edge CV 0.13 against
 0.07).  So a disk flattens in one piece up to :data:`ONE_PIECE_RATIO` = 2.5,
 which keeps every patch that worked as it was.  Inside an atlas, charts are cut
-down to 2.0: measured on the example models of :mod:`surface.models` at 2000
-vertices, 2.0 against 2.5 gives one chart more on the sphere and the capsule
-and a better mesh on every curved model (geometric-mean edge ratio 1.63 ->
-1.61, worst 1.74 -> 1.71, worst angle 37.2 deg at least), while 1.7 adds seams
-and loses again (CV 0.073 -> 0.075).
+down to 2.0: on the example models of :mod:`surface.models` that gave one chart
+more on the curved ones and a better mesh on every one of them, while 1.7 added
+seams and lost again (the figures are in the commit that chose it and in
+``benchmarks/bench_models.py``).
 """
 
 from __future__ import annotations
