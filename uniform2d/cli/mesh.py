@@ -62,6 +62,10 @@ def add_parser(subparsers):
                        help="number of Steiner points (boundary and interior)")
     count.add_argument("--size", type=positive_float, metavar="H",
                        help="target edge length; n is derived from the area and perimeter")
+    p.add_argument("--resample", type=positive_float, metavar="TOL",
+                   help="resample the outline at the mesh spacing, within TOL x spacing of it "
+                   "(e.g. 0.05 or 0.25): for dense outlines (coastlines, CAD curves); corners, "
+                   "segment ends and fixed points stay, the other boundary points count in n")
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
@@ -172,13 +176,16 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
 
 
 def _mesh_one(polygon, args, progress=None):
+    from ..errors import InsufficientPointsError, InvalidArgumentError
+    from ..resources import check_point_count
     from ..tplus import tplus
     from ..uniform import steiner_count_for_size, uniform_mesh
-    from ..errors import InsufficientPointsError
-    from ..resources import check_point_count
 
     if args.method == "uniform":
-        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
+        return uniform_mesh(polygon, n=args.n, size=args.size, resample=args.resample,
+                            progress=progress)
+    if args.resample is not None:
+        raise InvalidArgumentError("--resample works with --method uniform (the default) only")
     n, what = args.n, f"n = {args.n}"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
@@ -253,7 +260,7 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
         "output": str(dst),
         "plot": str(fig) if fig is not None else None,
         "method": args.method,
-        "n_steiner": mesh.n_steiner,
+        "n_steiner": mesh.info["resample"]["n"] if "resample" in mesh.info else mesh.n_steiner,
         "n_points": len(mesh.points),
         "n_triangles": len(mesh.triangles),
         "info": mesh.info,
@@ -282,6 +289,8 @@ def _show(args, doc: dict, several: bool) -> None:
         if several:
             print(f"== {doc['input']} -> {doc['output']}")
         print(doc["summary"])
+        if "resample" in doc["info"]:
+            print(_resample_line(doc["info"]["resample"]))
         for k, r in enumerate(doc["regions"] or []):
             label = "" if r["label"] is None else f" ({r['label']})"
             print(f"  region {k}{label}: {r['triangles']} triangles, area {r['area']:.6g}")
@@ -290,7 +299,15 @@ def _show(args, doc: dict, several: bool) -> None:
     elif not args.quiet and not args.json:
         print(f"wrote {doc['output']} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
               f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
+        if "resample" in doc["info"]:
+            print("  " + _resample_line(doc["info"]["resample"]))
     sys.stdout.flush()
+
+
+def _resample_line(r: dict) -> str:
+    return (f"outline resampled at spacing {r['spacing']:.6g}: deviation {r['deviation']:.4g} "
+            f"({r['deviation_fraction']:.3f} of the spacing, tolerance {r['tolerance']:g}), "
+            f"{r['kept_vertices']} input vertices kept, {r['boundary_points']} boundary points")
 
 
 def run(args) -> int:
