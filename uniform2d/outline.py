@@ -27,8 +27,10 @@ outline, as the surface layer does for its domains (the same dynamic programme,
 - a polygon whose constraint edges are all at least :data:`SHORT_EDGE` of the
   spacing needs no resampling: it is returned as given;
 - if the resampled rings cross (two parts of the outline closer than the
-  tolerance), the runs involved are sampled again with a 4 times smaller
-  tolerance, then with every input vertex; the polygon returned is always valid.
+  tolerance), the crossing edges are split at the input vertex nearest their
+  middle (a boundary point, counted in n) and their runs sampled again, for a
+  few rounds; if that does not make them valid the polygon is kept as given:
+  the polygon returned is always valid.
 
 Lengths are measured in the coordinates as given: a longitude/latitude outline
 is resampled in degrees (project it first, see ``docs/outlines.md``).
@@ -61,8 +63,8 @@ SHORT_EDGE = 1 / 3
 #: The edge-length bounds (fractions of a run's spacing) tried in turn where the
 #: tolerance is not met.
 _BOUNDS = ((0.8, 1.25), (0.5, 1.25), (0.25, 1.25))
-#: Rounds of tighter sampling of the runs whose rings cross, before their input vertices.
-_ROUNDS = 2
+#: Rounds of splitting the sampled edges that cross, before the polygon is kept as given.
+_ROUNDS = 8
 #: Spacing iterations (the boundary count changes the spacing a mesh of n points has).
 _ITERATIONS = 8
 
@@ -158,8 +160,9 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
         return r, max(0, round(N) - r.n_kept) - r.n_boundary
     h = size_for_count(polygon.area, polygon.perimeter, n + extra, polygon.n_holes)
+    forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
     for _ in range(_ITERATIONS):
-        r = _resample_at(polygon, h, tolerance, corner_angle)
+        r = _resample_at(polygon, h, tolerance, corner_angle, forced)
         q = r.polygon
         h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
         if not math.isfinite(h_next) or abs(h_next - h) <= 1e-3 * h:
@@ -219,30 +222,37 @@ def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
                      resampled=False)
 
 
-def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float) -> Resampled:
+def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
+                 forced=None) -> Resampled:
     """The rings resampled at spacing ``h``, made valid (see the module notes); the
-    polygon as given if no constraint edge is shorter than ``SHORT_EDGE * h``."""
+    polygon as given if no constraint edge is shorter than ``SHORT_EDGE * h``.
+    ``forced`` (per ring, (k,) bool, updated): input vertices where runs must be
+    split (found by an earlier call at another spacing)."""
     V, E = polygon.vertices, polygon.constraint_edges
     if np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min() >= SHORT_EDGE * h:
         return _as_given(polygon, h, tol)
     keep = _must_keep(polygon)
     off = polygon.ring_offsets
-    rings = []
-    for r, ring in enumerate(polygon.rings):
-        corners = _corners(ring, h, math.radians(corner_angle))
-        rings.append(_Ring(ring, keep[off[r]:off[r + 1]], corners, h, tol))
-    factor = [np.ones(len(g.starts)) for g in rings]
-    for attempt in range(_ROUNDS + 2):
-        samples = [g.sample(h, tol * f) for g, f in zip(rings, factor)]
+    thr = math.radians(corner_angle)
+    corners = [_corners(ring, h, thr) for ring in polygon.rings]
+    forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings] if forced is None else forced
+    caches = [{} for _ in polygon.rings]
+    for _ in range(_ROUNDS):
+        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r])
+                 for r, ring in enumerate(polygon.rings)]
+        samples = [g.sample(h, tol) for g in rings]
         try:
             poly = _rebuild(polygon, [s[0] for s in samples])
         except InvalidPolygonError as exc:
-            log.info("resampled rings invalid at spacing %.6g (%s); sampling closer", h, exc)
-            crossing = _crossing_runs(polygon, samples)
-            if not crossing:
+            log.info("resampled rings invalid at spacing %.6g (%s); splitting there", h, exc)
+            crossing = _crossing_edges(polygon, samples)
+            added = 0
+            for r, edges in crossing.items():
+                at = rings[r].split_points(samples[r][3], edges)
+                added += int((~forced[r][at]).sum())
+                forced[r][at] = True
+            if not added:
                 break
-            for r, runs in crossing.items():
-                factor[r][runs] = 0.0 if attempt >= _ROUNDS - 1 else factor[r][runs] / 4
             continue
         kept = np.concatenate([np.concatenate([s[1] for s in samples]),
                                np.ones(len(poly.vertices) - poly.n_ring_vertices, dtype=bool)])
@@ -258,29 +268,29 @@ def _rebuild(polygon: Polygon, rings) -> Polygon:
                    regions=polygon.region_seeds)
 
 
-def _crossing_runs(polygon: Polygon, samples) -> dict:
-    """Per ring, the runs (indices) with an edge that crosses or touches another
-    edge of the rings or segments (not its neighbours)."""
+def _crossing_edges(polygon: Polygon, samples) -> dict:
+    """Per ring, the sampled edges (index of their first point) that cross or
+    touch another edge of the rings or segments (not their neighbours)."""
     segs, owner = [], []
-    for r, (pts, _, _, run_of) in enumerate(samples):
+    for r, (pts, _, _, _) in enumerate(samples):
         segs.append(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
-        owner += [(r, int(k), i, len(pts)) for i, k in enumerate(run_of)]
+        owner += [(r, i, len(pts)) for i in range(len(pts))]
     V = polygon.vertices
     E = polygon.segment_edges
     segs.append(np.stack([V[E[:, 0]], V[E[:, 1]]], axis=1).reshape(-1, 2, 2))
-    owner += [(-1, -1, i, 0) for i in range(len(E))]
+    owner += [(-1, i, 0) for i in range(len(E))]
     lines_xy = np.concatenate(segs)
     lines = shapely.linestrings(lines_xy)
     a, b = shapely.STRtree(lines).query(lines, predicate="intersects")
     out: dict = {}
     for i, j in zip(a.tolist(), b.tolist()):
-        ri, ki, pi, ni = owner[i]
-        rj, _, pj, _ = owner[j]
+        ri, pi, ni = owner[i]
+        rj, pj, _ = owner[j]
         if i == j or ri < 0 or (ri == rj and (pj - pi) % ni in (1, ni - 1)):
             continue
         if rj < 0 and _share_end(lines_xy[i], lines_xy[j]):  # a segment's junction
             continue
-        out.setdefault(ri, set()).add(ki)
+        out.setdefault(ri, set()).add(pi)
     return {r: np.array(sorted(k)) for r, k in out.items()}
 
 
@@ -329,11 +339,12 @@ def _corners(ring: np.ndarray, h: float, thr: float) -> np.ndarray:
 class _Ring:
     """One ring's runs between kept vertices and its straightened arc measure."""
 
-    def __init__(self, ring, keep, corners, h, tol):
+    def __init__(self, ring, keep, corners, forced, h, tol, cache):
         self.ring = ring
+        self.cache = cache  # (start, edges[, pieces]) -> a run's measure or sampling
         self.kept = keep | corners
         self.n_corners = int((corners & ~keep).sum())
-        starts = np.flatnonzero(self.kept)
+        starts = np.flatnonzero(self.kept | forced)  # forced: run ends that count in n
         self.closed = not len(starts)
         self.starts = starts if len(starts) else np.array([0])
         k = len(ring)
@@ -342,33 +353,52 @@ class _Ring:
         meas = seg.copy()
         for a, nv in zip(self.starts, self.nvs):
             idx = (a + np.arange(nv + 1)) % k
-            meas[idx[:-1]] = _straightened(ring[idx], seg[idx[:-1]], tol * h)
+            key = (int(a), int(nv))
+            if key not in cache:
+                cache[key] = _straightened(ring[idx], seg[idx[:-1]], tol * h)
+            meas[idx[:-1]] = cache[key]
         cum = np.concatenate([[0.0], np.cumsum(meas)])
         self.cum = cum
         self.ext = np.concatenate([cum[:-1], cum[-1] + cum])  # twice round
 
-    def sample(self, h, tols):
-        """(points (r, 2), kept (r,), deviation, run of each point (r,)) at spacing
-        ``h``, run i within ``tols[i]`` (0: every input vertex)."""
+    def sample(self, h, tol):
+        """(points (r, 2), kept (r,), deviation, measure position of each point (r,))
+        at spacing ``h``, within ``tol`` of the spacing."""
         lp = np.arange(len(self.ring))
         m = run_counts(self.ext[self.starts + self.nvs] - self.ext[self.starts], h, self.closed)
-        S, vert, run = [], [], []
-        for i, (a, nv, mk) in enumerate(zip(self.starts, self.nvs, m)):
-            for a2, u, v in self._run(lp, int(a), int(nv), int(mk), h, tols[i] * h):
+        S, vert = [], []
+        for a, nv, mk in zip(self.starts, self.nvs, m):
+            key = (int(a), int(nv), int(mk))
+            if key not in self.cache:  # a run's sampling depends on its own measure only
+                self.cache[key] = self._run(lp, int(a), int(nv), int(mk), h, tol * h)
+            for a2, u, v in self.cache[key]:
                 S.append(self.ext[a2] + u)
                 vert.append(v)
-                run.append(np.full(len(u), i))
-        S, vert, run = np.concatenate(S), np.concatenate(vert), np.concatenate(run)
+        S, vert = np.concatenate(S), np.concatenate(vert)
         pts = self._points(S, vert)
         kept = np.zeros(len(S), dtype=bool)
         kept[vert >= 0] = self.kept[vert[vert >= 0] % len(self.ring)]
-        return pts, kept, float(self._deviation(S, pts).max()), run
+        return pts, kept, float(self._deviation(S, pts).max()), S
+
+    def split_points(self, S, edges):
+        """The input vertices (indices) nearest the middle of the sampled edges
+        ``edges`` (first points' indices), strictly inside their span."""
+        total = self.cum[-1]
+        k = len(self.ring)
+        a = S[edges]
+        b = np.where(edges + 1 < len(S), S[(edges + 1) % len(S)], S[0] + total)
+        out = []
+        for lo, hi in zip(a, b):
+            i = np.searchsorted(self.ext, [lo, hi], side="right")
+            inside = np.arange(i[0], i[1])
+            inside = inside[(self.ext[inside] > lo) & (self.ext[inside] < hi)]
+            if len(inside):
+                mid = inside[np.argmin(np.abs(self.ext[inside] - 0.5 * (lo + hi)))]
+                out.append(int(mid) % k)
+        return np.array(out, dtype=np.int64)
 
     def _run(self, lp, a, nv, m, h, tol):
         """[(start, offsets, vertex or -1)] sampling run (a, nv), split if need be."""
-        if tol <= 0:  # the input vertices themselves
-            u = self.ext[a:a + nv] - self.ext[a]
-            return [(a, u, a + np.arange(nv))]
         u, height = plain_run(self.ring, lp, self.ext, a, nv, m)
         vert = np.full(m, -1)
         vert[0] = a
