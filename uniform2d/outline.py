@@ -195,7 +195,7 @@ def short_edge_warning(polygon: Polygon, n: int) -> str | None:
     return (f"{short} of the polygon's {len(L)} edges are shorter than a third of the mesh "
             f"spacing {h:.4g} (the shortest {L.min():.3g}, spacing / {h / L.min():.3g}): the mesh "
             f"keeps every polygon vertex, so its edge ratio is at least about {h / L.min():.3g}; "
-            "resample the outline (resample=0.05, or --resample 0.05 on the command line)")
+            "resample the outline (resample=0.25, or --resample 0.25 on the command line)")
 
 
 def _check(tolerance, corner_angle) -> None:
