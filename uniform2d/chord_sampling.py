@@ -71,13 +71,13 @@ def plain_run(V, lp, ext, a, nv, m):
     return u, float(d.max())
 
 
-def _candidates(V, lp, a, nv, off, m):
-    """The candidate positions of a run: a grid of ``m * _GRID`` even steps plus
+def _candidates(V, lp, a, nv, off, m, grid=_GRID):
+    """The candidate positions of a run: a grid of ``m * grid`` even steps plus
     the input vertices nearest to it.  Returns their arc offsets ``u``, run
     vertex ``rv`` (or -1), 3-D points ``C`` and ``excess``: for each gap between
     candidates, the largest distance of a skipped input vertex from its chord."""
     L = float(off[-1])
-    G = m * _GRID
+    G = m * grid
     ug = L * np.arange(1, G) / G  # the run's ends are added as vertices below
     # input vertices that are the nearest vertex of some grid point (all of them
     # unless the input is finer than the grid) join the candidates
@@ -189,10 +189,10 @@ def _best_path(blocks, nc, tol, href):
     return np.array(path[::-1])
 
 
-def sample_run(V, lp, ext, a, nv, m, tol, bounds=(_SHORTEST, _LONGEST)):
+def sample_run(V, lp, ext, a, nv, m, tol, bounds=(_SHORTEST, _LONGEST), grid=_GRID):
     """Sample one run of a boundary loop.
 
-    The candidate positions are a grid of ``m * _GRID`` even steps plus the input
+    The candidate positions are a grid of ``m * grid`` even steps plus the input
     vertices; a dynamic programme over them picks the ring vertices so that every
     ring edge is between ``bounds[0]`` and ``bounds[1]`` times ``L / m`` long (in
     arc length; by default 0.8 and 1.25), no input boundary vertex is farther than ``tol`` from the ring
@@ -217,6 +217,8 @@ def sample_run(V, lp, ext, a, nv, m, tol, bounds=(_SHORTEST, _LONGEST)):
         Chord-height tolerance (a length).
     bounds : (float, float)
         The ring edges' shortest and longest lengths, as fractions of ``L / m``.
+    grid : int
+        Candidate positions per plain spacing (besides the input vertices).
 
     Returns
     -------
@@ -229,7 +231,7 @@ def sample_run(V, lp, ext, a, nv, m, tol, bounds=(_SHORTEST, _LONGEST)):
     """
     off = ext[a : a + nv + 1] - ext[a]  # offsets of the run's input vertices
     href = float(off[-1]) / m
-    u, rv, C, excess, skipped = _candidates(V, lp, a, nv, off, m)
+    u, rv, C, excess, skipped = _candidates(V, lp, a, nv, off, m, grid)
     lo, hi = href * bounds[0], href * bounds[1]
     W, H = _chord_heights(u, rv >= 0, C, excess, skipped, lo, hi)
     path = _best_path(_blocks(u, H, W, lo, hi), len(u), tol, href)

@@ -63,6 +63,9 @@ SHORT_EDGE = 1 / 3
 #: The edge-length bounds (fractions of a run's spacing) tried in turn where the
 #: tolerance is not met.
 _BOUNDS = ((0.8, 1.25), (0.5, 1.25), (0.25, 1.25))
+#: Candidate positions per spacing in the dynamic programme (the surface layer's 16
+#: costs 4 times the time for little: planar tolerances are fractions of a spacing).
+_GRID = 8
 #: Rounds of splitting the sampled edges that cross, before the polygon is kept as given.
 _ROUNDS = 8
 #: Spacing iterations (the boundary count changes the spacing a mesh of n points has).
@@ -160,12 +163,17 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
         return r, max(0, round(N) - r.n_kept) - r.n_boundary
     h = size_for_count(polygon.area, polygon.perimeter, n + extra, polygon.n_holes)
+    # a first guess nearer the fixed point: the perimeter without the wiggles the
+    # tolerance removes (a dense outline's own perimeter can be many times longer)
+    simple = shapely.simplify(polygon.to_shapely(), tolerance * h, preserve_topology=False)
+    if simple.geom_type == "Polygon" and not simple.is_empty:
+        h = max(h, size_for_count(polygon.area, simple.length, n + extra, polygon.n_holes))
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
     for _ in range(_ITERATIONS):
         r = _resample_at(polygon, h, tolerance, corner_angle, forced)
         q = r.polygon
         h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
-        if not math.isfinite(h_next) or abs(h_next - h) <= 1e-3 * h:
+        if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
             break
         h = h_next
     return r, n - r.n_boundary
@@ -405,7 +413,7 @@ class _Ring:
         for bounds in _BOUNDS:
             if height <= tol:
                 return [(a, u, vert)]
-            u, vert, height = sample_run(self.ring, lp, self.ext, a, nv, m, tol, bounds)
+            u, vert, height = sample_run(self.ring, lp, self.ext, a, nv, m, tol, bounds, _GRID)
         if height <= tol:
             return [(a, u, vert)]
         # split at the input vertex farthest from the sampling, and sample both parts
