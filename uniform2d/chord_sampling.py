@@ -14,7 +14,7 @@ import numpy as np
 
 from .geometry import point_segment_distance
 
-__all__ = ["run_counts", "plain_run", "sample_run"]
+__all__ = ["plain_run", "run_counts", "sample_run"]
 
 #: Candidate positions per plain spacing (besides the input vertices).
 _GRID = 16
