@@ -178,6 +178,14 @@ def test_bad_tolerance_refused(bad):
         u.uniform_mesh(wiggly_disk(), 100, resample=bad)
 
 
+def test_bad_arguments_of_resample_polygon_refused():
+    p = wiggly_disk()
+    for kwargs in ({}, {"n": 10, "size": 0.1}, {"n": 0}, {"n": 2.5}, {"size": -1.0},
+                   {"n": 10, "corner_angle": 200}):
+        with pytest.raises(InvalidArgumentError):
+            resample_polygon(p, tolerance=0.1, **kwargs)
+
+
 def test_short_edges_warn_and_suggest_resampling(caplog):
     p = wiggly_disk()
     with caplog.at_level(logging.WARNING, logger="uniform2d"):

@@ -42,6 +42,7 @@ import dataclasses
 import itertools
 import logging
 import math
+import numbers
 
 import numpy as np
 import shapely
@@ -156,6 +157,12 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     (0, 300, True)
     """
     _check(tolerance, corner_angle)
+    if (n is None) == (size is None):
+        raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
+    if size is None and (isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1):
+        raise InvalidArgumentError(f"n must be a positive integer, got {n!r}")
+    if size is not None and not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
+        raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     extra = len(polygon.vertices) - polygon.n_ring_vertices
     if size is not None:
         r = _resample_at(polygon, float(size), tolerance, corner_angle)
@@ -207,12 +214,13 @@ def short_edge_warning(polygon: Polygon, n: int) -> str | None:
 
 
 def _check(tolerance, corner_angle) -> None:
-    ok = isinstance(tolerance, (int, float, np.floating)) and not isinstance(tolerance, bool)
+    ok = isinstance(tolerance, numbers.Real) and not isinstance(tolerance, bool)
     if not (ok and math.isfinite(tolerance) and tolerance > 0):
         raise InvalidArgumentError(
             f"resample must be a tolerance > 0 (a fraction of the mesh spacing, e.g. 0.05), "
             f"got {tolerance!r}")
-    if not (isinstance(corner_angle, (int, float)) and 0 <= corner_angle <= 180):
+    if isinstance(corner_angle, bool) or not (
+            isinstance(corner_angle, numbers.Real) and 0 <= corner_angle <= 180):
         raise InvalidArgumentError(f"corner_angle must be in [0, 180] degrees, got {corner_angle!r}")
 
 
