@@ -13,7 +13,9 @@ outline, as the surface layer does for its domains (the same dynamic programme,
   spacing before and after it), at most one in any arc of length ``h``
   (the sharpest, of those closer than ``h``); and every ring vertex a segment or fixed point touches.
   Segments' interior vertices and fixed points inside stay as they are;
-- the **runs** between kept vertices (a whole ring if it has none) are sampled
+- a run between kept vertices that is a single input edge is left whole: the
+  mesher splits it at the spacing it chooses, its points counting in n too;
+- the other **runs** between kept vertices (a whole ring if it has none) are sampled
   evenly in a *straightened* arc length (that of the run simplified by
   Douglas-Peucker at ``tol * h``, so a zigzag finer than the tolerance does not
   count as length), ``round(L / h)`` pieces; where that leaves the outline
@@ -414,7 +416,11 @@ class _Ring:
         return np.array(out, dtype=np.int64)
 
     def _run(self, lp, a, nv, m, h, tol):
-        """[(start, offsets, vertex or -1)] sampling run (a, nv), split if need be."""
+        """[(start, offsets, vertex or -1)] sampling run (a, nv), split if need be.
+        A run that is one input edge is left whole: the mesher splits it at the
+        spacing it chooses (its points count in n like these)."""
+        if nv == 1:
+            return [(a, np.zeros(1), np.array([a]))]
         u, height = plain_run(self.ring, lp, self.ext, a, nv, m)
         vert = np.full(m, -1)
         vert[0] = a
