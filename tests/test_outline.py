@@ -196,6 +196,12 @@ def test_short_edges_warn_and_suggest_resampling(caplog):
     with caplog.at_level(logging.WARNING, logger="uniform2d"):
         m = u.uniform_mesh(u.Polygon([(0, 0), (2, 0), (2, 1), (0, 1)]), 300)
     assert "warning" not in m.info and not caplog.records
+    # a bolt hole's chords at a coarse n: said in info (and logged as information), no warning
+    with caplog.at_level(logging.INFO, logger="uniform2d"):
+        m = u.uniform_mesh(u.read_polygon(ROOT / "data" / "l_bracket.json"), 40)
+    assert "resample" in m.info["warning"]
+    said = [rec for rec in caplog.records if "resample the outline" in rec.getMessage()]
+    assert len(said) == 1 and said[0].levelno == logging.INFO
 
 
 def _cli(capsys, *args):
@@ -221,6 +227,13 @@ def test_cli_resample_and_warning(tmp_path, capsys):
     m = meshio.read(tmp_path / "b.vtu")
     kept = int(out.split(" input vertices kept")[0].rsplit(" ", 1)[1])
     assert len(m.points) == kept + 300
+    code, out, err = _cli(capsys, "mesh", src, "-n", "300", "--resample", "0.25",
+                          "--corner-angle", "60", "-o", tmp_path / "d.vtu")
+    assert code == 0, err
+    assert int(out.split(" input vertices kept")[0].rsplit(" ", 1)[1]) < kept
+    code, out, err = _cli(capsys, "mesh", src, "-n", "300", "--corner-angle", "60",
+                          "-o", tmp_path / "e.vtu")
+    assert code == 2 and "--corner-angle" in err and not (tmp_path / "e.vtu").exists()
     code, out, err = _cli(capsys, "mesh", src, "-n", "300", "--resample", "0.25",
                           "--method", "paper", "-o", tmp_path / "c.vtu")
     assert code == 2 and len(err.strip().splitlines()) == 1 and "--resample" in err

@@ -54,7 +54,7 @@ from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
 from .polygon import Polygon
 
-__all__ = ["CORNER_ANGLE", "SHORT_EDGE", "Resampled", "resample_polygon", "short_edge_warning"]
+__all__ = ["CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled", "resample_polygon", "short_edge_warning"]
 
 log = logging.getLogger(__name__)
 
@@ -63,6 +63,9 @@ CORNER_ANGLE = 30.0
 #: A polygon edge shorter than this fraction of the mesh spacing makes a uniform
 #: mesh impossible: the mesh keeps it, so its edge ratio is at least about 1 / SHORT_EDGE.
 SHORT_EDGE = 1 / 3
+#: The edge ratio the polygon's own edges force from which that is a warning (below,
+#: information kept in ``Mesh.info``).
+SEVERE = 10.0
 #: The edge-length bounds (fractions of a run's spacing) tried in turn where the
 #: tolerance is not met.
 _BOUNDS = ((0.8, 1.25), (0.5, 1.25), (0.25, 1.25))
@@ -188,13 +191,15 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     return r, n - r.n_boundary
 
 
-def short_edge_warning(polygon: Polygon, n: int) -> str | None:
+def short_edge_warning(polygon: Polygon, n: int) -> tuple[str, int] | None:
     """Why ``polygon``'s own edges make a uniform mesh of n points impossible, or None.
 
     The criterion: a constraint edge (ring or segment piece) shorter than
     :data:`SHORT_EDGE` of the spacing h of an equilateral mesh with |V| + n
     vertices; the mesh keeps that edge, so its edge ratio is at least about h
-    over it.
+    over it.  Returns the message and its logging level: ``WARNING`` when that
+    ratio is at least :data:`SEVERE` (a digitised outline far finer than the
+    mesh), ``INFO`` below (a small hole's chords at a coarse n, say).
 
     Examples
     --------
@@ -209,10 +214,12 @@ def short_edge_warning(polygon: Polygon, n: int) -> str | None:
     short = int((L < SHORT_EDGE * h).sum())
     if not short:
         return None
-    return (f"{short} of the polygon's {len(L)} edges are shorter than a third of the mesh "
-            f"spacing {h:.4g} (the shortest {L.min():.3g}, spacing / {h / L.min():.3g}): the mesh "
-            f"keeps every polygon vertex, so its edge ratio is at least about {h / L.min():.3g}; "
-            "resample the outline (resample=0.25, or --resample 0.25 on the command line)")
+    ratio = h / L.min()
+    message = (f"{short} of the polygon's {len(L)} edges are shorter than a third of the mesh "
+               f"spacing {h:.4g} (the shortest {L.min():.3g}, spacing / {ratio:.3g}): the mesh "
+               f"keeps every polygon vertex, so its edge ratio is at least about {ratio:.3g}; "
+               "resample the outline (resample=0.25, or --resample 0.25 on the command line)")
+    return message, logging.WARNING if ratio >= SEVERE else logging.INFO
 
 
 def _check(tolerance, corner_angle) -> None:

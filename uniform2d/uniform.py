@@ -109,8 +109,8 @@ def uniform_mesh(
     mesh = optimize_mesh(polygon, n, objective=objective, progress=progress)
     warning = short_edge_warning(polygon, n)
     if warning is not None:
-        log.warning("%s", warning)
-        mesh.info["warning"] = warning
+        log.log(warning[1], "%s", warning[0])
+        mesh.info["warning"] = warning[0]
     return mesh
 
 

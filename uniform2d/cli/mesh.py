@@ -66,6 +66,9 @@ def add_parser(subparsers):
                    help="resample the outline at the mesh spacing, within TOL x spacing of it "
                    "(e.g. 0.05 or 0.25): for dense outlines (coastlines, CAD curves); corners, "
                    "segment ends and fixed points stay, the other boundary points count in n")
+    p.add_argument("--corner-angle", type=float, default=None, metavar="DEG",
+                   help="with --resample: input vertices turning by more than DEG degrees stay "
+                   "(default 30)")
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
@@ -182,8 +185,11 @@ def _mesh_one(polygon, args, progress=None):
     from ..uniform import steiner_count_for_size, uniform_mesh
 
     if args.method == "uniform":
+        if args.corner_angle is not None and args.resample is None:
+            raise InvalidArgumentError("--corner-angle works with --resample only")
+        extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
         return uniform_mesh(polygon, n=args.n, size=args.size, resample=args.resample,
-                            progress=progress)
+                            progress=progress, **extra)
     if args.resample is not None:
         raise InvalidArgumentError("--resample works with --method uniform (the default) only")
     n, what = args.n, f"n = {args.n}"
@@ -289,6 +295,8 @@ def _show(args, doc: dict, several: bool) -> None:
         if several:
             print(f"== {doc['input']} -> {doc['output']}")
         print(doc["summary"])
+        if "warning" in doc["info"]:
+            print("note: " + doc["info"]["warning"])
         if "resample" in doc["info"]:
             print(_resample_line(doc["info"]["resample"]))
         for k, r in enumerate(doc["regions"] or []):
