@@ -40,6 +40,9 @@ class Mesh:
     segment_members : tuple of ndarray
         ``(edges (K, 2) int64, ids (K,) int64)``: the mesh edges on the polygon's
         segments and the segment of each.
+    size : SizeField or None
+        The size field a graded mesh follows, at the scale of its n (None for a
+        uniform mesh); :meth:`quality` then measures relative to it too.
     """
 
     points: np.ndarray
@@ -47,6 +50,7 @@ class Mesh:
     polygon: Polygon
     n_steiner: int
     info: dict[str, Any] = field(default_factory=dict)
+    size: Any = None
 
     def __post_init__(self):
         for a in (self.points, self.triangles):
@@ -77,7 +81,8 @@ class Mesh:
         if d_n is None:
             d_n = self.info.get("d_n")
         return quality(
-            self.points, self.triangles, self.polygon, n_steiner=self.n_steiner, d_n=d_n
+            self.points, self.triangles, self.polygon, n_steiner=self.n_steiner, d_n=d_n,
+            size=self.size,
         )
 
     def write(self, path, **kwargs) -> None:

@@ -137,6 +137,8 @@ class Quality:
     longest_edge_bound: Bound | None = None
     max_perimeter_bound: Bound | None = None
     edge_ratio_bound: Bound | None = None
+    #: Measures relative to a size field (:mod:`uniform2d.relative`), given one.
+    relative: "RelativeQuality | None" = None  # noqa: F821 (uniform2d.relative)
 
     def to_dict(self) -> dict:
         """All fields as plain JSON-serialisable types.
@@ -147,6 +149,10 @@ class Quality:
         out = {}
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
+            if f.name == "relative":
+                if v is not None:  # absent without a size field: the dict is as before
+                    out[f.name] = v.to_dict()
+                continue
             if isinstance(v, Bound):
                 v = v.to_dict()
             elif isinstance(v, tuple):
@@ -191,6 +197,8 @@ class Quality:
             f"  Largest triangle perimeter: {g(self.max_perimeter)}",
             "  Edge length / mean histogram:",
         ]
+        if self.relative is not None:
+            lines += self.relative.summary()
         c, e = self.histogram_counts, self.histogram_edges
         for i in range(0, len(c), 4):
             cells = [f"{e[k]:5.3f} - {e[k + 1]:5.3f}: {c[k]:7d}" for k in range(i, min(i + 4, len(c)))]
