@@ -1,11 +1,14 @@
 """Graded meshes with exactly n points: :func:`graded_mesh`, what
 :func:`uniform2d.uniform_mesh` runs when ``size`` is a field.
 
-1. **Start.**  Algorithm INSERT (:func:`uniform2d.insert`) with the field: each
-   point goes where the visible distance to the sites already placed, divided
-   by h there, is largest.  A factor on h changes no comparison, so the n
-   points do not depend on the field's scale: n is what is inserted.  The
-   start already has the field's density, boundary points included.
+1. **Start.**  The boundary first (:func:`boundary_sites`): every edge of the
+   rings and segments gets ``round(∫ ds / (s h))`` pieces, their ends spaced so
+   that each piece has the same ``∫ ds / h``, with s the field's scale at n (see
+   4.).  The moves slide boundary points along their own edge only, so these
+   counts fix how the boundary follows h.  Then Algorithm INSERT
+   (:func:`uniform2d.insert`) with the field places the other points: each
+   where the visible distance to the sites already placed, divided by h
+   there, is largest (a factor on h changes no comparison).
 2. **Lloyd.**  Weighted Lloyd iterations for the density 1 / h²
    (:func:`uniform2d.optimize.lloyd.weighted_lloyd`) move the interior points
    towards a centroidal Voronoi tessellation, whose regular neighbourhoods the
@@ -30,9 +33,12 @@ from __future__ import annotations
 
 import logging
 
+import numpy as np
+
 from .errors import PLEASE_REPORT, InternalError
+from .geometry import polygon_edges
 from .grading import check_range, field_integrals, scale_for_count
-from .insert import insert
+from .insert import insert_on_edges
 from .mesh import Mesh
 from .optimize.lloyd import weighted_lloyd
 from .optimize.moves import improve_kept
@@ -49,6 +55,9 @@ log = logging.getLogger(__name__)
 #: about 30 the CV of q falls little more, at the cost of a triangulation each.
 LLOYD_ITERATIONS = 30
 LLOYD_OMEGA = 1.5
+
+#: Samples of the field along each boundary edge (:func:`boundary_sites`).
+EDGE_SAMPLES = 64
 
 #: The phases :func:`graded_mesh` reports to ``progress``.
 PHASES = ("insert", "relaxation")
@@ -95,11 +104,14 @@ def graded_mesh(polygon: Polygon, n: int, field: SizeField, *, objective: str = 
             progress(phase, done, total)
 
     report("insert", 0, 1)
-    start = insert(polygon, n, size=field)
+    bsites, bedges = boundary_sites(polygon, field, s, n)
+    start = insert_on_edges(polygon, n - len(bsites), bsites, bedges, field)
     report("insert", 1, 1)
     report("relaxation", 0, 1)
-    sites = weighted_lloyd(polygon, start.points, start.on_boundary, field,
-                           iterations=LLOYD_ITERATIONS, omega=LLOYD_OMEGA)
+    sites = np.concatenate([bsites, start.points])
+    fixed = np.concatenate([np.ones(len(bsites), bool), start.on_boundary])
+    sites = weighted_lloyd(polygon, sites, fixed, field, iterations=LLOYD_ITERATIONS,
+                           omega=LLOYD_OMEGA)
     pts, tri, run = improve_kept(polygon, sites, size=field, objective=objective)
     report("relaxation", 1, 1)
     if len(pts) != nV + n:
@@ -115,3 +127,43 @@ def graded_mesh(polygon: Polygon, n: int, field: SizeField, *, objective: str = 
         "objective_value": run["objective_value"],
     }
     return Mesh(pts, tri, polygon, n, info, size=field.scaled(s))
+
+
+def boundary_sites(polygon: Polygon, field: SizeField, scale: float, n: int):
+    """Points on the rings' and segments' edges following ``scale * field``: (sites
+    (k, 2), the edge of each in ``polygon.constraint_edges`` order), k <= n / 2.
+
+    Edge e of length L gets ``m = round(∫_e ds / (scale h))`` pieces (at least
+    one), so m - 1 points, placed where the running integral of 1 / h reaches
+    j / m of the edge's (``EDGE_SAMPLES`` midpoint samples per edge).  If the
+    boundary would take more than half of the n points the field is coarsened
+    until it does not.
+
+    Examples
+    --------
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> sites, edges = boundary_sites(sq, SizeField.constant(sq.bounds, 1.0), 0.25, 40)
+    >>> len(sites), edges.tolist()[:3]
+    (12, [0, 0, 0])
+    """
+    a, d, L = polygon_edges(polygon, constraints=True)
+    t = (np.arange(EDGE_SAMPLES) + 0.5) / EDGE_SAMPLES
+    mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
+    inv = 1.0 / field(mids.reshape(-1, 2)).reshape(len(a), EDGE_SAMPLES)
+    cum = np.concatenate([np.zeros((len(a), 1)), np.cumsum(inv, axis=1)], axis=1)
+    cum *= (L / EDGE_SAMPLES)[:, None]
+    for _ in range(64):
+        m = np.maximum(1, np.rint(cum[:, -1] / scale)).astype(np.int64)
+        if (m - 1).sum() <= n // 2:
+            break
+        scale *= 1.25
+    sites, edges = [], []
+    grid = np.linspace(0.0, 1.0, EDGE_SAMPLES + 1)
+    for e in np.flatnonzero(m > 1):
+        goal = cum[e, -1] * np.arange(1, m[e]) / m[e]
+        te = np.interp(goal, cum[e], grid)
+        sites.append(a[e] + te[:, None] * d[e])
+        edges.append(np.full(len(te), e, np.int64))
+    if not sites:
+        return np.empty((0, 2)), np.empty(0, np.int64)
+    return np.concatenate(sites), np.concatenate(edges)

@@ -43,10 +43,10 @@ from ._kernel import heap
 from ._kernel import insert as kinsert
 from ._kernel.outcomes import ERR_PRECISION, RUN_STRIDE, run_failure
 from .errors import CoordinatePrecisionError, InsufficientPointsError, InternalError, PLEASE_REPORT
-from .polygon import Polygon
 from .grading import as_field
-from .sizefield import SizeField
+from .polygon import Polygon
 from .sites import site_edges
+from .sizefield import SizeField
 from .tolerance import extent, rounding
 from .triangulation import load, unload
 from .validity import ensure_valid

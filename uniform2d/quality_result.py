@@ -197,12 +197,12 @@ class Quality:
             f"  Largest triangle perimeter: {g(self.max_perimeter)}",
             "  Edge length / mean histogram:",
         ]
-        if self.relative is not None:
-            lines += self.relative.summary()
         c, e = self.histogram_counts, self.histogram_edges
         for i in range(0, len(c), 4):
             cells = [f"{e[k]:5.3f} - {e[k + 1]:5.3f}: {c[k]:7d}" for k in range(i, min(i + 4, len(c)))]
             lines.append("    " + "   ".join(cells))
+        if self.relative is not None:
+            lines += self.relative.summary()
         if self.longest_edge_bound is not None:
             lines += [
                 "",

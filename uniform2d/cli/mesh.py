@@ -39,6 +39,7 @@ from ._common import (
     run_batch,
     shows_progress,
 )
+from ._sizing import add_size_options, field_from_args, has_field
 
 log = logging.getLogger(__name__)
 
@@ -57,11 +58,12 @@ def add_parser(subparsers):
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="polygon file(s): .json, .geojson, .wkt, .poly, .dxf")
-    count = p.add_mutually_exclusive_group(required=True)
-    count.add_argument("-n", type=positive_int, metavar="N",
-                       help="number of Steiner points (boundary and interior)")
-    count.add_argument("--size", type=positive_float, metavar="H",
-                       help="target edge length; n is derived from the area and perimeter")
+    p.add_argument("-n", type=positive_int, metavar="N",
+                   help="number of Steiner points (boundary and interior)")
+    p.add_argument("--size", type=positive_float, metavar="H",
+                   help="target edge length; n is derived from the area and perimeter "
+                   "(with --refine: the coarse size, n derived from the field)")
+    add_size_options(p)
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
@@ -177,6 +179,9 @@ def _mesh_one(polygon, args, progress=None):
     from ..errors import InsufficientPointsError
     from ..resources import check_point_count
 
+    field = field_from_args(polygon, args)
+    if field is not None:
+        return uniform_mesh(polygon, n=args.n, size=field, progress=progress)
     if args.method == "uniform":
         return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
     n, what = args.n, f"n = {args.n}"
@@ -230,13 +235,14 @@ def _write_both(mesh, dst: Path, fig: Path | None) -> None:
 
 def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     """Mesh one input and write its files; returns what to show (no printing here)."""
+    from ..graded import PHASES as GRADED
     from ..io import read_polygon
     from ..optimize.pipeline import PHASES
 
     src, dst, fig = job
     polygon = read_polygon(src)
     log.info("%s: %r", src, polygon)
-    bar = PhaseBar(PHASES, src.name) if getattr(args, "phase_bar", False) else None
+    bar = PhaseBar(GRADED if has_field(args) else PHASES, src.name) if getattr(args, "phase_bar", False) else None
     try:
         mesh = _mesh_one(polygon, args, bar)
     finally:
@@ -293,7 +299,23 @@ def _show(args, doc: dict, several: bool) -> None:
     sys.stdout.flush()
 
 
+def _check_count(args) -> None:
+    """-n, --size and the field options: what may go together."""
+    if has_field(args):
+        if args.method != "uniform":
+            raise ValueError("--refine and --size-field need --method uniform (the paper's T+ "
+                             "has no size field)")
+        if args.refine and args.n is None and args.size is None:
+            raise ValueError("--refine needs -n N (the count; the field's shape) or --size H "
+                             "(its coarse size; n follows)")
+        return
+    if (args.n is None) == (args.size is None):
+        raise ValueError("give one of -n N and --size H (or a size field: --refine, "
+                         "--size-field)")
+
+
 def run(args) -> int:
+    _check_count(args)
     check_parallel_options(args)
     plan = _plan(args)
     # one input runs here, where its phases can be shown as they pass
