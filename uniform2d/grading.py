@@ -29,7 +29,7 @@ import numbers
 import numpy as np
 import shapely
 
-from .errors import InsufficientPointsError, InvalidArgumentError
+from .errors import ArgumentTypeError, InsufficientPointsError, InvalidArgumentError
 from .polygon import Polygon
 from .sizefield import SizeField
 
@@ -84,7 +84,7 @@ def _check_positive(P: np.ndarray, v: np.ndarray, inside: np.ndarray, what: str)
     if np.any(bad):
         i = int(np.flatnonzero(bad)[0])
         raise InvalidArgumentError(
-            f"{what} is {v[i]!r} at {_where(P[i])}, inside the domain; sizes must be finite "
+            f"{what} is {float(v[i])!r} at {_where(P[i])}, inside the domain; sizes must be finite "
             "and positive everywhere in it"
         )
 
@@ -113,7 +113,7 @@ def as_field(polygon: Polygon, size) -> SizeField | None:
     if isinstance(size, SizeField):
         return size
     if not callable(size):
-        raise InvalidArgumentError(
+        raise ArgumentTypeError(
             f"size must be a number, a SizeField or a callable h(points), got "
             f"{type(size).__name__}"
         )
