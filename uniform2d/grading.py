@@ -179,26 +179,34 @@ def field_integrals(polygon: Polygon, field: SizeField) -> tuple[float, float]:
     shape = shapely.Polygon(*_rings(polygon))
     X, Y = np.meshgrid(gx, gy)
     corner = shapely.contains_xy(shape, X.ravel(), Y.ravel()).reshape(ny + 1, nx + 1)
-    whole = corner[:-1, :-1] & corner[1:, :-1] & corner[:-1, 1:] & corner[1:, 1:]
+    inside = corner[:-1, :-1] & corner[1:, :-1] & corner[:-1, 1:] & corner[1:, 1:]
+    some = corner[:-1, :-1] | corner[1:, :-1] | corner[:-1, 1:] | corner[1:, 1:]
+    # cells the boundary passes through: mixed corners, or a boundary sample inside
+    # (a vertex, or an edge between corners, e.g. a hole smaller than a cell)
+    crossed = some & ~inside
     V = polygon.vertices
-    i = np.clip(np.searchsorted(gx, V[:, 0], side="right") - 1, 0, nx - 1)
-    j = np.clip(np.searchsorted(gy, V[:, 1], side="right") - 1, 0, ny - 1)
-    whole[j, i] = False  # a cell holding a vertex may hold a corner or a whole hole
+    a, b = V[polygon.edges[:, 0]], V[polygon.edges[:, 1]]
+    k = np.maximum(1, np.ceil(np.hypot(*(b - a).T) / (0.25 * step)).astype(np.int64))
+    e = np.repeat(np.arange(len(a)), k)
+    t = (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k, k)
+    S = np.concatenate([a[e] + t[:, None] * (b[e] - a[e]), V])
+    i = np.clip(np.searchsorted(gx, S[:, 0], side="right") - 1, 0, nx - 1)
+    j = np.clip(np.searchsorted(gy, S[:, 1], side="right") - 1, 0, ny - 1)
+    crossed[j, i] = True
+    whole = inside & ~crossed
     cx, cy = 0.5 * (gx[:-1] + gx[1:]), 0.5 * (gy[:-1] + gy[1:])
     CX, CY = np.meshgrid(cx, cy)
     dx, dy = np.diff(gx)[0], np.diff(gy)[0]
-    w = np.full(whole.shape, dx * dy)
+    w = np.where(whole, dx * dy, 0.0).ravel()
     P = np.column_stack([CX.ravel(), CY.ravel()])
-    cut = ~whole.ravel()
+    cut = np.flatnonzero(crossed.ravel())
     boxes = shapely.box(P[cut, 0] - dx / 2, P[cut, 1] - dy / 2, P[cut, 0] + dx / 2,
                         P[cut, 1] + dy / 2)
     clipped = shapely.intersection(boxes, shape)
     wc = shapely.area(clipped)
     keep = wc > 0
-    c = shapely.get_coordinates(shapely.centroid(clipped[keep]))
-    w = w.ravel()
     w[cut] = wc
-    P[np.flatnonzero(cut)[keep]] = c
+    P[cut[keep]] = shapely.get_coordinates(shapely.centroid(clipped[keep]))
     use = w > 0
     h = field(P[use])
     T = float(np.sum(w[use] / h**2)) * 4 / math.sqrt(3)

@@ -149,11 +149,9 @@ class Quality:
         out = {}
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
-            if f.name == "relative":
-                if v is not None:  # absent without a size field: the dict is as before
-                    out[f.name] = v.to_dict()
-                continue
-            if isinstance(v, Bound):
+            if f.name == "relative" and v is not None:
+                v = v.to_dict()
+            elif isinstance(v, Bound):
                 v = v.to_dict()
             elif isinstance(v, tuple):
                 v = [_json_float(x) if isinstance(x, float) else x for x in v]

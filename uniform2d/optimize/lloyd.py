@@ -17,7 +17,8 @@ correctly), each weighted by its area times ρ at its centroid.  A point whose
 centroid falls outside P stays; ``fixed`` points (the boundary and segment
 points) stay.  Each iteration moves ``omega`` times the way to the centroid
 (over-relaxation: it converges in fewer iterations) and triangulates again
-(:func:`uniform2d.triangulation.triangulate`, exact).
+(:func:`uniform2d.triangulation.triangulate`, exact) with the sites' edges found
+once (a free site only moves to places strictly inside P).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ import numpy as np
 import shapely
 
 from ..polygon import Polygon
+from ..sites import site_edges
 from ..triangulation import triangulate
 
 __all__ = ["weighted_lloyd"]
@@ -94,14 +96,18 @@ def weighted_lloyd(polygon: Polygon, sites, fixed, size, *, iterations: int = 30
     >>> weighted_lloyd(sq, [(0.3, 0.4)], [False], f).round(6).tolist()
     [[0.5, 0.5]]
     """
-    S = np.array(sites, dtype=np.float64).reshape(-1, 2)
-    free = ~np.asarray(fixed, dtype=bool)
+    S, edges = site_edges(polygon, sites)
+    S = S.copy()
+    # sites on the boundary stay on their edge; the others are placed as interior
+    # points (only places strictly inside P are taken), so no site is classified
+    # by distance again
+    free = ~np.asarray(fixed, dtype=bool) & (edges < 0)
     off = polygon.ring_offsets
     rings = [polygon.vertices[off[r]:off[r + 1]] for r in range(len(polygon.rings))]
     shape = shapely.Polygon(rings[0], rings[1:])
     nV = len(polygon.vertices)
     for _ in range(iterations):
-        P, T = triangulate(polygon, S)
+        P, T = triangulate(polygon, S, edges)
         target = _centroids(P, T, size)[nV:]
         cand = S + omega * (target - S)
         ok = free & np.isfinite(cand).all(axis=1)
