@@ -100,6 +100,8 @@ class Mesh:
         if self.polygon.has_constraints or self.polygon.region_seeds:
             kwargs.setdefault("regions", self.regions)
             kwargs.setdefault("region_labels", self.region_labels)
+        if self.size is not None:  # a graded mesh: edges coloured by length / h
+            kwargs.setdefault("size", self.size)
         return plot_mesh(self.points, self.triangles, path, polygon=self.polygon, **kwargs)
 
     def __repr__(self) -> str:
