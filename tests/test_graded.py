@@ -258,6 +258,18 @@ def test_cli_refine_and_size_field(tmp_path, capsys):
                  "-o", str(out)]) == 0
 
 
+def test_cli_refine_with_size_is_absolute(tmp_path, capsys):
+    src = DATA / "plate_bolts.json"
+    assert main(["info", str(src), "--refine", "holes:0.25", "--size", "20"]) == 0
+    n = int(capsys.readouterr().out.split("size field -> n = ")[1].split()[0])
+    plate = read_polygon(src)
+    assert n == count_for_field(plate, refine(plate, "holes", ratio=0.25, size=20.0))
+    assert main(["mesh", str(src), "--refine", "holes:0.25", "--size", "20", "-o",
+                 str(tmp_path / "m.vtu"), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["n_steiner"] == n and 0.9 < doc["quality"]["relative"]["q_mean"] < 1.1
+
+
 def test_cli_bad_input_one_line(tmp_path, capsys):
     src = DATA / "plate_bolts.json"
     out = tmp_path / "m.vtu"
