@@ -114,8 +114,8 @@ def as_field(polygon: Polygon, size) -> SizeField | None:
         return size
     if not callable(size):
         raise ArgumentTypeError(
-            f"size must be a number, a SizeField or a callable h(points), got "
-            f"{type(size).__name__}"
+            f"size must be a SizeField or a number, or a callable h(points (k, 2)) -> (k,) "
+            f"sizes; got {type(size).__name__}"
         )
     xmin, ymin, xmax, ymax = polygon.bounds
     ext = max(xmax - xmin, ymax - ymin)
