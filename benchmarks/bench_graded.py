@@ -190,7 +190,7 @@ def fe(meshes, vertices_list) -> None:
     for who, pts, tri in (("ours graded", ours.points, ours.triangles),
                           ("gmsh graded", g.points, g.triangles),
                           ("ours uniform", uni.points, uni.triangles)):
-        print(f"  {who:14s}{len(pts):7d} vertices   error {lshape_error(pts, tri):.4f}")
+        print(f"  {who:14s}{len(pts):7d} vertices   error {lshape_error(pts, tri):.5f}")
 
     P, h, _ = meshes["bolt-plate"]
     ref_n = 12 * max(vertices_list)
