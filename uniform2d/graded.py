@@ -47,7 +47,7 @@ from .polygon import Polygon
 from .sizefield import SizeField
 from .validity import ensure_valid
 
-__all__ = ["PHASES", "graded_mesh"]
+__all__ = ["PHASES", "boundary_sites", "graded_mesh"]
 
 log = logging.getLogger(__name__)
 
