@@ -101,7 +101,13 @@ def _faces(triangles: np.ndarray, edges: np.ndarray) -> tuple[np.ndarray, np.nda
     n = int(max(triangles.max(), edges.max())) + 1
     key = he[:, 0] * n + he[:, 1]
     order = np.argsort(key, kind="stable")
-    pos = order[np.searchsorted(key[order], edges[:, 0] * n + edges[:, 1])]
+    want = edges[:, 0] * n + edges[:, 1]
+    at = np.minimum(np.searchsorted(key[order], want), len(key) - 1)
+    pos = order[at]
+    if not (key[pos] == want).all():
+        raise InvalidArgumentError(
+            "ring_members must be edges of the triangles in their direction (the interior "
+            "on their left, as Mesh.ring_members gives them)")
     return pos // 3, pos % 3 + 1
 
 
@@ -174,4 +180,6 @@ def read_abaqus_text(path):
         text = f.read()
     if not _ELEMENT_LINE.search(text):
         return meshio.abaqus.read(path)
-    return meshio.abaqus.read_buffer(io.StringIO(_ELEMENT_LINE.sub(r"\1CPS3", text)))
+    # meshio reads a text buffer when given its format (an *INCLUDE then resolves
+    # from the working directory only)
+    return meshio.read(io.StringIO(_ELEMENT_LINE.sub(r"\1CPS3", text)), file_format="abaqus")
