@@ -187,4 +187,4 @@ def run(args) -> int:
         args.chart_jobs = {"jobs": args.jobs, "scheduler": args.scheduler}
         args.jobs, args.scheduler = 1, None
     return run_batch(args, _process, plan, "remeshing", _show,
-                     lambda doc: {k: doc[k] for k in ("input", "output", "report")})
+                     lambda doc: {k: doc[k] for k in ("input", "output", "outputs", "report")})
