@@ -8,14 +8,13 @@ import json
 import meshio
 import numpy as np
 import pytest
+from test_cli import DATA, assert_one_error, run
 
 import uniform2d
 from uniform2d import InvalidArgumentError, read_mesh, read_polygon
 from uniform2d.io import write_mesh
 from uniform2d.mesh_regions import ring_chains
 from uniform2d.testing import check_mesh
-
-from test_cli import DATA, assert_one_error, run
 
 CASES = {"roof": (DATA / "constrained" / "roof_panel.json", 120),
          "slab": (DATA / "constrained" / "slab_columns.json", 150),
@@ -334,3 +333,25 @@ def test_remesh_writes_several_formats(capsys, tmp_path):
                          "-o", tmp_path / "t.obj", "--element-type", "S3R")
     assert_one_error(code, out, err)
     assert "applies to Abaqus .inp outputs" in err
+
+
+def test_set_names_stay_unique(tmp_path):
+    """Two regions with one label, a region labelled like a ring: every Gmsh name and
+    every Abaqus set name is still one set's."""
+    from uniform2d.io.mesh_sets import mesh_sets
+
+    ring = (np.array([[0, 1], [1, 2], [2, 3], [3, 0]]), np.zeros(4, int))
+    sets = mesh_sets(3, regions=np.array([0, 1, 2]), labels=("slab", "slab", "outer"),
+                     ring_members=ring, segment_members=(np.array([[0, 2]]), np.array([0])))
+    assert [(s.name, s.abaqus, s.tag) for s in sets] == [
+        ("slab", "REGION_0_SLAB", 1), ("slab (tag 2)", "REGION_1_SLAB", 2),
+        ("outer", "REGION_2_OUTER", 3), ("outer (tag 4)", "OUTER", 4),
+        ("segment 0", "SEGMENT_0", 5)]
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]])
+    tri = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    write_mesh(tmp_path / "m.msh", pts, tri, regions=[0, 1, 2, 2],
+               region_labels=("slab", "slab", "outer"), ring_members=ring)
+    m = meshio.read(tmp_path / "m.msh")
+    assert {k: v.tolist() for k, v in m.field_data.items()} == {
+        "slab": [1, 2], "slab (tag 2)": [2, 2], "outer": [3, 2], "outer (tag 4)": [4, 1]}
+    assert read_mesh(tmp_path / "m.msh", regions=True)[2].tolist() == [0, 1, 2, 2]
