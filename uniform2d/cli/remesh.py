@@ -3,7 +3,8 @@
 Wraps the ``remesh`` of the registered surface-patch layer (the ``surface``
 extra: trimesh, libigl, pymeshlab; found through :mod:`uniform2d.plugins`).
 Input: any triangle-mesh format the layer reads; output: one of its
-``WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb).  One input: ``-o FILE``.
+``WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb, .inp with shell elements).
+One input: ``-o FILE``, repeated for several formats (``-o a.obj -o a.inp``).
 Several: ``-o DIR`` (created if missing) receives ``<input stem><--format>``
 each, ``--plot`` must then be a directory too; a bad input is one line and the
 others go on (exit code 2 at the end), as with ``uniform2d mesh``.
@@ -47,9 +48,12 @@ def add_parser(subparsers):
     count.add_argument("-n", type=positive_int, metavar="N",
                        help="number of vertices of the output")
     count.add_argument("--size", type=positive_float, metavar="H", help="target 3-D edge length")
-    p.add_argument("-o", "--output", required=True, metavar="OUTPUT",
-                   help="output mesh file (.obj, .off, .ply, .stl, .glb), or with several "
-                   "inputs a directory (created if missing)")
+    p.add_argument("-o", "--output", required=True, metavar="OUTPUT", action="append",
+                   help="output mesh file (.obj, .off, .ply, .stl, .glb, .inp), or with several "
+                   "inputs a directory (created if missing); repeat it to write several "
+                   "formats: -o a.obj -o a.inp")
+    p.add_argument("--element-type", type=str.upper, choices=("S3", "S3R"), metavar="TYPE",
+                   help="Abaqus shell element type of .inp outputs: S3 (default) or S3R")
     p.add_argument("--format", default=".obj", metavar="EXT",
                    help="extension of outputs named after their input in a directory "
                    "(default .obj)")
@@ -96,30 +100,41 @@ def _target(text: str | None, several: bool, option: str) -> tuple[Path | None, 
     return path, False
 
 
-def _plan(args, layer) -> list[tuple[Path, Path, Path | None]]:
-    """(input, output, figure) per input, every check that needs no remeshing done."""
+def _plan(args, layer) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
+    """(input, outputs, figure) per input, every check that needs no remeshing done."""
     from ..plot import check_figure_path
 
     inputs = [Path(s) for s in args.inputs]
     several = len(inputs) > 1
     ext = args.format if args.format.startswith(".") else "." + args.format
-    named_file = Path(args.output).suffix.lstrip(".").lower() in layer.WRITE_FORMATS
-    if several and named_file and not names_directory(args.output):
-        raise ValueError(f"with several inputs, -o must be a directory, got '{args.output}'")
-    out, out_dir = _target(args.output, several, "-o")
+    if several and len(args.output) > 1:
+        raise ValueError("with several inputs, give one -o directory (it receives "
+                         "<input name><--format> per input)")
+    named_file = Path(args.output[0]).suffix.lstrip(".").lower() in layer.WRITE_FORMATS
+    if several and named_file and not names_directory(args.output[0]):
+        raise ValueError(f"with several inputs, -o must be a directory, got '{args.output[0]}'")
+    outs = [_target(text, several, "-o") for text in args.output]
     plot, plot_dir = _target(args.plot, several, "--plot")
     plan = []
     for src in inputs:
-        dst = out / (src.stem + ext) if out_dir else out
+        dsts = tuple(out / (src.stem + ext) if out_dir else out for out, out_dir in outs)
         fig = (plot / (src.stem + ".png") if plot_dir else plot) if plot is not None else None
-        layer.check_output(dst)
-        if not out_dir:
-            check_output_file(dst, "-o")
+        for dst, (_, out_dir) in zip(dsts, outs):
+            layer.check_output(dst)
+            if not out_dir:
+                check_output_file(dst, "-o")
+        if len({d.resolve() for d in dsts}) != len(dsts):
+            raise ValueError(f"the outputs {', '.join(map(str, dsts))} name one file twice")
         if fig is not None and not plot_dir:
             check_figure_path(fig)
             check_output_file(fig, "--plot")
-        plan.append((src, dst, fig))
-    if len({d.resolve() for _, d, _ in plan}) != len(plan):
+        plan.append((src, dsts, fig))
+    if args.element_type is not None and not any(
+            d.name.lower().endswith(".inp") for _, dsts, _ in plan for d in dsts):
+        raise ValueError(f"--element-type {args.element_type} applies to Abaqus .inp outputs, "
+                         "and no output is one; add -o NAME.inp")
+    targets = [d.resolve() for _, dsts, _ in plan for d in dsts]
+    if len(set(targets)) != len(targets):
         raise ValueError("two inputs have the same name: their outputs would overwrite each other")
     return plan
 
@@ -137,12 +152,15 @@ def _process(args, job) -> dict:
     inner = getattr(args, "chart_jobs", {})  # one input: its charts in parallel instead
     result = layer.remesh(model, n_vertices=args.n, size=args.size, param=args.param,
                           feature_angle=args.feature_angle, **inner)
-    dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
-    result.write(dst)
+    for d in dst:
+        d.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
+        inp = d.name.lower().endswith(".inp") and getattr(args, "element_type", None)
+        result.write(d, **({"element_type": args.element_type} if inp else {}))
     if fig is not None:
         fig.parent.mkdir(parents=True, exist_ok=True)
         layer.plot_result(result, fig)
-    return {"input": str(src), "output": str(dst), "plot": str(fig) if fig else None,
+    return {"input": str(src), "output": str(dst[0]), "outputs": [str(d) for d in dst],
+            "plot": str(fig) if fig else None,
             "n_vertices": len(result.vertices), "n_faces": len(result.faces),
             "report": result.report.as_dict(), "summary": result.report.summary()}
 
@@ -150,10 +168,10 @@ def _process(args, job) -> dict:
 def _show(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
-            print(f"== {doc['input']} -> {doc['output']}")
+            print(f"== {doc['input']} -> {', '.join(doc['outputs'])}")
         print(doc["summary"])
     elif not args.quiet and not args.json:
-        print(f"wrote {doc['output']} ({doc['n_vertices']} vertices, {doc['n_faces']} faces)"
+        print(f"wrote {', '.join(doc['outputs'])} ({doc['n_vertices']} vertices, {doc['n_faces']} faces)"
               + (f", figure {doc['plot']}" if doc["plot"] else ""))
     sys.stdout.flush()
 
@@ -169,4 +187,4 @@ def run(args) -> int:
         args.chart_jobs = {"jobs": args.jobs, "scheduler": args.scheduler}
         args.jobs, args.scheduler = 1, None
     return run_batch(args, _process, plan, "remeshing", _show,
-                     lambda doc: {k: doc[k] for k in ("input", "output", "report")})
+                     lambda doc: {k: doc[k] for k in ("input", "output", "outputs", "report")})
