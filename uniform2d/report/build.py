@@ -10,7 +10,7 @@ import numpy as np
 
 from .._jsonable import jsonable
 from ..errors import InvalidArgumentError
-from .cases import load_inputs, plan
+from .cases import describe_constraints, load_inputs, plan, polygon_of
 from .render import mesh_figure, render_html, render_markdown
 from .runners import iter_cases
 
@@ -33,10 +33,9 @@ def strip_timings(results: dict) -> dict:
 def _input_info(inp) -> dict:
     d = {"name": inp.name, "path": inp.path, "kind": inp.kind}
     if inp.kind == "polygon":
-        from ..polygon import Polygon
-
-        p = Polygon(inp.geometry["outer"], inp.geometry["holes"])
-        d.update(n_vertices=len(p.vertices), n_holes=p.n_holes, area=p.area, perimeter=p.perimeter)
+        p = polygon_of(inp.geometry)
+        d.update(n_vertices=len(p.vertices), n_holes=p.n_holes, area=p.area, perimeter=p.perimeter,
+                 **describe_constraints(inp.geometry))
     else:
         d.update(n_vertices=len(inp.geometry["vertices"]), n_faces=len(inp.geometry["faces"]))
     return d
@@ -73,7 +72,7 @@ def _draw(group, pngs: dict) -> None:
 
 
 def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, scheduler=None,
-                progress: bool = False, figures: bool = True) -> dict:
+                progress: bool = False, figures: bool = True, feature_angle=None) -> dict:
     """Compare uniform2d with peer meshers on polygons and surface patches.
 
     Parameters
@@ -99,6 +98,11 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         tqdm bar over cases on stderr.
     figures : bool
         Embed mesh pictures and histograms in ``index.html``.
+    feature_angle : float, optional
+        For surface patches: edges bent more than this (degrees) are kept as
+        feature lines by our remesh (see ``surface.remesh``).  Polygons keep
+        their segments, fixed points and regions in our meshes and in every peer
+        that takes them; the cases of a peer that does not are "not comparable".
 
     Returns
     -------
@@ -131,7 +135,8 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         if not p["available"]:
             log.warning("peer %s is not installed (needs %s)", p["name"], ", ".join(p["requires"]))
     inputs = load_inputs(paths)
-    cases = plan(inputs, ns, names, availability={p["name"]: p["available"] for p in info})
+    cases = plan(inputs, ns, names, availability={p["name"]: p["available"] for p in info},
+                 feature_angle=feature_angle)
     out_dir = Path(out_dir)
     (out_dir / "meshes").mkdir(parents=True, exist_ok=True)
     # Each result is written, and each figure drawn, as soon as its cases are in:

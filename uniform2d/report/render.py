@@ -82,7 +82,8 @@ def _time(c) -> str:
 
 
 def _status(c) -> str:
-    return {"ok": "", "not installed": "not installed", "failed": "failed"}.get(c["status"], c["status"])
+    return {"ok": "", "not installed": "not installed", "failed": "failed",
+            "not comparable": "not comparable"}.get(c["status"], c["status"])
 
 
 # -- figures -------------------------------------------------------------------
@@ -191,7 +192,7 @@ def _e(x) -> str:
 
 def _case_row_html(c, cols) -> str:
     cls = "ours" if c["family"] == "ours" else ""
-    if c["status"] == "not installed":
+    if c["status"] in ("not installed", "not comparable"):
         cls = "missing"
     elif c["status"] == "failed":
         cls = "failed"
@@ -203,7 +204,8 @@ def _case_row_html(c, cols) -> str:
         cells.append(f'<td class="l"><a href="{_e(c["mesh"])}">{_e(c["mesh"].split("/")[-1])}</a></td>')
     else:
         cells.append(f'<td class="l" colspan="{len(cols) + 2}">{_e(_status(c))}'
-                     + (f": {_e(c['message'])}" if c["status"] == "failed" else "") + "</td>")
+                     + (f": {_e(c['message'])}" if c["status"] in ("failed", "not comparable") else "")
+                     + "</td>")
     return (f'<tr id="case-{_e(c["id"])}" class="{cls}" data-case="{_e(c["id"])}" '
             f'data-status="{_e(c["status"])}">' + "".join(cells) + "</tr>")
 
@@ -294,10 +296,16 @@ def render_html(results: dict, figures: dict | None = None) -> str:
     return "\n".join(out) + "\n"
 
 
+def _plural(k: int, word: str) -> str:
+    return f"{k} {word}" + ("" if k == 1 else "s")
+
+
 def _describe(inp) -> str:
     if inp["kind"] == "polygon":
-        return (f"polygon, {inp['n_vertices']} vertices, {inp['n_holes']} holes, "
-                f"area {inp['area']:.6g}")
+        counts = [f"{inp['n_vertices']} vertices", _plural(inp["n_holes"], "hole")]
+        counts += [_plural(inp[k], w) for k, w in (("n_segments", "segment"), ("n_points", "fixed point"),
+                                                   ("n_regions", "labelled region")) if inp.get(k)]
+        return f"polygon, {', '.join(counts)}, area {inp['area']:.6g}"
     return f"surface patch, {inp['n_vertices']} vertices, {inp['n_faces']} faces"
 
 
@@ -338,7 +346,8 @@ def render_markdown(results: dict) -> str:
             if c["status"] == "ok":
                 cells = [fmt(c["measures"].get(k), s) for k, _, s in cols] + [_time(c)]
             else:
-                msg = _status(c) + (f": {c['message']}" if c["status"] == "failed" else "")
+                msg = _status(c) + (f": {c['message']}" if c["status"] in ("failed", "not comparable")
+                                    else "")
                 cells = [msg.replace("|", "/")] + [""] * len(cols)
             name = f"**{c['method']}**" if c["family"] == "ours" else c["method"]
             lines.append(f"| {name} | " + " | ".join(cells) + " |")
