@@ -30,6 +30,7 @@ from pathlib import Path
 from ._common import (
     PhaseBar,
     add_parallel_options,
+    same_outputs,
     check_output_dir,
     check_output_file,
     check_parallel_options,
@@ -52,14 +53,21 @@ def add_parser(subparsers):
         "mesh",
         help="mesh polygon files (exactly n Steiner points, near-equal edges)",
         description="Mesh one or more polygon files with exactly n Steiner points "
-        "(boundary and interior) and edges as equal in length as possible.",
+        "(boundary and interior) and edges as equal in length as possible. -n counts the "
+        "points ADDED to the polygon's own vertices |V| (its ring vertices, segment ends and "
+        "fixed points): the mesh has n + |V| vertices. --vertices N asks for N vertices in "
+        "total instead.",
         epilog="mesh formats: " + ", ".join(mesh_formats()),
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="polygon file(s): .json, .geojson, .wkt, .poly, .dxf")
     count = p.add_mutually_exclusive_group(required=True)
     count.add_argument("-n", type=positive_int, metavar="N",
-                       help="number of Steiner points (boundary and interior)")
+                       help="number of Steiner points: vertices added on the boundary and inside, "
+                       "on top of the polygon's own |V| (the mesh has N + |V| vertices)")
+    count.add_argument("--vertices", type=positive_int, metavar="N",
+                       help="total number of mesh vertices, the polygon's own included "
+                       "(N - |V| Steiner points; N must exceed |V|)")
     count.add_argument("--size", type=positive_float, metavar="H",
                        help="target edge length; n is derived from the area and perimeter")
     p.add_argument("--method", choices=METHODS, default="uniform",
@@ -165,10 +173,21 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
         if plot is not None:
             fig = plot / (stem + ".png") if plot_is_dir else plot
         plan.append((src, dst, fig))
-    targets = [d.resolve() for _, d, _ in plan]
-    if len(set(targets)) != len(targets):
-        raise ValueError("two inputs have the same name: their outputs would overwrite each other")
+    same_outputs(plan)
     return plan
+
+
+def steiner_for_vertices(polygon, total: int) -> int:
+    """The Steiner count giving ``total`` mesh vertices: ``total - |V|``."""
+    from ..errors import InvalidArgumentError
+
+    nv = len(polygon.vertices)
+    if total <= nv:
+        raise InvalidArgumentError(
+            f"--vertices {total} leaves no point to add: the polygon has {nv} vertices of its "
+            f"own (ring vertices, segment ends and fixed points); give --vertices above {nv}, "
+            "or -n for the points to add")
+    return total - nv
 
 
 def _mesh_one(polygon, args, progress=None):
@@ -177,9 +196,12 @@ def _mesh_one(polygon, args, progress=None):
     from ..errors import InsufficientPointsError
     from ..resources import check_point_count
 
+    n_arg = args.n
+    if getattr(args, "vertices", None) is not None:
+        n_arg = steiner_for_vertices(polygon, args.vertices)
     if args.method == "uniform":
-        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
-    n, what = args.n, f"n = {args.n}"
+        return uniform_mesh(polygon, n=n_arg, size=args.size, progress=progress)
+    n, what = n_arg, f"n = {n_arg}"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
         what = f"size {args.size!r} (n = {n})"
@@ -287,7 +309,7 @@ def _show(args, doc: dict, several: bool) -> None:
             print(f"  region {k}{label}: {r['triangles']} triangles, area {r['area']:.6g}")
         if doc["info"].get("method") == "paper" and "d_n" in doc["info"]:
             _print_tplus(doc["info"])
-    elif not args.quiet and not args.json:
+    if not args.quiet and not args.json:
         print(f"wrote {doc['output']} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
               f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
     sys.stdout.flush()

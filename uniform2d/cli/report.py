@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ._common import (
     add_parallel_options,
+    angle_degrees,
     announce_compile,
     check_output_dir,
     check_parallel_options,
@@ -46,7 +47,7 @@ def add_parser(subparsers):
                    "where installed by hand)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory")
     add_parallel_options(p, "cases")
-    p.add_argument("--feature-angle", type=float, metavar="DEG",
+    p.add_argument("--feature-angle", type=angle_degrees, metavar="DEG",
                    help="surface inputs: keep edges bent more than DEG degrees as feature lines "
                    "in our remesh (as `remesh --feature-angle`; e.g. 30 for a folded plate)")
     p.add_argument("--no-figures", action="store_true", help="leave the pictures out of index.html")
