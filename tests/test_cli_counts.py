@@ -50,14 +50,14 @@ def test_vertices_is_the_total_count(tmp_path, capsys):
 
 @pytest.mark.parametrize("total", [6, 3])
 def test_vertices_at_or_below_the_polygons_own_is_refused(tmp_path, capsys, total):
-    code, out, err = _run(capsys, "mesh", ROOF, "--vertices", total, "-o", tmp_path / "v.vtu")
+    code, _out, err = _run(capsys, "mesh", ROOF, "--vertices", total, "-o", tmp_path / "v.vtu")
     _one_error(code, err, f"--vertices {total} leaves no point to add",
                "the polygon has 6 vertices of its own", "give --vertices above 6")
     assert not (tmp_path / "v.vtu").exists()
 
 
 def test_vertices_excludes_n_and_size(tmp_path, capsys):
-    code, out, err = _run(capsys, "mesh", ROOF, "--vertices", 100, "-n", 50)
+    code, _out, err = _run(capsys, "mesh", ROOF, "--vertices", 100, "-n", 50)
     assert code == 2 and "not allowed with argument" in err
 
 
@@ -77,7 +77,7 @@ def test_a_name_collision_names_both_inputs(tmp_path, capsys):
         (tmp_path / d).mkdir()
         shutil.copy(SQUARE, tmp_path / d / "sq.json")
     a, b = tmp_path / "a/sq.json", tmp_path / "b/sq.json"
-    code, out, err = _run(capsys, "mesh", a, b, "-n", 10, "-o", tmp_path / "out/")
+    code, _out, err = _run(capsys, "mesh", a, b, "-n", 10, "-o", tmp_path / "out/")
     _one_error(code, err, f"inputs '{a}' and '{b}' would both write '{tmp_path / 'out/sq.vtu'}'")
     assert not (tmp_path / "out").exists()
 
@@ -94,11 +94,11 @@ def test_an_unwritable_output_is_refused_before_meshing(tmp_path, capsys, monkey
         raise AssertionError("meshed before the output was checked")
 
     monkeypatch.setattr(uniform2d.uniform, "uniform_mesh", no_meshing)
-    code, out, err = _run(capsys, "mesh", SQUARE, "-n", 10, "-o", locked / "m.vtu")
+    code, _out, err = _run(capsys, "mesh", SQUARE, "-n", 10, "-o", locked / "m.vtu")
     _one_error(code, err, f"cannot write '{locked / 'm.vtu'}'", "is not writable")
-    code, out, err = _run(capsys, "mesh", SQUARE, SQUARE, "-n", 10, "-o", locked / "sub/")
+    code, _out, err = _run(capsys, "mesh", SQUARE, SQUARE, "-n", 10, "-o", locked / "sub/")
     _one_error(code, err, "is not writable")
-    code, out, err = _run(capsys, "mesh", SQUARE, "-n", 10, "-o", tmp_path / "missing/m.vtu")
+    code, _out, err = _run(capsys, "mesh", SQUARE, "-n", 10, "-o", tmp_path / "missing/m.vtu")
     _one_error(code, err, "directory", "does not exist")
 
 
@@ -115,7 +115,7 @@ def test_stats_without_output_writes_next_to_the_input_and_says_so(tmp_path, cap
 # -- remesh (the surface layer) ----------------------------------------------------------
 def test_remesh_single_input_errors_name_the_file(tmp_path, capsys):
     pytest.importorskip("surface")
-    code, out, err = _run(capsys, "remesh", PLATE, "-n", 2, "-o", tmp_path / "r.obj")
+    code, _out, err = _run(capsys, "remesh", PLATE, "-n", 2, "-o", tmp_path / "r.obj")
     _one_error(code, err, f"{PLATE}: ", "at least 3")
     assert not (tmp_path / "r.obj").exists()
 
@@ -126,11 +126,11 @@ def test_remesh_collision_and_unwritable_output(tmp_path, capsys, monkeypatch):
         (tmp_path / d).mkdir()
         shutil.copy(PLATE, tmp_path / d / "p.obj")
     a, b = tmp_path / "a/p.obj", tmp_path / "b/p.obj"
-    code, out, err = _run(capsys, "remesh", a, b, "-n", 50, "-o", tmp_path / "out")
+    code, _out, err = _run(capsys, "remesh", a, b, "-n", 50, "-o", tmp_path / "out")
     _one_error(code, err, f"inputs '{a}' and '{b}' would both write")
     real = os.access
     monkeypatch.setattr(os, "access", lambda p, mode: real(p, mode) and Path(p) != tmp_path / "a")
-    code, out, err = _run(capsys, "remesh", a, "-n", 50, "-o", tmp_path / "a/r.obj")
+    code, _out, err = _run(capsys, "remesh", a, "-n", 50, "-o", tmp_path / "a/r.obj")
     _one_error(code, err, "is not writable")
 
 

@@ -30,7 +30,6 @@ from pathlib import Path
 from ._common import (
     PhaseBar,
     add_parallel_options,
-    same_outputs,
     check_output_dir,
     check_output_file,
     check_parallel_options,
@@ -38,6 +37,7 @@ from ._common import (
     positive_float,
     positive_int,
     run_batch,
+    same_outputs,
     shows_progress,
 )
 
