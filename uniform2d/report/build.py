@@ -61,13 +61,15 @@ def write_obj(path, vertices, faces) -> None:
     Path(path).write_text("\n".join(lines) + "\n")
 
 
-def _draw(group, pngs: dict) -> None:
+def _draw(group, pngs: dict, inputs: dict) -> None:
     """The figure of one input at one n: ``group`` is its [(case, points, triangles)]."""
     first = group[0][0]
     items = [(c["method"], pts, tri) for c, pts, tri in group if pts is not None]
+    inp = inputs[first["input"]]
+    segments = inp.geometry.get("segments", ()) if inp.kind == "polygon" else ()
     if items:
         pngs[(first["input"], first["n"])] = mesh_figure(
-            first["kind"], items, title=f"{first['input']}, n = {first['n']}"
+            first["kind"], items, title=f"{first['input']}, n = {first['n']}", segments=segments
         )
 
 
@@ -135,6 +137,7 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         if not p["available"]:
             log.warning("peer %s is not installed (needs %s)", p["name"], ", ".join(p["requires"]))
     inputs = load_inputs(paths)
+    by_name = {i.name: i for i in inputs}
     cases = plan(inputs, ns, names, availability={p["name"]: p["available"] for p in info},
                  feature_angle=feature_angle)
     out_dir = Path(out_dir)
@@ -152,11 +155,11 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         results_list.append(r)
         if figures:
             if group and (group[0][0]["input"], group[0][0]["n"]) != (r["input"], r["n"]):
-                _draw(group, pngs)
+                _draw(group, pngs, by_name)
                 group = []
             group.append((r, pts, tri))
     if group:
-        _draw(group, pngs)
+        _draw(group, pngs, by_name)
     results = jsonable({
         "format": RESULTS_FORMAT,
         "uniform2d_version": __version__,
