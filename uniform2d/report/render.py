@@ -193,7 +193,8 @@ def summary_rows(results: dict, kind: str):
         cs = [c for c in results["cases"] if c["kind"] == kind and c["method"] == m]
         ok = [c for c in cs if c["status"] == "ok"]
         row = {"method": m, "cases": len(ok), "of": len(cs),
-               "status": "not installed" if all(c["status"] == "not installed" for c in cs) else ""}
+               "status": next((st for st in ("not installed", "not comparable")
+                               if all(c["status"] == st for c in cs)), "")}
         for key, _, _ in cols:
             vals = [c["measures"][key] for c in ok if c["measures"].get(key) is not None]
             if key == "vertex_error":
