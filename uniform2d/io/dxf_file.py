@@ -102,11 +102,12 @@ def _dxf_entities(path, doc, tol: float):
                 zones.append((shapely.Polygon(ring), layer))
         else:
             rings.append(ring)
-            names.append(name)
+            names.append(name.replace(" (", f" #{len(rings)} (", 1))
 
     for at, e in enumerate(doc.modelspace()):
         kind, layer = e.dxftype(), str(e.dxf.get("layer", "0"))
-        name = f"{kind} (handle {e.dxf.handle}, layer {layer})"
+        what = "polyline" if kind in ("LWPOLYLINE", "POLYLINE") else kind.lower()
+        name = f"{what} (handle {e.dxf.handle}, layer {layer})"
         poly = _dxf_polyline(e, tol)
         if poly is not None:
             xy, closed = poly
@@ -133,8 +134,8 @@ def _dxf_entities(path, doc, tol: float):
             ignored[kind] += 1
     loops, rest = dxf_curves.chains([o[0] for o in opened], [o[3] for o in opened])
     for order, ring in loops:
-        closed_curve(ring, "chain of " + ", ".join(opened[i][1] for i in order), opened[order[0]][2],
-                     opened[order[0]][4])
+        closed_curve(ring, "chain (of " + ", ".join(opened[i][1] for i in order) + ")",
+                     opened[order[0]][2], opened[order[0]][4])
     segments += [(opened[i][4], piece) for i, piece in rest]
     segments = [piece for _, piece in sorted(segments, key=lambda s: s[0])]  # file order
     if ignored:
