@@ -100,6 +100,10 @@ def test_an_unwritable_output_is_refused_before_meshing(tmp_path, capsys, monkey
     _one_error(code, err, "is not writable")
     code, _out, err = _run(capsys, "mesh", SQUARE, "-n", 10, "-o", tmp_path / "missing/m.vtu")
     _one_error(code, err, "directory", "does not exist")
+    src = locked / "sq.json"  # no -o: the mesh would go next to the input
+    shutil.copy(SQUARE, src)
+    code, _out, err = _run(capsys, "mesh", src, "-n", 10)
+    _one_error(code, err, f"cannot write '{locked / 'sq.vtu'}'", "is not writable")
 
 
 def test_stats_without_output_writes_next_to_the_input_and_says_so(tmp_path, capsys):

@@ -167,6 +167,7 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
         stem = _stem(src)
         if out is None:
             dst = src.parent / (stem + ext)
+            check_output_file(dst, "-o")  # next to the input: that directory must be writable
         else:
             dst = out / (stem + ext) if out_is_dir else out
         fig = None
