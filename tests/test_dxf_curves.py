@@ -141,3 +141,15 @@ def test_chains_join_only_where_two_pieces_meet():
     assert rings == [] and len(rest) == 5
     rings, rest = chains([a, b], [True, True])  # an open chain stays pieces
     assert rings == [] and [i for i, _ in rest] == [0, 1]
+
+
+def test_a_whole_circle_drawn_as_an_arc_is_a_hole(tmp_path):
+    doc = ezdxf.new("R2010")
+    msp = doc.modelspace()
+    msp.add_lwpolyline([(0, 0), (10, 0), (10, 10), (0, 10)], close=True)
+    msp.add_arc((5, 5), 2, 90, 90)
+    doc.saveas(tmp_path / "a.dxf")
+    p = read_polygon(tmp_path / "a.dxf")
+    assert p.n_holes == 1 and len(p.holes[0]) == 23 and not p.segments
+    k = 23
+    assert p.area == pytest.approx(100 - k / 2 * 4 * math.sin(2 * math.pi / k), rel=1e-13)

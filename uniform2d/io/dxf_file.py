@@ -121,7 +121,11 @@ def _dxf_entities(path, doc, tol: float):
         elif kind == "CIRCLE":
             closed_curve(dxf_curves.circle_ring(e, tol), name, layer, at)
         elif kind == "ARC":
-            opened.append((dxf_curves.arc_polyline(e, tol), name, layer, False, at))
+            xy = dxf_curves.arc_polyline(e, tol)
+            if np.array_equal(xy[0], xy[-1]):  # start angle = end angle: a whole circle
+                closed_curve(xy[:-1], name, layer, at)
+            else:
+                opened.append((xy, name, layer, False, at))
         elif kind == "LINE":
             opened.append((np.array([(e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y)]),
                            name, layer, True, at))
