@@ -40,6 +40,7 @@ from ._common import (
     positive_float,
     positive_int,
     run_batch,
+    same_outputs,
     shows_progress,
 )
 
@@ -57,14 +58,21 @@ def add_parser(subparsers):
         "mesh",
         help="mesh polygon files (exactly n Steiner points, near-equal edges)",
         description="Mesh one or more polygon files with exactly n Steiner points "
-        "(boundary and interior) and edges as equal in length as possible.",
+        "(boundary and interior) and edges as equal in length as possible. -n counts the "
+        "points ADDED to the polygon's own vertices |V| (its ring vertices, segment ends and "
+        "fixed points): the mesh has n + |V| vertices. --vertices N asks for N vertices in "
+        "total instead.",
         epilog="mesh formats: " + ", ".join(mesh_formats()),
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="polygon file(s): .json, .geojson, .wkt, .poly, .dxf")
     count = p.add_mutually_exclusive_group(required=True)
     count.add_argument("-n", type=positive_int, metavar="N",
-                       help="number of Steiner points (boundary and interior)")
+                       help="number of Steiner points: vertices added on the boundary and inside, "
+                       "on top of the polygon's own |V| (the mesh has N + |V| vertices)")
+    count.add_argument("--vertices", type=positive_int, metavar="N",
+                       help="total number of mesh vertices, the polygon's own included "
+                       "(N - |V| Steiner points; N must exceed |V|)")
     count.add_argument("--size", type=positive_float, metavar="H",
                        help="target edge length; n is derived from the area and perimeter")
     p.add_argument("--method", choices=METHODS, default="uniform",
@@ -173,6 +181,9 @@ def _outputs(args, inputs: list[Path], ext: str) -> list[tuple[Path, ...]]:
         stem = _stem(src)
         mine = tuple(src.parent / (stem + ext) if out is None else
                      (out / (stem + ext) if is_dir else out) for out, is_dir in targets)
+        for (out, _), d in zip(targets, mine):
+            if out is None:  # next to the input: that directory must be writable
+                check_output_file(d, "-o")
         if len({d.resolve() for d in mine}) != len(mine):
             raise ValueError(f"the outputs {', '.join(map(str, mine))} name one file twice")
         outs.append(mine)
@@ -200,10 +211,21 @@ def _plan(args) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
         if plot is not None:
             fig = plot / (_stem(src) + ".png") if plot_is_dir else plot
         plan.append((src, dst, fig))
-    targets = [d.resolve() for _, mine, _ in plan for d in mine]
-    if len(set(targets)) != len(targets):
-        raise ValueError("two inputs have the same name: their outputs would overwrite each other")
+    same_outputs(plan)
     return plan
+
+
+def steiner_for_vertices(polygon, total: int) -> int:
+    """The Steiner count giving ``total`` mesh vertices: ``total - |V|``."""
+    from ..errors import InvalidArgumentError
+
+    nv = len(polygon.vertices)
+    if total <= nv:
+        raise InvalidArgumentError(
+            f"--vertices {total} leaves no point to add: the polygon has {nv} vertices of its "
+            f"own (ring vertices, segment ends and fixed points); give --vertices above {nv}, "
+            "or -n for the points to add")
+    return total - nv
 
 
 def _mesh_one(polygon, args, progress=None):
@@ -212,9 +234,12 @@ def _mesh_one(polygon, args, progress=None):
     from ..errors import InsufficientPointsError
     from ..resources import check_point_count
 
+    n_arg = args.n
+    if getattr(args, "vertices", None) is not None:
+        n_arg = steiner_for_vertices(polygon, args.vertices)
     if args.method == "uniform":
-        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
-    n, what = args.n, f"n = {args.n}"
+        return uniform_mesh(polygon, n=n_arg, size=args.size, progress=progress)
+    n, what = n_arg, f"n = {n_arg}"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
         what = f"size {args.size!r} (n = {n})"
@@ -341,7 +366,7 @@ def _show(args, doc: dict, several: bool) -> None:
             print(f"  region {k}{label}: {r['triangles']} triangles, area {r['area']:.6g}")
         if doc["info"].get("method") == "paper" and "d_n" in doc["info"]:
             _print_tplus(doc["info"])
-    elif not args.quiet and not args.json:
+    if not args.quiet and not args.json:
         print(f"wrote {', '.join(doc['outputs'])} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
               f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
     sys.stdout.flush()

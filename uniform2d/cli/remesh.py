@@ -17,14 +17,18 @@ import sys
 from pathlib import Path
 
 from ._common import (
+    INPUT_ERRORS,
     add_parallel_options,
+    angle_degrees,
     check_output_dir,
     check_output_file,
     check_parallel_options,
     names_directory,
     positive_float,
     positive_int,
+    report_failure,
     run_batch,
+    same_outputs,
 )
 
 log = logging.getLogger(__name__)
@@ -40,13 +44,15 @@ def add_parser(subparsers):
         "3-D edges: a patch that flattens well is flattened (libigl), its flat domain meshed "
         "with uniform2d and lifted back; any other model (closed, any genus, several parts, "
         "strongly curved) is cut into an atlas of such charts sharing their seams. With one "
-        "input, --jobs/--scheduler mesh its charts in parallel (same output bytes).",
+        "input, --jobs/--scheduler mesh its charts in parallel (same output bytes). -n counts "
+        "ALL the vertices of the output (unlike `uniform2d mesh -n`, which counts the points "
+        "added to a polygon's own).",
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="surface mesh file(s) (.obj, .off, .ply, .stl, ...)")
     count = p.add_mutually_exclusive_group(required=True)
     count.add_argument("-n", type=positive_int, metavar="N",
-                       help="number of vertices of the output")
+                       help="total number of vertices of the output mesh (boundary included)")
     count.add_argument("--size", type=positive_float, metavar="H", help="target 3-D edge length")
     p.add_argument("-o", "--output", required=True, metavar="OUTPUT", action="append",
                    help="output mesh file (.obj, .off, .ply, .stl, .glb, .inp), or with several "
@@ -59,7 +65,10 @@ def add_parser(subparsers):
                    "(default .obj)")
     p.add_argument("--param", choices=PARAMS, default="lscm",
                    help="parameterisation tried first (default lscm)")
-    p.add_argument("--feature-angle", type=_angle, metavar="DEG",
+    p.add_argument("--corner-angle", type=angle_degrees, metavar="DEG",
+                   help="keep as output vertices the boundary vertices where the boundary "
+                   "turns by more than DEG degrees (in 3-D; default: the surface layer's, 30)")
+    p.add_argument("--feature-angle", type=angle_degrees, metavar="DEG",
                    help="keep creases: interior edges whose faces' normals differ by more "
                    "than DEG degrees become chains of output edges on the input's edges "
                    "(default: none; a model cut into an atlas still has its seams on edges "
@@ -71,19 +80,6 @@ def add_parser(subparsers):
     show.add_argument("--stats", action="store_true", help="print the remesh report")
     show.add_argument("--json", action="store_true", help="print the report as JSON")
     return p
-
-
-def _angle(text: str) -> float:
-    """An angle in degrees strictly between 0 and 180 (argparse type)."""
-    import argparse
-
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an angle in degrees, got '{text}'") from None
-    if not 0.0 < value < 180.0:
-        raise argparse.ArgumentTypeError(f"the angle must be between 0 and 180 degrees, got {text}")
-    return value
 
 
 def _target(text: str | None, several: bool, option: str) -> tuple[Path | None, bool]:
@@ -133,9 +129,7 @@ def _plan(args, layer) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
             d.name.lower().endswith(".inp") for _, dsts, _ in plan for d in dsts):
         raise ValueError(f"--element-type {args.element_type} applies to Abaqus .inp outputs, "
                          "and no output is one; add -o NAME.inp")
-    targets = [d.resolve() for _, dsts, _ in plan for d in dsts]
-    if len(set(targets)) != len(targets):
-        raise ValueError("two inputs have the same name: their outputs would overwrite each other")
+    same_outputs(plan)
     return plan
 
 
@@ -150,6 +144,8 @@ def _process(args, job) -> dict:
     model = layer.read_model(src)
     log.info("%s: %r", src, model)
     inner = getattr(args, "chart_jobs", {})  # one input: its charts in parallel instead
+    if args.corner_angle is not None:  # else the layer's default
+        inner = {**inner, "corner_angle": args.corner_angle}
     result = layer.remesh(model, n_vertices=args.n, size=args.size, param=args.param,
                           feature_angle=args.feature_angle, **inner)
     for d in dst:
@@ -170,7 +166,7 @@ def _show(args, doc: dict, several: bool) -> None:
         if several:
             print(f"== {doc['input']} -> {', '.join(doc['outputs'])}")
         print(doc["summary"])
-    elif not args.quiet and not args.json:
+    if not args.quiet and not args.json:
         print(f"wrote {', '.join(doc['outputs'])} ({doc['n_vertices']} vertices, {doc['n_faces']} faces)"
               + (f", figure {doc['plot']}" if doc["plot"] else ""))
     sys.stdout.flush()
@@ -186,5 +182,11 @@ def run(args) -> int:
     if len(plan) == 1 and (args.jobs > 1 or args.scheduler is not None):
         args.chart_jobs = {"jobs": args.jobs, "scheduler": args.scheduler}
         args.jobs, args.scheduler = 1, None
-    return run_batch(args, _process, plan, "remeshing", _show,
-                     lambda doc: {k: doc[k] for k in ("input", "output", "outputs", "report")})
+    try:
+        return run_batch(args, _process, plan, "remeshing", _show,
+                         lambda doc: {k: doc[k] for k in ("input", "output", "outputs", "report")})
+    except INPUT_ERRORS as exc:
+        if len(plan) > 1:
+            raise
+        report_failure(plan[0][0], exc)  # one line naming the input, as in a batch
+        return 2
