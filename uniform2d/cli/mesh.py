@@ -5,6 +5,9 @@ Outputs
 * One input: ``-o FILE`` (the format follows the extension, any of
   ``uniform2d.io.mesh_formats()``); ``-o DIR`` (an existing directory, or any
   name ending in ``/``, created if missing) writes ``DIR/<input stem><--format>``.
+  ``-o`` may be repeated: ``-o a.msh -o a.inp -o a.vtu`` writes the one mesh in
+  each format (``--element-type`` picks the Abaqus element type of ``.inp``
+  outputs).
   Without ``-o`` the mesh is written next to the input as
   ``<input stem><--format>`` (default ``.vtu``), like ``gmsh -2``.  ``--plot``
   names a figure file, or a directory when it ends in ``/``.
@@ -37,6 +40,7 @@ from ._common import (
     positive_float,
     positive_int,
     run_batch,
+    same_outputs,
     shows_progress,
 )
 from ._sizing import add_size_options, field_from_args, has_field
@@ -44,6 +48,8 @@ from ._sizing import add_size_options, field_from_args, has_field
 log = logging.getLogger(__name__)
 
 METHODS = ("uniform", "paper")
+#: Abaqus element types of planar meshes (uniform2d.io.abaqus_file.PLANAR_TYPES).
+ELEMENT_TYPES = ("CPS3", "CPE3", "CAX3")
 
 
 def add_parser(subparsers):
@@ -53,23 +59,36 @@ def add_parser(subparsers):
         "mesh",
         help="mesh polygon files (exactly n Steiner points, near-equal edges)",
         description="Mesh one or more polygon files with exactly n Steiner points "
-        "(boundary and interior) and edges as equal in length as possible.",
+        "(boundary and interior) and edges as equal in length as possible. -n counts the "
+        "points ADDED to the polygon's own vertices |V| (its ring vertices, segment ends and "
+        "fixed points): the mesh has n + |V| vertices. --vertices N asks for N vertices in "
+        "total instead.",
         epilog="mesh formats: " + ", ".join(mesh_formats()),
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="polygon file(s): .json, .geojson, .wkt, .poly, .dxf")
-    p.add_argument("-n", type=positive_int, metavar="N",
-                   help="number of Steiner points (boundary and interior)")
-    p.add_argument("--size", type=positive_float, metavar="H",
-                   help="target edge length; n is derived from the area and perimeter "
-                   "(with --refine: the coarse size, n derived from the field)")
+    # one of the three, or none with --size-field (checked by _check_count)
+    count = p.add_mutually_exclusive_group()
+    count.add_argument("-n", type=positive_int, metavar="N",
+                       help="number of Steiner points: vertices added on the boundary and inside, "
+                       "on top of the polygon's own |V| (the mesh has N + |V| vertices)")
+    count.add_argument("--vertices", type=positive_int, metavar="N",
+                       help="total number of mesh vertices, the polygon's own included "
+                       "(N - |V| Steiner points; N must exceed |V|)")
+    count.add_argument("--size", type=positive_float, metavar="H",
+                       help="target edge length; n is derived from the area and perimeter "
+                       "(with --refine: the coarse size, n derived from the field)")
     add_size_options(p)
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
-    p.add_argument("-o", "--output", metavar="OUTPUT",
+    p.add_argument("-o", "--output", metavar="OUTPUT", action="append",
                    help="output mesh file (one input) or directory (existing, or ending in '/': "
-                   "created); default: next to the input")
+                   "created); default: next to the input. Repeat it to write one mesh in "
+                   "several formats: -o a.msh -o a.inp -o a.vtu")
+    p.add_argument("--element-type", type=str.upper, choices=ELEMENT_TYPES, metavar="TYPE",
+                   help="Abaqus element type of .inp outputs: " + ", ".join(ELEMENT_TYPES)
+                   + " (plane stress, plane strain, axisymmetric; default CPS3)")
     p.add_argument("--format", default=".vtu", metavar="EXT",
                    help="extension of outputs named after their input (default .vtu)")
     p.add_argument("--plot", metavar="PNG",
@@ -128,8 +147,14 @@ def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     return plot, False
 
 
+def _writable(directory: Path, option: str) -> None:
+    """Refuse, before any meshing, an existing output directory we may not write into."""
+    if directory.is_dir() and not os.access(directory, os.W_OK | os.X_OK):
+        raise PermissionError(13, f"{option}: the directory is not writable", str(directory))
+
+
 def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
-    """The -o path and whether it names a directory, checked before any meshing."""
+    """One -o path and whether it names a directory, checked before any meshing."""
     from ..io.registry import MESH_FORMATS, find_mesh_format, match_format
 
     if text is None:
@@ -139,38 +164,72 @@ def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
         raise ValueError(f"with several inputs, -o must be a directory, got '{out}'")
     if several or names_directory(text):
         check_output_dir(out, "-o")
+        _writable(out, "-o")
         return out, True
     find_mesh_format(out, "write")
     check_output_file(out, "-o")
+    _writable(out.parent if str(out.parent) else Path("."), "-o")
     return out, False
 
 
-def _plan(args) -> list[tuple[Path, Path, Path | None]]:
-    """(input, output, plot) per input, every check that needs no meshing done."""
+def _outputs(args, inputs: list[Path], ext: str) -> list[tuple[Path, ...]]:
+    """The output files of each input, every -o checked before any meshing."""
+    texts = args.output or [None]
+    several = len(inputs) > 1
+    if several and len(texts) > 1:
+        raise ValueError("with several inputs, give one -o directory (it receives "
+                         "<input name><--format> per input)")
+    targets = [_output_target(t, several) for t in texts]
+    outs = []
+    for src in inputs:
+        stem = _stem(src)
+        mine = tuple(src.parent / (stem + ext) if out is None else
+                     (out / (stem + ext) if is_dir else out) for out, is_dir in targets)
+        for (out, _), d in zip(targets, mine):
+            if out is None:  # next to the input: that directory must be writable
+                check_output_file(d, "-o")
+        if len({d.resolve() for d in mine}) != len(mine):
+            raise ValueError(f"the outputs {', '.join(map(str, mine))} name one file twice")
+        outs.append(mine)
+    if args.element_type is not None and not any(
+            d.name.lower().endswith(".inp") for mine in outs for d in mine):
+        raise ValueError(f"--element-type {args.element_type} applies to Abaqus .inp outputs, "
+                         "and no output is one; add -o NAME.inp")
+    return outs
+
+
+def _plan(args) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
+    """(input, outputs, plot) per input, every check that needs no meshing done."""
     inputs = [Path(s) for s in args.inputs]
     for src in inputs:  # all inputs before any output
         if not src.exists():
             raise FileNotFoundError(2, "input file not found", str(src))
     ext = _format_extension(args.format)
     several = len(inputs) > 1
-    out, out_is_dir = _output_target(args.output, several)
+    outs = _outputs(args, inputs, ext)
     plot, plot_is_dir = _plot_target(args.plot, several)
 
     plan = []
-    for src in inputs:
-        stem = _stem(src)
-        if out is None:
-            dst = src.parent / (stem + ext)
-        else:
-            dst = out / (stem + ext) if out_is_dir else out
+    for src, dst in zip(inputs, outs):
         fig = None
         if plot is not None:
-            fig = plot / (stem + ".png") if plot_is_dir else plot
+            fig = plot / (_stem(src) + ".png") if plot_is_dir else plot
         plan.append((src, dst, fig))
-    targets = [d.resolve() for _, d, _ in plan]
-    if len(set(targets)) != len(targets):
-        raise ValueError("two inputs have the same name: their outputs would overwrite each other")
+    same_outputs(plan)
     return plan
+
+
+def steiner_for_vertices(polygon, total: int) -> int:
+    """The Steiner count giving ``total`` mesh vertices: ``total - |V|``."""
+    from ..errors import InvalidArgumentError
+
+    nv = len(polygon.vertices)
+    if total <= nv:
+        raise InvalidArgumentError(
+            f"--vertices {total} leaves no point to add: the polygon has {nv} vertices of its "
+            f"own (ring vertices, segment ends and fixed points); give --vertices above {nv}, "
+            "or -n for the points to add")
+    return total - nv
 
 
 def _mesh_one(polygon, args, progress=None):
@@ -179,12 +238,15 @@ def _mesh_one(polygon, args, progress=None):
     from ..errors import InsufficientPointsError
     from ..resources import check_point_count
 
+    n_arg = args.n
+    if getattr(args, "vertices", None) is not None:
+        n_arg = steiner_for_vertices(polygon, args.vertices)
     field = field_from_args(polygon, args)
     if field is not None:
-        return uniform_mesh(polygon, n=args.n, size=field, progress=progress)
+        return uniform_mesh(polygon, n=n_arg, size=field, progress=progress)
     if args.method == "uniform":
-        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
-    n, what = args.n, f"n = {args.n}"
+        return uniform_mesh(polygon, n=n_arg, size=args.size, progress=progress)
+    n, what = n_arg, f"n = {n_arg}"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
         what = f"size {args.size!r} (n = {n})"
@@ -197,18 +259,35 @@ def _mesh_one(polygon, args, progress=None):
     return tplus(polygon, n)
 
 
-def _write_both(mesh, dst: Path, fig: Path | None) -> None:
-    """The mesh file and its figure, both or neither: the figure is drawn to a
-    temporary file next to ``fig`` first and moved into place after the mesh is
-    written (each write is atomic on its own).  Errors name ``fig``, never the
-    temporary file."""
+def _write_meshes(mesh, dsts: tuple[Path, ...], element_type) -> None:
+    """Every mesh file, or none of those that did not exist before: each is
+    written atomically, and a failure removes the ones this call created."""
+    created = []
+    try:
+        for dst in dsts:
+            existed = dst.exists()
+            inp = dst.name.lower().endswith(".inp")
+            mesh.write(dst, **({"element_type": element_type} if inp and element_type else {}))
+            if not existed:
+                created.append(dst)
+    except BaseException:
+        for dst in created:
+            dst.unlink(missing_ok=True)
+        raise
+
+
+def _write_both(mesh, dsts: tuple[Path, ...], fig: Path | None, element_type=None) -> None:
+    """The mesh files and their figure, all or none: the figure is drawn to a
+    temporary file next to ``fig`` first and moved into place after the mesh
+    files are written (each write is atomic on its own).  Errors name ``fig``,
+    never the temporary file."""
     import os
     import secrets
 
     from ..io.atomic import named_for
 
     if fig is None:
-        mesh.write(dst)
+        _write_meshes(mesh, dsts, element_type)
         return
     import matplotlib
 
@@ -216,17 +295,17 @@ def _write_both(mesh, dst: Path, fig: Path | None) -> None:
     import matplotlib.pyplot as plt
 
     tmp = fig.with_name(f".{fig.stem}.tmp-{secrets.token_hex(4)}{fig.suffix}")
-    existed = dst.exists()
+    new = [d for d in dsts if not d.exists()]
     try:
         try:
             plt.close(mesh.plot(tmp))
         except OSError as exc:
             raise named_for(exc, tmp, fig) from None
-        mesh.write(dst)
+        _write_meshes(mesh, dsts, element_type)
         try:
             os.replace(tmp, fig)
         except OSError as exc:
-            if not existed:
+            for dst in new:
                 dst.unlink(missing_ok=True)
             raise named_for(exc, tmp, fig) from None
     finally:
@@ -250,13 +329,15 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
             bar.close()
     log.info("%s: %r", src, mesh)
     quality = mesh.quality() if (args.stats or args.json) else None
-    dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
+    for d in dst:
+        d.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
     if fig is not None:
         fig.parent.mkdir(parents=True, exist_ok=True)
-    _write_both(mesh, dst, fig)
+    _write_both(mesh, dst, fig, getattr(args, "element_type", None))
     return {
         "input": str(src),
-        "output": str(dst),
+        "output": str(dst[0]),
+        "outputs": [str(d) for d in dst],
         "plot": str(fig) if fig is not None else None,
         "method": args.method,
         "n_steiner": mesh.n_steiner,
@@ -286,32 +367,34 @@ def _regions(mesh) -> list[dict]:
 def _show(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
-            print(f"== {doc['input']} -> {doc['output']}")
+            print(f"== {doc['input']} -> {', '.join(doc['outputs'])}")
         print(doc["summary"])
         for k, r in enumerate(doc["regions"] or []):
             label = "" if r["label"] is None else f" ({r['label']})"
             print(f"  region {k}{label}: {r['triangles']} triangles, area {r['area']:.6g}")
         if doc["info"].get("method") == "paper" and "d_n" in doc["info"]:
             _print_tplus(doc["info"])
-    elif not args.quiet and not args.json:
-        print(f"wrote {doc['output']} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
+    if not args.quiet and not args.json:
+        print(f"wrote {', '.join(doc['outputs'])} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
               f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
     sys.stdout.flush()
 
 
 def _check_count(args) -> None:
-    """-n, --size and the field options: what may go together."""
+    """-n, --vertices, --size and the field options: what may go together (argparse
+    keeps the first three apart)."""
+    counted = args.n is not None or getattr(args, "vertices", None) is not None
     if has_field(args):
         if args.method != "uniform":
             raise ValueError("--refine and --size-field need --method uniform (the paper's T+ "
                              "has no size field)")
-        if args.refine and args.n is None and args.size is None:
-            raise ValueError("--refine needs -n N (the count; the field's shape) or --size H "
-                             "(its coarse size; n follows)")
+        if args.refine and not counted and args.size is None:
+            raise ValueError("--refine needs -n N or --vertices N (the count; the field's "
+                             "shape) or --size H (its coarse size; n follows)")
         return
-    if (args.n is None) == (args.size is None):
-        raise ValueError("give one of -n N and --size H (or a size field: --refine, "
-                         "--size-field)")
+    if not counted and args.size is None:
+        raise ValueError("give one of -n N, --vertices N and --size H (or a size field: "
+                         "--refine, --size-field)")
 
 
 def run(args) -> int:

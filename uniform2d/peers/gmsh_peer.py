@@ -27,6 +27,8 @@ NAME = "gmsh"
 KIND = "planar"
 DESCRIPTION = "Gmsh Frontal-Delaunay (Mesh.Algorithm 6), constant size MeshSizeMax"
 REQUIRES = ("gmsh",)
+#: Segments and fixed points are embedded (see :func:`uniform2d.peers.takes_constraints`).
+CONSTRAINTS = True
 
 _LOCK = threading.Lock()
 
