@@ -21,8 +21,8 @@ Printed: vertices, max q / min q and the CV of q (q = edge length / h(midpoint))
 smallest angle, the time, and ours against ``uniform_mesh(polygon, n)`` (uniform, the
 same n) in time.  Goals: max q / min q <= 1.6 and CV <= 0.06; time <= 1.5x uniform.
 
-Finite elements (scikit-fem, optional: ``pip install scikit-fem``; skipped with a note
-when missing or with ``--no-fe``):
+Finite elements (scikit-fem, the ``fe`` extra: ``pip install ".[fe,compare]"``; skipped
+with a note when missing or with ``--no-fe``):
 
 * L-shape, Poisson with exact solution u = r^(2/3) sin(2 theta / 3) (Dirichlet data
   from u), P1, H1-seminorm error of ours graded, Gmsh graded and ours uniform at the
