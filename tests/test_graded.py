@@ -256,6 +256,10 @@ def test_cli_refine_and_size_field(tmp_path, capsys):
     assert "size field -> n = " in capsys.readouterr().out
     assert main(["mesh", str(DATA / "plate_bolts.json"), "--size-field", str(tmp_path / "h.npz"),
                  "-o", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["mesh", str(DATA / "plate_bolts.json"), "--vertices", "700", "--refine",
+                 "holes:0.3", "-o", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["n_points"] == 700
 
 
 def test_cli_refine_with_size_is_absolute(tmp_path, capsys):
