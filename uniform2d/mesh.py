@@ -45,6 +45,9 @@ class Mesh:
         ``(edges (K, 2) int64, ids (K,) int64)``: the mesh edges on the polygon's
         rings, each ring from its first vertex, and the ring of each (0 the
         outer ring, ``1 + i`` hole ``i``).
+    size : SizeField or None
+        The size field a graded mesh follows, at the scale of its n (None for a
+        uniform mesh); :meth:`quality` then measures relative to it too.
     """
 
     points: np.ndarray
@@ -52,6 +55,7 @@ class Mesh:
     polygon: Polygon
     n_steiner: int
     info: dict[str, Any] = field(default_factory=dict)
+    size: Any = None
 
     def __post_init__(self):
         for a in (self.points, self.triangles):
@@ -89,7 +93,8 @@ class Mesh:
         if d_n is None:
             d_n = self.info.get("d_n")
         return quality(
-            self.points, self.triangles, self.polygon, n_steiner=self.n_steiner, d_n=d_n
+            self.points, self.triangles, self.polygon, n_steiner=self.n_steiner, d_n=d_n,
+            size=self.size,
         )
 
     def write(self, path, **kwargs) -> None:
@@ -118,6 +123,8 @@ class Mesh:
         if self.polygon.has_constraints or self.polygon.region_seeds:
             kwargs.setdefault("regions", self.regions)
             kwargs.setdefault("region_labels", self.region_labels)
+        if self.size is not None:  # a graded mesh: edges coloured by length / h
+            kwargs.setdefault("size", self.size)
         return plot_mesh(self.points, self.triangles, path, polygon=self.polygon, **kwargs)
 
     def __repr__(self) -> str:

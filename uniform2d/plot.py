@@ -71,7 +71,7 @@ def _ratio_ticks(lo: float, hi: float) -> list[float]:
 
 
 def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions=None,
-              region_labels=None) -> Figure:
+              region_labels=None, size=None) -> Figure:
     """Plot a triangle mesh with each edge coloured by its length, beside a histogram.
 
     The left panel draws every edge coloured by ``length / mean length`` on a
@@ -102,6 +102,10 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     region_labels : sequence, optional
         The label of each region (None for none): a legend below the mesh names
         the colours of the labelled ones.
+    size : callable, optional
+        A size field h (a graded mesh's :attr:`uniform2d.Mesh.size`): edges are then
+        coloured by q = length / h(midpoint) over its mean, and the histogram is
+        that of q (:mod:`uniform2d.relative`).
 
     Returns
     -------
@@ -139,6 +143,9 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     reg = _as_regions(regions, len(tri))
 
     edges, lengths = edge_lengths(pts, tri)
+    if size is not None:  # q = length / h(midpoint): uniformity relative to h
+        mid = 0.5 * (pts[edges[:, 0]] + pts[edges[:, 1]])
+        lengths = lengths / np.asarray(size(mid), dtype=np.float64)
     mean = float(lengths.mean())
     rel = lengths / mean if mean > 0 else np.ones_like(lengths)
     span, norm, extend = _colour_scale(rel, mean)
@@ -149,8 +156,11 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
         _region_fill(ax_mesh, pts, tri, reg, region_labels)
     lc = _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, span, extend)
     ratio = _histogram_panel(ax_hist, rel, lengths, mean, lc, norm)
+    if size is not None:
+        _relative_labels(ax_mesh, ax_hist, lc)
     if title is None:
-        title = f"{len(pts)} vertices, {len(tri)} triangles, edge ratio {ratio:.4g}"
+        what = "max q / min q" if size is not None else "edge ratio"
+        title = f"{len(pts)} vertices, {len(tri)} triangles, {what} {ratio:.4g}"
     fig.suptitle(title, fontsize=12)
 
     if path is not None:
@@ -158,6 +168,15 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
         atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
         log.info("wrote %s", path)
     return fig
+
+
+def _relative_labels(ax_mesh, ax_hist, lc) -> None:
+    """The panels' words for q = length / h(midpoint) instead of the length."""
+    ax_mesh.set_title("Edges coloured by q / mean q, q = length / h(midpoint)", fontsize=11)
+    lc.colorbar.set_label("q / mean q", fontsize=9)
+    log_x = ax_hist.get_xscale() == "log"
+    ax_hist.set_xlabel("q / mean q" + (" (log scale)" if log_x else ""), fontsize=9)
+    ax_hist.set_title("Distribution of q (edge length relative to h)", fontsize=11)
 
 
 def _as_regions(regions, n_tri: int):

@@ -7,6 +7,8 @@ import numbers
 
 from .errors import InsufficientPointsError, InvalidArgumentError
 from .geometry import vertex_count
+from .graded import graded_mesh
+from .grading import as_field, count_for_field, field_integrals
 from .mesh import Mesh
 from .optimize import optimize_mesh
 from .polygon import Polygon
@@ -37,14 +39,23 @@ def uniform_mesh(
     polygon: Polygon,
     n: int | None = None,
     *,
-    size: float | None = None,
+    size=None,
     objective: str = "balanced",
     progress=None,
 ) -> Mesh:
     """The most uniform mesh uniform2d makes, with exactly ``n`` Steiner points.
 
-    Give exactly one of ``n`` (Steiner points, boundary and interior) and ``size``
-    (a target edge length; n is derived by :func:`steiner_count_for_size`).
+    Give ``n`` (Steiner points, boundary and interior), ``size`` or both.
+    ``size`` is a target edge length (a number: the mesh is uniform, and without
+    ``n`` its count is :func:`steiner_count_for_size`), or a size field for a
+    graded mesh: a :class:`~uniform2d.SizeField` or a callable ``h(points (k, 2))
+    -> (k,)`` (sampled on a grid, :func:`uniform2d.grading.as_field`).  With a
+    field and ``n``, h's shape is kept and its scale follows from n; without
+    ``n``, h is absolute and n is the count it implies
+    (:func:`uniform2d.grading.count_for_field`).  A graded mesh is made by
+    :func:`uniform2d.graded.graded_mesh` (guide: ``docs/graded.md``): its edges
+    are as uniform as possible *relative to h* and ``mesh.quality().relative``
+    measures that.  With a number, ``n`` and ``size`` together are an error.
     The mesh is optimised (:func:`uniform2d.optimize.optimize_mesh`) for
     ``objective``: ``"ratio"`` (longest / shortest edge), ``"max_edge"``,
     ``"max_perimeter"`` or ``"balanced"`` (all three), and is never worse on it than
@@ -68,6 +79,9 @@ def uniform_mesh(
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
+    field = as_field(polygon, size)
+    if field is not None:
+        return _graded(polygon, n, field, objective, progress)
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     what = f"n = {n}"
@@ -83,3 +97,22 @@ def uniform_mesh(
         check_point_count(n + len(polygon.vertices), what)
     # optimize_mesh checks the mesh it makes (ensure_valid); its fallback, T+, was checked
     return optimize_mesh(polygon, n, objective=objective, progress=progress)
+
+
+def _graded(polygon: Polygon, n, field, objective: str, progress) -> Mesh:
+    """:func:`uniform_mesh` with a size field: n checked or implied, then graded_mesh."""
+    integrals = field_integrals(polygon, field)
+    what = f"n = {n}"
+    if n is None:
+        n = count_for_field(polygon, field)
+        what = f"the size field (n = {n})"
+        if n < 1:
+            raise InsufficientPointsError(
+                "the size field is larger than the polygon needs: it asks for no Steiner "
+                "points; use smaller sizes or give n"
+            )
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+        raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+    check_point_count(int(n) + len(polygon.vertices), what)
+    return graded_mesh(polygon, int(n), field, objective=objective, progress=progress,
+                       integrals=integrals)

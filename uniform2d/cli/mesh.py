@@ -43,6 +43,7 @@ from ._common import (
     same_outputs,
     shows_progress,
 )
+from ._sizing import add_size_options, field_from_args, has_field
 
 log = logging.getLogger(__name__)
 
@@ -66,7 +67,8 @@ def add_parser(subparsers):
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="polygon file(s): .json, .geojson, .wkt, .poly, .dxf")
-    count = p.add_mutually_exclusive_group(required=True)
+    # one of the three, or none with --size-field (checked by _check_count)
+    count = p.add_mutually_exclusive_group()
     count.add_argument("-n", type=positive_int, metavar="N",
                        help="number of Steiner points: vertices added on the boundary and inside, "
                        "on top of the polygon's own |V| (the mesh has N + |V| vertices)")
@@ -74,7 +76,9 @@ def add_parser(subparsers):
                        help="total number of mesh vertices, the polygon's own included "
                        "(N - |V| Steiner points; N must exceed |V|)")
     count.add_argument("--size", type=positive_float, metavar="H",
-                       help="target edge length; n is derived from the area and perimeter")
+                       help="target edge length; n is derived from the area and perimeter "
+                       "(with --refine: the coarse size, n derived from the field)")
+    add_size_options(p)
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
@@ -237,6 +241,9 @@ def _mesh_one(polygon, args, progress=None):
     n_arg = args.n
     if getattr(args, "vertices", None) is not None:
         n_arg = steiner_for_vertices(polygon, args.vertices)
+    field = field_from_args(polygon, args)
+    if field is not None:
+        return uniform_mesh(polygon, n=n_arg, size=field, progress=progress)
     if args.method == "uniform":
         return uniform_mesh(polygon, n=n_arg, size=args.size, progress=progress)
     n, what = n_arg, f"n = {n_arg}"
@@ -307,13 +314,14 @@ def _write_both(mesh, dsts: tuple[Path, ...], fig: Path | None, element_type=Non
 
 def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     """Mesh one input and write its files; returns what to show (no printing here)."""
+    from ..graded import PHASES as GRADED
     from ..io import read_polygon
     from ..optimize.pipeline import PHASES
 
     src, dst, fig = job
     polygon = read_polygon(src)
     log.info("%s: %r", src, polygon)
-    bar = PhaseBar(PHASES, src.name) if getattr(args, "phase_bar", False) else None
+    bar = PhaseBar(GRADED if has_field(args) else PHASES, src.name) if getattr(args, "phase_bar", False) else None
     try:
         mesh = _mesh_one(polygon, args, bar)
     finally:
@@ -372,7 +380,25 @@ def _show(args, doc: dict, several: bool) -> None:
     sys.stdout.flush()
 
 
+def _check_count(args) -> None:
+    """-n, --vertices, --size and the field options: what may go together (argparse
+    keeps the first three apart)."""
+    counted = args.n is not None or getattr(args, "vertices", None) is not None
+    if has_field(args):
+        if args.method != "uniform":
+            raise ValueError("--refine and --size-field need --method uniform (the paper's T+ "
+                             "has no size field)")
+        if args.refine and not counted and args.size is None:
+            raise ValueError("--refine needs -n N or --vertices N (the count; the field's "
+                             "shape) or --size H (its coarse size; n follows)")
+        return
+    if not counted and args.size is None:
+        raise ValueError("give one of -n N, --vertices N and --size H (or a size field: "
+                         "--refine, --size-field)")
+
+
 def run(args) -> int:
+    _check_count(args)
     check_parallel_options(args)
     plan = _plan(args)
     # one input runs here, where its phases can be shown as they pass
