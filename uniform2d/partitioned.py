@@ -24,6 +24,7 @@ from __future__ import annotations
 import itertools
 import logging
 import math
+import shutil
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -41,7 +42,8 @@ from .polygon import Polygon
 from .triangulation import triangulate
 from .validity import ensure_valid
 
-__all__ = ["BAND", "mesh_faces", "part_counts", "partitioned_mesh", "relax_seams", "seam_uniformity"]
+__all__ = ["BAND", "mesh_face", "mesh_faces", "part_counts", "partitioned_mesh", "relax_seams",
+           "seam_uniformity", "write_part", "write_pvtu"]
 
 log = logging.getLogger(__name__)
 
@@ -100,28 +102,58 @@ def part_counts(part: Partition, n: int) -> list:
     return out
 
 
+def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str = "balanced"):
+    """One face's mesh: ``points`` (the polygon's vertices, then ``count``
+    Steiner points) and ``triangles`` (m, 3) int64.
+
+    The optimiser's start for a large mesh (the ring's own stretches split at
+    h, a first row, a lattice aligned as close to ``angle`` as the face allows),
+    moved by :func:`uniform2d.optimize.moves.improve_kept` with the deep lattice
+    frozen; the ring's shared points (on cuts) stay, its own ones slide."""
+    K = len(poly.vertices)
+    if count == 0:
+        P, T = triangulate(poly)
+    else:
+        sites, edges, frozen, _ = start(poly, count, h, (1.0, _lattice_edge(poly, angle), True))
+        P, T, _ = improve_kept(poly, sites, objective=objective, href=h, frozen=frozen, edges=edges)
+    if len(P) != K + count:
+        raise InternalError(f"a part has {len(P) - K} points, not {count} (a bug: please report it)")
+    return np.asarray(P), np.asarray(T, dtype=np.int64)
+
+
 def mesh_faces(item):
     """Mesh one part: ``[(own points (c, 2), triangles (m, 3) local), ...]`` per face.
 
-    ``item`` is ``(faces, counts, h, angle)``; a face's local points are its
-    polygon's vertices, then its ``count`` Steiner points: the optimiser's start
-    for a large mesh (its ring's own stretches split at h, a first row, a
-    lattice aligned as close to ``angle`` as the face allows), moved by
-    :func:`uniform2d.optimize.moves.improve_kept` with the deep lattice frozen.
+    ``item`` is ``(faces, counts, h, angle, objective)`` (:func:`mesh_face` for
+    each face); a face's local points are its polygon's vertices, then its own.
     A module-level function: local processes and Dask workers import it by name."""
-    faces, counts, h, angle = item
+    faces, counts, h, angle, objective = item[:5]
     out = []
     for poly, count in zip(faces, counts):
-        K = len(poly.vertices)
-        if count == 0:
-            P, T = triangulate(poly)
-        else:
-            sites, edges, frozen, _ = start(poly, count, h, (1.0, _lattice_edge(poly, angle), True))
-            P, T, _ = improve_kept(poly, sites, href=h, frozen=frozen, edges=edges)
-        if len(P) != K + count:
-            raise InternalError(f"a part has {len(P) - K} points, not {count} (a bug: please report it)")
-        out.append((np.ascontiguousarray(P[K:]), np.asarray(T, dtype=np.int64)))
+        P, T = mesh_face(poly, count, h, angle, objective)
+        out.append((np.ascontiguousarray(P[len(poly.vertices):]), T))
     return out
+
+
+def write_part(item) -> tuple[int, int]:
+    """Mesh one part and write it as a piece: ``item`` is :func:`mesh_faces`'s, then
+    ``(index, first, path)``: per face the global number of each polygon vertex,
+    per face the global number of its first own point, and the piece's file.
+    Returns the piece's (points, triangles)."""
+    from .io.pvtu import write_piece
+
+    index, first, path = item[5:]
+    ids, pts, tris, base = [], [], [], 0
+    for poly, count, idx, f0, (own, T) in zip(item[0], item[1], index, first, mesh_faces(item)):
+        ensure_valid(np.concatenate([poly.vertices, own]), T, poly, count, "a part")
+        ids.append(np.concatenate([idx, f0 + np.arange(len(own), dtype=np.int64)]))
+        pts.append(np.concatenate([poly.vertices, own]))
+        tris.append(T + base)
+        base += len(ids[-1])
+    ids, pts, tris = np.concatenate(ids), np.concatenate(pts), np.concatenate(tris)
+    glob, first_at, local = np.unique(ids, return_index=True, return_inverse=True)
+    write_piece(path, pts[first_at], local[tris], glob)
+    return len(glob), len(tris)
 
 
 def _lattice_edge(poly: Polygon, angle: float) -> int:
@@ -159,7 +191,7 @@ def seam_uniformity(points, triangles, seam_points, h: float) -> dict:
     return {"cv_near_seams": cv(L[near]), "cv_away": cv(L[~near]), "near_edges": int(near.sum())}
 
 
-def relax_seams(polygon: Polygon, points, part: Partition):
+def relax_seams(polygon: Polygon, points, part: Partition, objective: str = "balanced"):
     """The stitched mesh with the band within :data:`BAND` h of the cuts relaxed.
 
     The cut points are ordinary points now: they and their neighbours move
@@ -180,12 +212,56 @@ def relax_seams(polygon: Polygon, points, part: Partition):
         d, _ = cKDTree(part.points[np.concatenate(part.cuts)]).query(P)
         free = d <= BAND * part.h
     free[: len(part.points) - part.n_cut] = False  # vertices and segment samples stay
-    pts, tri, _ = improve(polygon, P[nV:], href=part.h, frozen=~free[nV:])
+    pts, tri, _ = improve(polygon, P[nV:], objective=objective, href=part.h, frozen=~free[nV:])
     return pts, tri
 
 
+def _plan(polygon: Polygon, n: int, parts: int, objective: str):
+    """The partition and every part's item for :func:`mesh_faces`."""
+    part = partition(polygon, n, parts)
+    counts = part_counts(part, n)
+    _, d, L = polygon_edges(polygon)
+    e = int(np.argmax(L))
+    angle = float(np.arctan2(d[e, 1], d[e, 0]))
+    return part, [(faces, c, part.h, angle, objective) for faces, c in zip(part.parts, counts)]
+
+
+def write_pvtu(polygon: Polygon, n: int, parts: int, path, *, jobs: int = 1, scheduler=None,
+               objective: str = "balanced", bar=None) -> dict:
+    """Mesh in ``parts`` parts, each worker writing its part as a piece of ``path``.
+
+    The mesh is never gathered: this process holds the partition and the cut
+    points only.  The seams are not relaxed (that needs both sides of a cut in
+    one place): the pieces are the parts as meshed, conforming across the cuts,
+    each constrained Delaunay, the cuts still chains of edges.  Files as
+    :mod:`uniform2d.io.pvtu` says: nothing is left behind if a part fails or
+    the run is interrupted.  Returns ``{"parts", "points", "triangles", "h",
+    "cut_points"}``.
+    """
+    from .io.pvtu import commit, piece_dir, piece_name
+
+    part, items = _plan(polygon, n, parts, objective)
+    S = len(part.points)
+    own = np.cumsum([0] + [c for it in items for c in it[1]])
+    tmp = piece_dir(path)
+    names = [piece_name(path, k) for k in range(len(items))]
+    full, k = [], 0
+    for it, idx, name in zip(items, part.index, names):
+        full.append((*it, idx, [int(S + own[k + j]) for j in range(len(idx))], str(tmp / name)))
+        k += len(idx)
+    try:
+        done = list(ordered_map(write_part, full, jobs=jobs, scheduler=scheduler, bar=bar))
+        commit(path, tmp, names)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    return {"parts": int(parts), "points": len(polygon.vertices) + n,
+            "triangles": int(sum(t for _, t in done)), "h": part.h, "cut_points": part.n_cut}
+
+
 def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, scheduler=None,
-                     relax: bool = True, bar=None) -> Mesh:
+                     relax: bool = True, objective: str = "balanced", bar=None,
+                     mesher=None) -> Mesh:
     """A mesh with exactly ``n`` Steiner points made in ``parts`` parts (see the module).
 
     Parameters
@@ -199,8 +275,14 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
         A Dask scheduler's address or client; overrides ``jobs``.
     relax : bool
         Relax the seams after stitching (default).
+    objective : str
+        What the parts' and the seams' point moves lower
+        (:data:`uniform2d.optimize.OBJECTIVES`).
     bar : tqdm, optional
         Updated once per part meshed.
+    mesher : callable, optional
+        What runs one part (default :func:`mesh_faces`): a module-level wrapper
+        of it may instrument the parts (the tests kill a worker with one).
 
     Examples
     --------
@@ -211,13 +293,8 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     (300, 3)
     """
     nV = len(polygon.vertices)
-    part = partition(polygon, n, parts)
-    counts = part_counts(part, n)
-    _, d, L = polygon_edges(polygon)
-    e = int(np.argmax(L))
-    angle = float(np.arctan2(d[e, 1], d[e, 0]))
-    items = [(faces, c, part.h, angle) for faces, c in zip(part.parts, counts)]
-    done = list(ordered_map(mesh_faces, items, jobs=jobs, scheduler=scheduler, bar=bar))
+    part, items = _plan(polygon, n, parts, objective)
+    done = list(ordered_map(mesher or mesh_faces, items, jobs=jobs, scheduler=scheduler, bar=bar))
     pieces = [(idx, own, T) for ii, res in zip(part.index, done) for idx, (own, T) in zip(ii, res)]
     P, T = stitch(part.points, pieces)
     if len(P) != nV + n:
@@ -225,7 +302,7 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
     before = seam_uniformity(P, T, seam, part.h)
     if relax and part.cuts:
-        P, T = relax_seams(polygon, P, part)
+        P, T = relax_seams(polygon, P, part, objective)
     ensure_valid(P, T, polygon, n, "uniform_mesh(parts=...)")
     info = {"method": "partitioned", "parts": int(parts), "h": part.h,
             "cut_points": part.n_cut, "shared_points": len(part.points) - nV,
