@@ -175,7 +175,7 @@ def seam_uniformity(points, triangles, seam_points, h: float) -> dict:
     >>> P = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     >>> d = seam_uniformity(P, np.array([[0, 1, 2], [1, 3, 2]]), P[:1], 0.1)
     >>> d["near_edges"], round(d["cv_away"], 3)
-    (0, 0.146)
+    (0, 0.153)
     """
     E = unique_edges(np.asarray(triangles))
     P = np.asarray(points)

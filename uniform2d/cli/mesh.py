@@ -44,6 +44,9 @@ log = logging.getLogger(__name__)
 
 METHODS = ("uniform", "paper")
 
+#: ParaView's partitioned VTU: written piece by piece with --parts.
+PVTU = ".pvtu"
+
 
 def add_parser(subparsers):
     from ..io import mesh_formats
@@ -74,7 +77,11 @@ def add_parser(subparsers):
                    help="also write a figure of the mesh (.png, .pdf, .svg); a name ending in '/' "
                    "is a directory receiving <input name>.png (with several inputs --plot must be "
                    "a directory)")
-    add_parallel_options(p, "the inputs")
+    p.add_argument("--parts", type=positive_int, metavar="K",
+                   help="mesh each input in K parts of near-equal area on the --jobs processes or "
+                   "the --scheduler cluster, and stitch them (docs/partitioned.md); with "
+                   "-o NAME.pvtu every part is written as its own piece, never gathered")
+    add_parallel_options(p, "the inputs (with --parts: the parts)")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true",
                       help="print the quality summary and optimality certificates")
@@ -91,11 +98,13 @@ def _stem(path: Path) -> str:
     return name[: -len(fmt.extension)] if fmt is not None else path.stem
 
 
-def _format_extension(text: str) -> str:
+def _format_extension(text: str, parts=None) -> str:
     from ..errors import UnsupportedFormatError
     from ..io.registry import MESH_FORMATS
 
     ext = (text if text.startswith(".") else "." + text).lower()
+    if ext == PVTU and parts:
+        return ext
     if ext not in MESH_FORMATS:
         raise UnsupportedFormatError(
             f"unknown --format '{text}'; use one of {', '.join(MESH_FORMATS)}"
@@ -126,7 +135,7 @@ def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     return plot, False
 
 
-def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
+def _output_target(text: str | None, several: bool, parts=None) -> tuple[Path | None, bool]:
     """The -o path and whether it names a directory, checked before any meshing."""
     from ..io.registry import MESH_FORMATS, find_mesh_format, match_format
 
@@ -138,6 +147,12 @@ def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     if several or names_directory(text):
         check_output_dir(out, "-o")
         return out, True
+    if out.suffix.lower() == PVTU:
+        if not parts:
+            raise ValueError(f"'{out}': a .pvtu is written piece by piece from a mesh made in "
+                             "parts; add --parts K (or write another format)")
+        check_output_file(out, "-o")
+        return out, False
     find_mesh_format(out, "write")
     check_output_file(out, "-o")
     return out, False
@@ -149,9 +164,9 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
     for src in inputs:  # all inputs before any output
         if not src.exists():
             raise FileNotFoundError(2, "input file not found", str(src))
-    ext = _format_extension(args.format)
+    ext = _format_extension(args.format, args.parts)
     several = len(inputs) > 1
-    out, out_is_dir = _output_target(args.output, several)
+    out, out_is_dir = _output_target(args.output, several, args.parts)
     plot, plot_is_dir = _plot_target(args.plot, several)
 
     plan = []
@@ -164,6 +179,9 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
         fig = None
         if plot is not None:
             fig = plot / (stem + ".png") if plot_is_dir else plot
+        if dst.suffix.lower() == PVTU and fig is not None:
+            raise ValueError("--plot needs the whole mesh, which a .pvtu output never gathers; "
+                             "drop --plot or write another format")
         plan.append((src, dst, fig))
     targets = [d.resolve() for _, d, _ in plan]
     if len(set(targets)) != len(targets):
@@ -171,14 +189,12 @@ def _plan(args) -> list[tuple[Path, Path, Path | None]]:
     return plan
 
 
-def _mesh_one(polygon, args, progress=None):
-    from ..tplus import tplus
-    from ..uniform import steiner_count_for_size, uniform_mesh
+def _count(polygon, args) -> int:
+    """n from -n or --size, checked against this machine's memory."""
     from ..errors import InsufficientPointsError
     from ..resources import check_point_count
+    from ..uniform import steiner_count_for_size
 
-    if args.method == "uniform":
-        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
     n, what = args.n, f"n = {args.n}"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
@@ -189,7 +205,46 @@ def _mesh_one(polygon, args, progress=None):
                 "Steiner points; use a smaller size"
             )
     check_point_count(n + len(polygon.vertices), what)
-    return tplus(polygon, n)
+    return n
+
+
+def _mesh_one(polygon, args, progress=None):
+    from ..tplus import tplus
+    from ..uniform import uniform_mesh
+
+    if args.method == "uniform":
+        return uniform_mesh(polygon, n=args.n, size=args.size, progress=progress)
+    return tplus(polygon, _count(polygon, args))
+
+
+def _parts_bar(args, name: str):
+    from tqdm import tqdm
+
+    return tqdm(total=args.parts, desc=name, unit="part", file=sys.stderr, leave=False,
+                disable=not shows_progress(args.quiet))
+
+
+def _process_parts(args, job) -> dict:
+    """One input in ``--parts`` parts: a .pvtu written piece by piece, or the
+    stitched mesh in any other format."""
+    from ..io import read_polygon
+    from ..partitioned import partitioned_mesh, write_pvtu
+
+    src, dst, fig = job
+    polygon = read_polygon(src)
+    n = _count(polygon, args)
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    with _parts_bar(args, src.name) as bar:
+        if dst.suffix.lower() == PVTU:
+            info = write_pvtu(polygon, n, args.parts, dst, jobs=args.part_jobs,
+                              scheduler=args.part_scheduler, bar=bar)
+            return {"input": str(src), "output": str(dst), "plot": None, "method": "partitioned",
+                    "n_steiner": n, "n_points": info["points"], "n_triangles": info["triangles"],
+                    "info": info, "quality": None, "summary": "(a .pvtu is never gathered: "
+                    "no quality summary)", "regions": None}
+        mesh = partitioned_mesh(polygon, n, args.parts, jobs=args.part_jobs,
+                                scheduler=args.part_scheduler, bar=bar)
+    return _written(args, src, dst, fig, polygon, mesh)
 
 
 def _write_both(mesh, dst: Path, fig: Path | None) -> None:
@@ -242,6 +297,11 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     finally:
         if bar is not None:
             bar.close()
+    return _written(args, src, dst, fig, polygon, mesh)
+
+
+def _written(args, src: Path, dst: Path, fig, polygon, mesh) -> dict:
+    """Write the mesh (and its figure); what to show of it."""
     log.info("%s: %r", src, mesh)
     quality = mesh.quality() if (args.stats or args.json) else None
     dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
@@ -296,6 +356,16 @@ def _show(args, doc: dict, several: bool) -> None:
 def run(args) -> int:
     check_parallel_options(args)
     plan = _plan(args)
+    if args.parts:
+        if args.method != "uniform":
+            raise ValueError("--parts makes the uniform mesh in parts; it cannot be used with "
+                             "--method paper")
+        # the inputs one after the other here; the parts of each on the workers
+        args.part_jobs, args.part_scheduler = args.jobs, args.scheduler
+        args.jobs, args.scheduler = 1, None
+        args.phase_bar = False
+        return run_batch(args, _process_parts, plan, "meshing", _show,
+                         lambda doc: {k: v for k, v in doc.items() if k != "summary"}, warm=True)
     # one input runs here, where its phases can be shown as they pass
     args.phase_bar = len(plan) == 1 and shows_progress(args.quiet)
     return run_batch(args, _process, plan, "meshing", _show,
