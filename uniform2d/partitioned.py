@@ -35,6 +35,7 @@ from .geometry import polygon_edges, unique_edges
 from .mesh import Mesh
 from .optimize import improve
 from .optimize.moves import improve_kept
+from .optimize.schedule import schedule_for
 from .optimize.seed import start
 from .partition import Partition, partition
 from .parts import allocate, stitch
@@ -48,7 +49,7 @@ __all__ = ["BAND", "mesh_face", "mesh_faces", "part_counts", "partitioned_mesh",
 log = logging.getLogger(__name__)
 
 #: The band relaxed after stitching: points within BAND h of a cut move.
-BAND = 3.0
+BAND = 6.0
 
 _AREA_PER_VERTEX = math.sqrt(3.0) / 2.0  # of an equilateral mesh of unit edge
 
@@ -102,20 +103,24 @@ def part_counts(part: Partition, n: int) -> list:
     return out
 
 
-def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str = "balanced"):
+def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str = "balanced",
+              schedule: dict | None = None):
     """One face's mesh: ``points`` (the polygon's vertices, then ``count``
     Steiner points) and ``triangles`` (m, 3) int64.
 
     The optimiser's start for a large mesh (the ring's own stretches split at
     h, a first row, a lattice aligned as close to ``angle`` as the face allows),
     moved by :func:`uniform2d.optimize.moves.improve_kept` with the deep lattice
-    frozen; the ring's shared points (on cuts) stay, its own ones slide."""
+    frozen; the ring's shared points (on cuts) stay, its own ones slide.
+    ``schedule``: the fields of :class:`uniform2d.optimize.schedule.Schedule`
+    (default: the one for the face's own size)."""
     K = len(poly.vertices)
     if count == 0:
         P, T = triangulate(poly)
     else:
         sites, edges, frozen, _ = start(poly, count, h, (1.0, _lattice_edge(poly, angle), True))
-        P, T, _ = improve_kept(poly, sites, objective=objective, href=h, frozen=frozen, edges=edges)
+        P, T, _ = improve_kept(poly, sites, objective=objective, href=h, frozen=frozen, edges=edges,
+                               **(schedule or {}))
     if len(P) != K + count:
         raise InternalError(f"a part has {len(P) - K} points, not {count} (a bug: please report it)")
     return np.asarray(P), np.asarray(T, dtype=np.int64)
@@ -124,13 +129,13 @@ def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str 
 def mesh_faces(item):
     """Mesh one part: ``[(own points (c, 2), triangles (m, 3) local), ...]`` per face.
 
-    ``item`` is ``(faces, counts, h, angle, objective)`` (:func:`mesh_face` for
-    each face); a face's local points are its polygon's vertices, then its own.
+    ``item`` is ``(faces, counts, h, angle, objective, schedule)`` (:func:`mesh_face`
+    for each face); a face's local points are its polygon's vertices, then its own.
     A module-level function: local processes and Dask workers import it by name."""
-    faces, counts, h, angle, objective = item[:5]
+    faces, counts, h, angle, objective, schedule = item[:6]
     out = []
     for poly, count in zip(faces, counts):
-        P, T = mesh_face(poly, count, h, angle, objective)
+        P, T = mesh_face(poly, count, h, angle, objective, schedule)
         out.append((np.ascontiguousarray(P[len(poly.vertices):]), T))
     return out
 
@@ -142,7 +147,7 @@ def write_part(item) -> tuple[int, int]:
     Returns the piece's (points, triangles)."""
     from .io.pvtu import write_piece
 
-    index, first, path = item[5:]
+    index, first, path = item[6:]
     ids, pts, tris, base = [], [], [], 0
     for poly, count, idx, f0, (own, T) in zip(item[0], item[1], index, first, mesh_faces(item)):
         ensure_valid(np.concatenate([poly.vertices, own]), T, poly, count, "a part")
@@ -223,7 +228,9 @@ def _plan(polygon: Polygon, n: int, parts: int, objective: str):
     _, d, L = polygon_edges(polygon)
     e = int(np.argmax(L))
     angle = float(np.arctan2(d[e, 1], d[e, 0]))
-    return part, [(faces, c, part.h, angle, objective) for faces, c in zip(part.parts, counts)]
+    # the whole mesh's schedule: a part is meshed as the whole would be there
+    sched = schedule_for(len(polygon.vertices) + n, False)._asdict()
+    return part, [(faces, c, part.h, angle, objective, sched) for faces, c in zip(part.parts, counts)]
 
 
 def write_pvtu(polygon: Polygon, n: int, parts: int, path, *, jobs: int = 1, scheduler=None,
