@@ -109,9 +109,10 @@ def one(cfg: dict) -> dict:
         out["seconds"] = time.perf_counter() - t
         out["peak_mib"] = _peak_mib()
         out.update(_quality(polygon, mesh, cfg.get("check", False)))
+        import numpy as np
+
         from uniform2d.partition import partition
         from uniform2d.partitioned import seam_uniformity
-        import numpy as np
 
         if cfg.get("parts"):  # the same measure on the unpartitioned mesh, at the same cuts
             part = partition(polygon, n, cfg["parts"])
