@@ -129,6 +129,7 @@ def one(cfg: dict) -> dict:
                 out.update(_quality(polygon, mesh, cfg.get("check", False)))
                 out["seams_before_relax"] = mesh.info["seams_before_relax"]
                 out["seams"] = mesh.info["seams"]
+                out["phases"] = mesh.info["times"]
             else:
                 from uniform2d.partitioned import write_pvtu
 
@@ -240,6 +241,10 @@ def main(argv=None) -> int:
     return 0
 
 
+def _phases(r: dict) -> str:
+    return ", ".join(f"{k} {v:.1f} s" for k, v in r.get("phases", {}).items())
+
+
 def _ok(x: bool) -> str:
     return "met" if x else "NOT met"
 
@@ -262,14 +267,15 @@ def report(res: dict, a) -> None:
               f"{sa['cv_near_seams']:.5f}; away {sa['cv_away']:.5f} ({sa['near_edges']} edges near); "
               f"unpartitioned mesh at the same places {sp.get('cv_near_seams', float('nan')):.5f} "
               f"/ away {sp.get('cv_away', float('nan')):.5f}")
-        print(f"  time: plain {qp['seconds']:.1f} s, parts on {a.workers} workers {qk['seconds']:.1f} s")
+        print(f"  time: plain {qp['seconds']:.1f} s, parts on {a.workers} workers {qk['seconds']:.1f} s "
+              f"({_phases(qk)})")
     if "s_plain" in res:
         sp, sk, sv = res["s_plain"], res["s_parts"], res["s_pvtu"]
         print(f"speed n = {sp['n']:.0e}, K = {a.parts}, {a.workers} workers:")
         print(f"  single process        {sp['seconds']:8.1f} s  peak {sp['peak_mib']:7.0f} MiB")
         print(f"  parts, gathered       {sk['seconds']:8.1f} s  x{sp['seconds'] / sk['seconds']:.2f} "
               f"faster; coordinator peak {sk['peak_mib']:.0f} MiB, workers "
-              f"{', '.join(f'{m:.0f}' for m in sk['worker_peak_mib'])} MiB")
+              f"{', '.join(f'{m:.0f}' for m in sk['worker_peak_mib'])} MiB ({_phases(sk)})")
         print(f"  parts, .pvtu pieces   {sv['seconds']:8.1f} s  x{sp['seconds'] / sv['seconds']:.2f} "
               f"faster; coordinator peak {sv['peak_mib']:.0f} MiB, workers "
               f"{', '.join(f'{m:.0f}' for m in sv['worker_peak_mib'])} MiB "

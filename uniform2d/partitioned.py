@@ -25,6 +25,7 @@ import itertools
 import logging
 import math
 import shutil
+import time
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -35,7 +36,7 @@ from .geometry import polygon_edges, unique_edges
 from .mesh import Mesh
 from .optimize import improve
 from .optimize.moves import improve_kept
-from .optimize.schedule import schedule_for
+from .optimize.schedule import SCHEDULE, schedule_for
 from .optimize.seed import start
 from .partition import Partition, partition
 from .parts import allocate, stitch
@@ -217,7 +218,8 @@ def relax_seams(polygon: Polygon, points, part: Partition, objective: str = "bal
         d, _ = cKDTree(part.points[np.concatenate(part.cuts)]).query(P)
         free = d <= BAND * part.h
     free[: len(part.points) - part.n_cut] = False  # vertices and segment samples stay
-    pts, tri, _ = improve(polygon, P[nV:], objective=objective, href=part.h, frozen=~free[nV:])
+    pts, tri, _ = improve(polygon, P[nV:], objective=objective, href=part.h, frozen=~free[nV:],
+                          **SCHEDULE._asdict())
     return pts, tri
 
 
@@ -300,19 +302,35 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     (300, 3)
     """
     nV = len(polygon.vertices)
+    clock, times = time.perf_counter(), {}
+
+    def lap(name):
+        nonlocal clock
+        now = time.perf_counter()
+        times[name] = now - clock
+        clock = now
+
     part, items = _plan(polygon, n, parts, objective)
+    lap("partition")
     done = list(ordered_map(mesher or mesh_faces, items, jobs=jobs, scheduler=scheduler, bar=bar))
+    lap("parts")
     pieces = [(idx, own, T) for ii, res in zip(part.index, done) for idx, (own, T) in zip(ii, res)]
+    del done
     P, T = stitch(part.points, pieces)
+    del pieces
     if len(P) != nV + n:
         raise InternalError(f"the stitched mesh has {len(P) - nV} Steiner points, not {n} (a bug)")
     seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
     before = seam_uniformity(P, T, seam, part.h)
+    lap("stitch")
     if relax and part.cuts:
         P, T = relax_seams(polygon, P, part, objective)
+    lap("relax")
     ensure_valid(P, T, polygon, n, "uniform_mesh(parts=...)")
+    lap("check")
     info = {"method": "partitioned", "parts": int(parts), "h": part.h,
             "cut_points": part.n_cut, "shared_points": len(part.points) - nV,
-            "seams_before_relax": before, "seams": seam_uniformity(P, T, seam, part.h)}
+            "seams_before_relax": before, "seams": seam_uniformity(P, T, seam, part.h),
+            "times": times}
     log.info("partitioned: %d parts, %d cut points, seams %s", parts, part.n_cut, info["seams"])
     return Mesh(np.asarray(P), np.asarray(T, dtype=np.int64), polygon, n, info)
