@@ -190,6 +190,14 @@ def _face_ids(ctx: _Context, face) -> list[int]:
     return out
 
 
+def _segments_in(ctx: _Context, face) -> np.ndarray:
+    """The segment sample edges (E, 2) inside ``face`` (their midpoints are)."""
+    if not len(ctx.seg):
+        return ctx.seg
+    mids = ctx.xy(ctx.seg.ravel()).reshape(-1, 2, 2).mean(axis=1)
+    return ctx.seg[shapely.contains_xy(face, mids[:, 0], mids[:, 1])]
+
+
 def _chords(ctx: _Context, face, normal, c: float):
     """The chords of the line ``normal . p = c`` through ``face`` as id sequences
     (ends snapped to ring samples, segment crossings to segment samples), or
@@ -201,8 +209,7 @@ def _chords(ctx: _Context, face, normal, c: float):
         return []
     ring_ids = _face_ids(ctx, face)
     tree = cKDTree(ctx.xy(ring_ids))
-    inside = ctx.seg[shapely.contains_xy(face, *ctx.xy(ctx.seg.ravel()).reshape(-1, 2, 2).mean(axis=1).T)] \
-        if len(ctx.seg) else ctx.seg
+    inside = _segments_in(ctx, face)
     seglines = shapely.MultiLineString([ctx.xy(e) for e in inside]) if len(inside) else None
     out = []
     for g in pieces:
@@ -378,8 +385,7 @@ def _face_polygon(ctx: _Context, face, new: np.ndarray):
     """A face as a Polygon of the shared points on its rings (``new`` >= 0), with
     its segment sample edges and fixed points, and the shared number of each of
     its vertices."""
-    mids = ctx.xy(ctx.seg.ravel()).reshape(-1, 2, 2).mean(axis=1) if len(ctx.seg) else np.zeros((0, 2))
-    seg = ctx.seg[shapely.contains_xy(face, mids[:, 0], mids[:, 1])] if len(mids) else ctx.seg
+    seg = _segments_in(ctx, face)
     lone = ctx.xy(ctx.avoid) if len(ctx.avoid) else np.zeros((0, 2))
     lone = lone[shapely.contains_xy(face, lone[:, 0], lone[:, 1])] if len(lone) else lone
     rings = []
