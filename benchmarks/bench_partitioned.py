@@ -17,8 +17,9 @@ polygon ``data/benchmarks/square2holes.json``:
 2. **Speed** at ``--speed-n`` (1e7): wall time of the single-process mesh, of
    the partitioned one gathered and stitched (cluster start not counted), of
    the partitioned one written as a ``.pvtu`` piece by piece (never gathered),
-   and Gmsh's ``generate()`` at the same vertex count (one size, from the
-   vertex-count formula); peak RSS of this process and of every worker.
+   and Gmsh's ``generate()`` at the same vertex count or at ``--gmsh-n`` (one
+   size, from the vertex-count formula); peak RSS of this process and of every
+   worker.
 3. **Scale**: 1e8 points cannot run here; the partition of ``--sim-n`` (1e8)
    in ``--sim-parts`` (256) parts is made (its time and memory are the
    coordinator's), ``--sim-run`` (2) of its parts are meshed one by one in a
@@ -208,6 +209,8 @@ def main(argv=None) -> int:
     p.add_argument("--sim-run", type=int, default=2)
     p.add_argument("--sim-workers", type=int, default=64)
     p.add_argument("--no-gmsh", action="store_true")
+    p.add_argument("--gmsh-n", type=float, help="Gmsh's size, if not --speed-n (Gmsh at 1e7 "
+                   "takes minutes and GBs)")
     p.add_argument("--skip", nargs="*", default=[], choices=("quality", "speed", "scale"))
     a = p.parse_args(argv)
     if a.one:
@@ -230,7 +233,7 @@ def main(argv=None) -> int:
         res["s_parts"] = run({"kind": "parts", "n": ns, "parts": K, "workers": W})
         res["s_pvtu"] = run({"kind": "pvtu", "n": ns, "parts": K, "workers": W})
         if not a.no_gmsh:
-            res["s_gmsh"] = run({"kind": "gmsh", "n": ns})
+            res["s_gmsh"] = run({"kind": "gmsh", "n": int(a.gmsh_n or ns)})
     if "scale" not in a.skip:
         nn = int(a.sim_n)
         print(f"scale: n = {nn:.0e} in {a.sim_parts} parts (simulated)")
@@ -282,7 +285,7 @@ def report(res: dict, a) -> None:
               f"(whole / K = {sp['peak_mib'] / a.parts:.0f} MiB)")
         if "s_gmsh" in res:
             g = res["s_gmsh"]
-            print(f"  gmsh generate()       {g['seconds']:8.1f} s  ({g['vertices']} vertices, peak "
+            print(f"  gmsh generate()       {g['seconds']:8.1f} s  at n = {g['n']:.0e} ({g['vertices']} vertices, peak "
                   f"{g['peak_mib']:.0f} MiB, edge ratio {g['edge_ratio']:.3f}, CV {g['cv']:.4f})")
     if "sim_partition" in res:
         sp, parts = res["sim_partition"], res["sim_parts"]

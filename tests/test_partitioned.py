@@ -158,3 +158,32 @@ def test_a_lost_worker_gives_the_same_mesh(tmp_path):
                              mesher=functools.partial(kill_once, str(marker)))
     assert marker.exists()  # a worker did die
     assert same(m, ref)
+
+
+def test_the_command_gathers_any_other_format(tmp_path, capsys):
+    from uniform2d import read_mesh
+
+    src = tmp_path / "p.json"
+    write_polygon(src, L_HOLE)
+    out = tmp_path / "m.vtu"
+    assert main(["mesh", str(src), "-n", "900", "--parts", "3", "-o", str(out), "-q"]) == 0
+    got = read_mesh(out)
+    ref = uniform_mesh(L_HOLE, 900, parts=3)
+    np.testing.assert_array_equal(got[0], ref.points)
+    np.testing.assert_array_equal(got[1], ref.triangles)
+    check_mesh(got[0], got[1], L_HOLE, n_steiner=900)
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--method", "paper", "-o", "m.vtu"], "cannot be used with --method paper"),
+    (["-o", "m.pvtu", "--plot", "m.png"], "drop --plot"),
+])
+def test_the_command_refuses(tmp_path, capsys, extra, message):
+    src = tmp_path / "p.json"
+    write_polygon(src, L_HOLE)
+    argv = ["mesh", str(src), "-n", "300", "--parts", "2"]
+    argv += [str(tmp_path / a) if a.startswith("m.") else a for a in extra]
+    code = main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and message in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.json"]

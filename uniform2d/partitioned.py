@@ -34,8 +34,8 @@ from ._parallel import ordered_map
 from .errors import InsufficientPointsError, InternalError
 from .geometry import polygon_edges, unique_edges
 from .mesh import Mesh
-from .optimize import improve
-from .optimize.moves import improve_kept
+from .optimize.moves import KernelMesh, improve_kept
+from .optimize.objective import objective_code
 from .optimize.schedule import SCHEDULE, schedule_for
 from .optimize.seed import start
 from .partition import Partition, partition
@@ -197,14 +197,16 @@ def seam_uniformity(points, triangles, seam_points, h: float) -> dict:
     return {"cv_near_seams": cv(L[near]), "cv_away": cv(L[~near]), "near_edges": int(near.sum())}
 
 
-def relax_seams(polygon: Polygon, points, part: Partition, objective: str = "balanced"):
+def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective: str = "balanced"):
     """The stitched mesh with the band within :data:`BAND` h of the cuts relaxed.
 
-    The cut points are ordinary points now: they and their neighbours move
-    (:func:`uniform2d.optimize.improve` with everything else frozen; those on a
-    ring slide along it), and the result is the exact constrained Delaunay
-    triangulation of the moved points, which also makes the mesh Delaunay
-    across the cuts again.  Vertices and segment samples do not move.
+    The cut points are ordinary points now: they and their neighbours move (the
+    optimiser's moves, :mod:`uniform2d.optimize`, with everything else frozen
+    and the full schedule, on the band only; those on a ring slide along it).
+    The stitched mesh is loaded into the kernel as it is, made constrained
+    Delaunay there (across the cuts too), and the result is the kernel's own
+    exact constrained Delaunay triangulation of the moved points.  Vertices
+    and segment samples do not move.
 
     Returns
     -------
@@ -218,9 +220,10 @@ def relax_seams(polygon: Polygon, points, part: Partition, objective: str = "bal
         d, _ = cKDTree(part.points[np.concatenate(part.cuts)]).query(P)
         free = d <= BAND * part.h
     free[: len(part.points) - part.n_cut] = False  # vertices and segment samples stay
-    pts, tri, _ = improve(polygon, P[nV:], objective=objective, href=part.h, frozen=~free[nV:],
-                          **SCHEDULE._asdict())
-    return pts, tri
+    st = KernelMesh.from_mesh(polygon, P, triangles, href=part.h, frozen=~free[nV:])
+    run = st.advance(SCHEDULE, objective_code(objective))
+    pts, tri, _ = st.result(run)
+    return pts, np.asarray(tri, dtype=np.int64)
 
 
 def _plan(polygon: Polygon, n: int, parts: int, objective: str):
@@ -324,7 +327,7 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     before = seam_uniformity(P, T, seam, part.h)
     lap("stitch")
     if relax and part.cuts:
-        P, T = relax_seams(polygon, P, part, objective)
+        P, T = relax_seams(polygon, P, T, part, objective)
     lap("relax")
     ensure_valid(P, T, polygon, n, "uniform_mesh(parts=...)")
     lap("check")
