@@ -23,7 +23,8 @@ polygon ``data/benchmarks/square2holes.json``:
 3. **Scale**: 1e8 points cannot run here; the partition of ``--sim-n`` (1e8)
    in ``--sim-parts`` (256) parts is made (its time and memory are the
    coordinator's), ``--sim-run`` (2) of its parts are meshed one by one in a
-   fresh process each (time, peak RSS: what one worker needs), and the run is
+   fresh process each, given only their part (time, peak RSS: what one worker
+   needs), and the run is
    extrapolated: per-worker memory = a part's peak, wall time = parts /
    workers x a part's time.
 
@@ -37,6 +38,7 @@ import argparse
 import json
 import math
 import os
+import pickle
 import resource
 import subprocess
 import sys
@@ -163,13 +165,13 @@ def one(cfg: dict) -> dict:
         out["peak_mib"] = _peak_mib()
         out["cut_points"] = part.n_cut
         out["part_points"] = [sum(it[1]) for it in items]
+        with open(cfg["items"], "wb") as f:  # for the parts, each in its own process
+            pickle.dump(items, f)
     elif kind == "sim_part":
-        from uniform2d.partitioned import _plan, mesh_faces
+        from uniform2d.partitioned import mesh_faces
 
-        part, items = _plan(polygon, n, cfg["parts"], "balanced")
-        del part
-        item = items[cfg["index"]]
-        del items
+        with open(cfg["items"], "rb") as f:
+            item = pickle.load(f)[cfg["index"]]
         _load_kernels()
         base = _peak_mib()
         t = time.perf_counter()
@@ -237,9 +239,12 @@ def main(argv=None) -> int:
     if "scale" not in a.skip:
         nn = int(a.sim_n)
         print(f"scale: n = {nn:.0e} in {a.sim_parts} parts (simulated)")
-        res["sim_partition"] = run({"kind": "sim_partition", "n": nn, "parts": a.sim_parts})
-        res["sim_parts"] = [run({"kind": "sim_part", "n": nn, "parts": a.sim_parts, "index": i})
-                            for i in range(a.sim_run)]
+        with tempfile.TemporaryDirectory() as d:
+            items = str(Path(d) / "items.pickle")
+            res["sim_partition"] = run({"kind": "sim_partition", "n": nn, "parts": a.sim_parts,
+                                        "items": items})
+            res["sim_parts"] = [run({"kind": "sim_part", "n": nn, "index": i, "items": items})
+                                for i in range(a.sim_run)]
     report(res, a)
     return 0
 
