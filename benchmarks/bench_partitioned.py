@@ -22,8 +22,9 @@ polygon ``data/benchmarks/square2holes.json``:
    worker.
 3. **Scale**: 1e8 points cannot run here; the partition of ``--sim-n`` (1e8)
    in ``--sim-parts`` (256) parts is made (its time and memory are the
-   coordinator's), ``--sim-run`` (2) of its parts are meshed one by one in a
-   fresh process each, given only their part (time, peak RSS: what one worker
+   coordinator's), ``--sim-run`` (2) of its parts are run one by one as a
+   worker runs them for a ``.pvtu`` (meshed, checked, written as a piece), in a
+   fresh process each given only its part (time, peak RSS: what one worker
    needs), and the run is
    extrapolated: per-worker memory = a part's peak, wall time = parts /
    workers x a part's time.
@@ -165,18 +166,27 @@ def one(cfg: dict) -> dict:
         out["peak_mib"] = _peak_mib()
         out["cut_points"] = part.n_cut
         out["part_points"] = [sum(it[1]) for it in items]
+        # each part as write_pvtu hands it to a worker (its piece's path set later)
+        import numpy as np
+
+        own = np.cumsum([0] + [c for it in items for c in it[1]])
+        full, k = [], 0
+        for it, idx in zip(items, part.index):
+            full.append((*it, idx, [int(len(part.points) + own[k + j]) for j in range(len(idx))]))
+            k += len(idx)
         with open(cfg["items"], "wb") as f:  # for the parts, each in its own process
-            pickle.dump(items, f)
+            pickle.dump(full, f)
     elif kind == "sim_part":
-        from uniform2d.partitioned import mesh_faces
+        from uniform2d.partitioned import write_part
 
         with open(cfg["items"], "rb") as f:
             item = pickle.load(f)[cfg["index"]]
         _load_kernels()
         base = _peak_mib()
-        t = time.perf_counter()
-        mesh_faces(item)
-        out["seconds"] = time.perf_counter() - t
+        with tempfile.TemporaryDirectory() as d:
+            t = time.perf_counter()
+            write_part((*item, str(Path(d) / "piece.vtu")))  # meshed, checked, written
+            out["seconds"] = time.perf_counter() - t
         out["peak_mib"] = _peak_mib()
         out["peak_before_mib"] = base
         out["points"] = sum(item[1])

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import json
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -172,6 +173,11 @@ def test_the_command_gathers_any_other_format(tmp_path, capsys):
     np.testing.assert_array_equal(got[0], ref.points)
     np.testing.assert_array_equal(got[1], ref.triangles)
     check_mesh(got[0], got[1], L_HOLE, n_steiner=900)
+    capsys.readouterr()
+    assert main(["mesh", str(src), "-n", "900", "--parts", "3", "-o", str(out), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["n_steiner"] == 900 and doc["info"]["parts"] == 3
+    assert doc["info"]["seams"]["near_edges"] > 0
 
 
 @pytest.mark.parametrize("extra, message", [
