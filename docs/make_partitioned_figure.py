@@ -65,7 +65,7 @@ def main(argv=None) -> int:
         ax.autoscale()
         ax.axis("off")
     fig.tight_layout()
-    fig.savefig(out / "partitioned_parts.png", dpi=110)
+    fig.savefig(out / "partitioned_parts.png", dpi=80)
     plt.close(fig)
     return 0
 

@@ -6,9 +6,10 @@
    area and samples every ring, segment and cut once at the target spacing h;
 2. the points left, n minus those samples, are shared among the parts' faces
    by area (:func:`uniform2d.parts.allocate`: exactly n in all);
-3. every part is meshed apart (:func:`uniform2d.parts.map_parts`): a lattice
-   seed moved by :func:`uniform2d.optimize.improve`, its ring kept, so the
-   parts meet on the cut points they share;
+3. every part is meshed apart (:func:`uniform2d.parts.map_parts`,
+   :func:`mesh_face`): the optimiser's start for a large mesh moved by its
+   kernel, the cut points on its ring kept, so the parts meet on the cut
+   points they share;
 4. the parts are stitched (:func:`uniform2d.parts.stitch`) and the band within
    :data:`BAND` h of the cuts is relaxed (:func:`relax_seams`): the cuts stop
    being constraints, their points and their neighbours move and the mesh is
