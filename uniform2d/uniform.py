@@ -11,6 +11,7 @@ from .graded import graded_mesh
 from .grading import as_field, count_for_field, field_integrals
 from .mesh import Mesh
 from .optimize import optimize_mesh
+from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
 
@@ -42,6 +43,9 @@ def uniform_mesh(
     size=None,
     objective: str = "balanced",
     progress=None,
+    parts: int | None = None,
+    jobs: int = 1,
+    scheduler=None,
 ) -> Mesh:
     """The most uniform mesh uniform2d makes, with exactly ``n`` Steiner points.
 
@@ -70,6 +74,12 @@ def uniform_mesh(
     with; ``"seed"``: the starts tried; ``"relaxation"``; ``"relocation"``), for a
     progress bar; the library itself never prints, it logs the phases (INFO).
 
+    ``parts=K`` makes the mesh in K parts meshed apart, in ``jobs`` local
+    processes or on the Dask cluster of ``scheduler`` (an address or a
+    ``distributed.Client``), and stitched (:mod:`uniform2d.partitioned`; see
+    docs/partitioned.md): still exactly n points, the same bytes whatever ran
+    the parts, but a different (equally valid) mesh for every K.
+
     Examples
     --------
     >>> from uniform2d import Polygon, uniform_mesh
@@ -81,6 +91,9 @@ def uniform_mesh(
         polygon = Polygon(polygon)
     field = as_field(polygon, size)
     if field is not None:
+        if parts is not None:
+            raise InvalidArgumentError("parts= makes a uniform mesh in parts; a size field "
+                                       "(graded mesh) cannot be split yet: drop one of them")
         return _graded(polygon, n, field, objective, progress)
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
@@ -95,6 +108,11 @@ def uniform_mesh(
             )
     if isinstance(n, numbers.Integral) and not isinstance(n, bool):
         check_point_count(n + len(polygon.vertices), what)
+    if parts is not None:
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+            raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+        return partitioned_mesh(polygon, int(n), parts, jobs=jobs, scheduler=scheduler,
+                                objective=objective)
     # optimize_mesh checks the mesh it makes (ensure_valid); its fallback, T+, was checked
     return optimize_mesh(polygon, n, objective=objective, progress=progress)
 

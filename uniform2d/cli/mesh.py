@@ -43,6 +43,7 @@ from ._common import (
     same_outputs,
     shows_progress,
 )
+from ._mesh_write import write_outputs
 from ._sizing import add_size_options, field_from_args, has_field
 
 log = logging.getLogger(__name__)
@@ -50,6 +51,9 @@ log = logging.getLogger(__name__)
 METHODS = ("uniform", "paper")
 #: Abaqus element types of planar meshes (uniform2d.io.abaqus_file.PLANAR_TYPES).
 ELEMENT_TYPES = ("CPS3", "CPE3", "CAX3")
+
+#: ParaView's partitioned VTU: written piece by piece with --parts.
+PVTU = ".pvtu"
 
 
 def add_parser(subparsers):
@@ -95,7 +99,11 @@ def add_parser(subparsers):
                    help="also write a figure of the mesh (.png, .pdf, .svg); a name ending in '/' "
                    "is a directory receiving <input name>.png (with several inputs --plot must be "
                    "a directory)")
-    add_parallel_options(p, "the inputs")
+    p.add_argument("--parts", type=positive_int, metavar="K",
+                   help="mesh each input in K parts of near-equal area on the --jobs processes or "
+                   "the --scheduler cluster, and stitch them (docs/partitioned.md); with "
+                   "-o NAME.pvtu every part is written as its own piece, never gathered")
+    add_parallel_options(p, "the inputs (with --parts: the parts)")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true",
                       help="print the quality summary and optimality certificates")
@@ -112,11 +120,13 @@ def _stem(path: Path) -> str:
     return name[: -len(fmt.extension)] if fmt is not None else path.stem
 
 
-def _format_extension(text: str) -> str:
+def _format_extension(text: str, parts=None) -> str:
     from ..errors import UnsupportedFormatError
     from ..io.registry import MESH_FORMATS
 
     ext = (text if text.startswith(".") else "." + text).lower()
+    if ext == PVTU and parts:
+        return ext
     if ext not in MESH_FORMATS:
         raise UnsupportedFormatError(
             f"unknown --format '{text}'; use one of {', '.join(MESH_FORMATS)}"
@@ -153,7 +163,7 @@ def _writable(directory: Path, option: str) -> None:
         raise PermissionError(13, f"{option}: the directory is not writable", str(directory))
 
 
-def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
+def _output_target(text: str | None, several: bool, parts=None) -> tuple[Path | None, bool]:
     """One -o path and whether it names a directory, checked before any meshing."""
     from ..io.registry import MESH_FORMATS, find_mesh_format, match_format
 
@@ -166,6 +176,12 @@ def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
         check_output_dir(out, "-o")
         _writable(out, "-o")
         return out, True
+    if out.suffix.lower() == PVTU:
+        if not parts:
+            raise ValueError(f"'{out}': a .pvtu is written piece by piece from a mesh made in "
+                             "parts; add --parts K (or write another format)")
+        check_output_file(out, "-o")
+        return out, False
     find_mesh_format(out, "write")
     check_output_file(out, "-o")
     _writable(out.parent if str(out.parent) else Path("."), "-o")
@@ -179,7 +195,7 @@ def _outputs(args, inputs: list[Path], ext: str) -> list[tuple[Path, ...]]:
     if several and len(texts) > 1:
         raise ValueError("with several inputs, give one -o directory (it receives "
                          "<input name><--format> per input)")
-    targets = [_output_target(t, several) for t in texts]
+    targets = [_output_target(t, several, args.parts) for t in texts]
     outs = []
     for src in inputs:
         stem = _stem(src)
@@ -204,7 +220,7 @@ def _plan(args) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
     for src in inputs:  # all inputs before any output
         if not src.exists():
             raise FileNotFoundError(2, "input file not found", str(src))
-    ext = _format_extension(args.format)
+    ext = _format_extension(args.format, args.parts)
     several = len(inputs) > 1
     outs = _outputs(args, inputs, ext)
     plot, plot_is_dir = _plot_target(args.plot, several)
@@ -214,6 +230,13 @@ def _plan(args) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
         fig = None
         if plot is not None:
             fig = plot / (_stem(src) + ".png") if plot_is_dir else plot
+        if any(d.suffix.lower() == PVTU for d in dst):
+            if fig is not None:
+                raise ValueError("--plot needs the whole mesh, which a .pvtu output never "
+                                 "gathers; drop --plot or write another format")
+            if len(dst) > 1:
+                raise ValueError("a .pvtu output is written piece by piece by the workers; "
+                                 "write it alone (other formats in another run)")
         plan.append((src, dst, fig))
     same_outputs(plan)
     return plan
@@ -232,21 +255,17 @@ def steiner_for_vertices(polygon, total: int) -> int:
     return total - nv
 
 
-def _mesh_one(polygon, args, progress=None):
-    from ..tplus import tplus
-    from ..uniform import steiner_count_for_size, uniform_mesh
+def _count(polygon, args) -> int:
+    """n from -n or --size, checked against this machine's memory."""
     from ..errors import InsufficientPointsError
     from ..resources import check_point_count
+    from ..uniform import steiner_count_for_size
 
-    n_arg = args.n
+    n = args.n
+    what = f"n = {n}"
     if getattr(args, "vertices", None) is not None:
-        n_arg = steiner_for_vertices(polygon, args.vertices)
-    field = field_from_args(polygon, args)
-    if field is not None:
-        return uniform_mesh(polygon, n=n_arg, size=field, progress=progress)
-    if args.method == "uniform":
-        return uniform_mesh(polygon, n=n_arg, size=args.size, progress=progress)
-    n, what = n_arg, f"n = {n_arg}"
+        n = steiner_for_vertices(polygon, args.vertices)
+        what = f"--vertices {args.vertices} (n = {n})"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
         what = f"size {args.size!r} (n = {n})"
@@ -256,60 +275,54 @@ def _mesh_one(polygon, args, progress=None):
                 "Steiner points; use a smaller size"
             )
     check_point_count(n + len(polygon.vertices), what)
-    return tplus(polygon, n)
+    return n
 
 
-def _write_meshes(mesh, dsts: tuple[Path, ...], element_type) -> None:
-    """Every mesh file, or none of those that did not exist before: each is
-    written atomically, and a failure removes the ones this call created."""
-    created = []
-    try:
-        for dst in dsts:
-            existed = dst.exists()
-            inp = dst.name.lower().endswith(".inp")
-            mesh.write(dst, **({"element_type": element_type} if inp and element_type else {}))
-            if not existed:
-                created.append(dst)
-    except BaseException:
-        for dst in created:
-            dst.unlink(missing_ok=True)
-        raise
+def _mesh_one(polygon, args, progress=None):
+    from ..tplus import tplus
+    from ..uniform import uniform_mesh
+
+    n_arg = args.n
+    if getattr(args, "vertices", None) is not None:
+        n_arg = steiner_for_vertices(polygon, args.vertices)
+    field = field_from_args(polygon, args)
+    if field is not None:
+        return uniform_mesh(polygon, n=n_arg, size=field, progress=progress)
+    if args.method == "uniform":
+        return uniform_mesh(polygon, n=n_arg, size=args.size, progress=progress)
+    return tplus(polygon, _count(polygon, args))
 
 
-def _write_both(mesh, dsts: tuple[Path, ...], fig: Path | None, element_type=None) -> None:
-    """The mesh files and their figure, all or none: the figure is drawn to a
-    temporary file next to ``fig`` first and moved into place after the mesh
-    files are written (each write is atomic on its own).  Errors name ``fig``,
-    never the temporary file."""
-    import os
-    import secrets
+def _parts_bar(args, name: str):
+    from tqdm import tqdm
 
-    from ..io.atomic import named_for
+    return tqdm(total=args.parts, desc=name, unit="part", file=sys.stderr, leave=False,
+                disable=not shows_progress(args.quiet))
 
-    if fig is None:
-        _write_meshes(mesh, dsts, element_type)
-        return
-    import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def _process_parts(args, job) -> dict:
+    """One input in ``--parts`` parts: a .pvtu written piece by piece, or the
+    stitched mesh in any other format."""
+    from ..io import read_polygon
+    from ..partitioned import partitioned_mesh, write_pvtu
 
-    tmp = fig.with_name(f".{fig.stem}.tmp-{secrets.token_hex(4)}{fig.suffix}")
-    new = [d for d in dsts if not d.exists()]
-    try:
-        try:
-            plt.close(mesh.plot(tmp))
-        except OSError as exc:
-            raise named_for(exc, tmp, fig) from None
-        _write_meshes(mesh, dsts, element_type)
-        try:
-            os.replace(tmp, fig)
-        except OSError as exc:
-            for dst in new:
-                dst.unlink(missing_ok=True)
-            raise named_for(exc, tmp, fig) from None
-    finally:
-        tmp.unlink(missing_ok=True)
+    src, dsts, fig = job
+    polygon = read_polygon(src)
+    n = _count(polygon, args)
+    with _parts_bar(args, src.name) as bar:
+        if dsts[0].suffix.lower() == PVTU:  # then the only output (_plan)
+            dst = dsts[0]
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            info = write_pvtu(polygon, n, args.parts, dst, jobs=args.part_jobs,
+                              scheduler=args.part_scheduler, bar=bar)
+            return {"input": str(src), "output": str(dst), "outputs": [str(dst)], "plot": None,
+                    "method": "partitioned",
+                    "n_steiner": n, "n_points": info["points"], "n_triangles": info["triangles"],
+                    "info": info, "quality": None, "summary": "(a .pvtu is never gathered: "
+                    "no quality summary)", "regions": None}
+        mesh = partitioned_mesh(polygon, n, args.parts, jobs=args.part_jobs,
+                                scheduler=args.part_scheduler, bar=bar)
+    return _written(args, src, dsts, fig, polygon, mesh)
 
 
 def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
@@ -327,13 +340,18 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     finally:
         if bar is not None:
             bar.close()
+    return _written(args, src, dst, fig, polygon, mesh)
+
+
+def _written(args, src: Path, dst: Path, fig, polygon, mesh) -> dict:
+    """Write the mesh (and its figure); what to show of it."""
     log.info("%s: %r", src, mesh)
     quality = mesh.quality() if (args.stats or args.json) else None
     for d in dst:
         d.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
     if fig is not None:
         fig.parent.mkdir(parents=True, exist_ok=True)
-    _write_both(mesh, dst, fig, getattr(args, "element_type", None))
+    write_outputs(mesh, dst, fig, getattr(args, "element_type", None))
     return {
         "input": str(src),
         "output": str(dst[0]),
@@ -401,6 +419,19 @@ def run(args) -> int:
     _check_count(args)
     check_parallel_options(args)
     plan = _plan(args)
+    if args.parts:
+        if has_field(args):
+            raise ValueError("--parts makes a uniform mesh in parts; it cannot be used with "
+                             "--refine or --size-field yet")
+        if args.method != "uniform":
+            raise ValueError("--parts makes the uniform mesh in parts; it cannot be used with "
+                             "--method paper")
+        # the inputs one after the other here; the parts of each on the workers
+        args.part_jobs, args.part_scheduler = args.jobs, args.scheduler
+        args.jobs, args.scheduler = 1, None
+        args.phase_bar = False
+        return run_batch(args, _process_parts, plan, "meshing", _show,
+                         lambda doc: {k: v for k, v in doc.items() if k != "summary"}, warm=True)
     # one input runs here, where its phases can be shown as they pass
     args.phase_bar = len(plan) == 1 and shows_progress(args.quiet)
     return run_batch(args, _process, plan, "meshing", _show,
