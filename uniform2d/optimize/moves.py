@@ -14,6 +14,7 @@ triangulation is returned (:func:`improve_kept`, :meth:`KernelMesh.result`).
 from __future__ import annotations
 
 import math
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -23,6 +24,7 @@ from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon, as_polygon
 from ..sites import edge_parameters
+from ..threads import thread_map
 from ..triangulation import load_mesh, triangulate
 from ..triangulation import load as build
 from . import schedule as S
@@ -184,7 +186,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
     the long ones on the few that can win.  ``report(done, total)``, if given, is
-    called before the first trial and after each.
+    called before the first trial and after each round of trials.  The starts
+    are built and their trials run on :func:`uniform2d.threads.get_threads`
+    threads, each start on its own kernel state, the results ranked in the
+    order of the starts: the same mesh on any number of threads.
 
     Returns (index of the winning start, points, triangles, info) as :func:`improve`,
     the triangles the kernel's own (:meth:`KernelMesh.result`).
@@ -194,10 +199,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     few MB each), not for many starts of a huge mesh.
     """
     obj = objective_code(objective)
-    alive = []
-    for sites, edges, frozen in starts:
-        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges)
-        alive.append((len(alive), st, Progress()))
+    built = thread_map(lambda s: KernelMesh.built(polygon, s[0], href=href, frozen=s[2],
+                                                  edges=s[1]), starts)
+    alive = [(i, st, Progress()) for i, st in enumerate(built)]
+    del built
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
     keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
     sizes = [len(alive)]
@@ -207,13 +212,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     if report is not None:
         report(done, total)
     for sched, size in zip(S.TRIALS, sizes):
-        scored = []
-        for i, st, run in alive[:size]:
-            run = st.advance(sched, obj, run) if st is not None else run
-            scored.append((st.rank(obj) if st is not None else 0.0, i, st, run))
-            done += 1
-            if report is not None:
-                report(done, total)
+        scored = thread_map(partial(_trial, sched=sched, obj=obj), alive[:size])
+        done += len(scored)
+        if report is not None:
+            report(done, total)
         scored.sort(key=lambda r: r[:2])
         alive = [r[1:] for r in scored]
     (i, st, run), = alive[:1]
@@ -226,6 +228,17 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
         sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
     run = st.advance(sched, obj, run)
     return i, *st.result(run)
+
+
+def _trial(alive, sched: S.Schedule, obj: int):
+    """One start's trial of :func:`improve_best`: (rank, index, state, progress)
+    after running ``sched`` on it (its own kernel state: trials run at once on
+    threads, :func:`uniform2d.threads.thread_map`)."""
+    i, st, run = alive
+    if st is None:
+        return 0.0, i, st, run
+    run = st.advance(sched, obj, run)
+    return st.rank(obj), i, st, run
 
 
 class KernelMesh(NamedTuple):

@@ -13,12 +13,14 @@ from ..insert import min_distance_after
 from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
+from ..threads import thread_map
 from ..tplus import tplus_if_feasible
 from ..validity import ensure_valid
 from . import schedule as S
 from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
+from .angles import ANGLES_MAX, raise_worst_angle
 from .boundary import target_size
 from .seed import start, variants
 
@@ -33,7 +35,7 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     :func:`~uniform2d.optimize.moves.improve_best`): (points, triangles, improve's
     info, frozen sites, boundary points, variant)."""
     tried = variants(polygon, n)
-    made = [start(polygon, n, h, variant) for variant in tried]
+    made = thread_map(lambda variant: start(polygon, n, h, variant), tried)
     if len(made) == 1:  # nothing to rank
         report("seed", 0, 1)
         report("seed", 1, 1)
@@ -156,11 +158,14 @@ def optimize_mesh(
     pts, tri, run, frozen, k, (spacing, edge, layered) = _best_start(
         polygon, n, h, objective, options, report
     )
-    moved = 0
+    moved, edges = 0, run["edges"]
     if n + nV <= S.RELOCATE_MAX:
         report("relocation", 0, 1)
-        pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options, run["edges"])
+        pts, tri, moved, edges = relocate(polygon, pts, tri, frozen, objective, h, options, edges)
         report("relocation", 1, 1)
+    raised = 0
+    if n + nV <= ANGLES_MAX:
+        pts, tri, raised = raise_worst_angle(polygon, pts, tri, edges)
     # the kernel's own triangles (moves.finish_kept), checked here once
     ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
     q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
@@ -179,6 +184,7 @@ def optimize_mesh(
         "relax_iterations": run["spring_rounds"],
         "sweeps": run["sweeps"],
         "relocated": moved,
+        "angle_rounds": raised,
         "start": (
             None
             if tp_info is None
