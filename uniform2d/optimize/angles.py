@@ -38,7 +38,9 @@ ROUNDS = 20
 WORST = 1.0
 #: Compass search: first step (fraction of the star's shortest spoke), steps.
 STEP0 = 0.25
-STEPS = 24
+STEPS = 16
+#: Gains (degrees) below MIN_GAIN are not worth a move or a round.
+MIN_GAIN = 0.05
 
 
 def min_angles(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
@@ -68,22 +70,22 @@ def _extremes(points, triangles):
     return L.max(), L.min(), L.sum(axis=1).max()
 
 
-def _star_score(p, ring, lmax, lmin, pmax):
-    """Smallest angle (degrees) of the star with its centre at p, the star given
-    by its opposite edges ``ring`` (k, 2, 2) in CCW order; -inf if a triangle
-    turns or an extreme is passed."""
-    a, b = ring[:, 0], ring[:, 1]
-    cross = (a[:, 0] - p[0]) * (b[:, 1] - p[1]) - (a[:, 1] - p[1]) * (b[:, 0] - p[0])
-    if np.any(cross <= 0.0):
-        return -np.inf
-    la = np.hypot(a[:, 0] - p[0], a[:, 1] - p[1])
-    lb = np.hypot(b[:, 0] - p[0], b[:, 1] - p[1])
-    lab = np.hypot(*(b - a).T)
-    if (max(la.max(), lb.max()) > lmax or min(la.min(), lb.min()) < lmin
-            or (la + lb + lab).max() > pmax):
-        return -np.inf
+def _star_scores(P, ring, lmax, lmin, pmax):
+    """Smallest angle (degrees) of the star with its centre at each of the
+    places ``P`` (c, 2), the star given by its opposite edges ``ring`` (k, 2, 2)
+    in CCW order; -inf where a triangle turns or an extreme is passed."""
+    a, b = ring[None, :, 0], ring[None, :, 1]
+    x, y = P[:, None, 0], P[:, None, 1]
+    cross = (a[..., 0] - x) * (b[..., 1] - y) - (a[..., 1] - y) * (b[..., 0] - x)
+    la = np.hypot(a[..., 0] - x, a[..., 1] - y)
+    lb = np.hypot(b[..., 0] - x, b[..., 1] - y)
+    lab = np.hypot(*(ring[:, 1] - ring[:, 0]).T)[None, :]
     s = np.minimum(np.minimum(la, lb), lab)
-    return float(np.degrees(np.arcsin(np.clip(cross * s / (la * lb * lab), 0.0, 1.0))).min())
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ang = np.degrees(np.arcsin(np.clip(cross * s / (la * lb * lab), 0.0, 1.0))).min(axis=1)
+    bad = ((cross <= 0.0).any(axis=1) | (np.maximum(la, lb).max(axis=1) > lmax)
+           | (np.minimum(la, lb).min(axis=1) < lmin) | ((la + lb + lab).max(axis=1) > pmax))
+    return np.where(bad, -np.inf, ang)
 
 
 _COMPASS = np.array([[1, 0], [0, 1], [-1, 0], [0, -1], [0.7071, 0.7071], [-0.7071, 0.7071],
@@ -91,11 +93,13 @@ _COMPASS = np.array([[1, 0], [0, 1], [-1, 0], [0, -1], [0.7071, 0.7071], [-0.707
 
 
 def _best_place(p0, ring, lmax, lmin, pmax, edge=None):
-    """Compass search for the place of the star's centre with the largest
-    smallest angle, from p0; with ``edge`` = (start, vector) of the polygon
-    edge p0 lies on, along it only (placed as ``start + t * vector``, as the
-    kernel places a sliding point, so it stays on the edge within rounding)."""
-    best, score = p0.copy(), _star_score(p0, ring, lmax, lmin, pmax)
+    """(place, its score, p0's score): compass search for the place of the
+    star's centre with the largest smallest angle, from p0; with ``edge`` =
+    (start, vector) of the polygon edge p0 lies on, along it only (placed as
+    ``start + t * vector``, as the kernel places a sliding point, so it stays
+    on the edge within rounding)."""
+    best = p0.copy()
+    score = first = float(_star_scores(p0[None], ring, lmax, lmin, pmax)[0])
     step = STEP0 * float(np.hypot(*(ring[:, 0] - p0).T).min())
     if edge is not None:
         a, d = edge
@@ -107,15 +111,15 @@ def _best_place(p0, ring, lmax, lmin, pmax, edge=None):
             cand = best + step * _COMPASS
         else:
             cand = a + np.array([[t + step], [t - step]]) * d
-        scores = [_star_score(c, ring, lmax, lmin, pmax) for c in cand]
+        scores = _star_scores(cand, ring, lmax, lmin, pmax)
         i = int(np.argmax(scores))
         if scores[i] > score:
-            best, score = cand[i], scores[i]
+            best, score = cand[i], float(scores[i])
             if edge is not None:
                 t += step if i == 0 else -step
         else:
             step *= 0.5
-    return best, score
+    return best, score, first
 
 
 def _round(points, triangles, ang, movable, along, lmax, lmin, pmax):
@@ -128,20 +132,22 @@ def _round(points, triangles, ang, movable, along, lmax, lmin, pmax):
     busy = np.zeros(len(points), bool)
     out = points.copy()
     moved = False
+    corner = np.argsort(triangles.ravel(), kind="stable")  # the stars, once a round
+    start = np.searchsorted(triangles.ravel()[corner], np.arange(len(points) + 1))
     for t in picked:
         best = None  # (gain, vertex, place, star) of the triangle's best move
         for v in triangles[t]:
             if not movable[v] or busy[v]:
                 continue
-            rows, cols = np.nonzero(triangles == v)
+            at = corner[start[v]:start[v + 1]]
+            rows, cols = at // 3, at % 3
             star = triangles[rows]
             if busy[star].any():
                 continue
             k = np.arange(len(rows))
             ring = np.stack([out[star[k, (cols + 1) % 3]], out[star[k, (cols + 2) % 3]]], axis=1)
-            before = _star_score(out[v], ring, lmax, lmin, pmax)
-            place, score = _best_place(out[v], ring, lmax, lmin, pmax, along[v])
-            if score > before and (best is None or score - before > best[0]):
+            place, score, before = _best_place(out[v], ring, lmax, lmin, pmax, along[v])
+            if score > before + MIN_GAIN and (best is None or score - before > best[0]):
                 best = (score - before, v, place, star)
         if best is not None:
             out[best[1]] = best[2]
@@ -208,7 +214,9 @@ def _gains(ang0, ang) -> bool:
     the same with less of a shortfall below ``WORST`` degrees above it (the
     worst triangles of a symmetric mesh are mended over several rounds)."""
     w0, w = ang0.min(), ang.min()
-    if w != w0:
-        return w > w0
+    if w < w0:
+        return False
+    if w >= w0 + MIN_GAIN:
+        return True
     top = w0 + WORST
-    return np.maximum(top - ang, 0.0).sum() < np.maximum(top - ang0, 0.0).sum()
+    return np.maximum(top - ang, 0.0).sum() < np.maximum(top - ang0, 0.0).sum() - MIN_GAIN
