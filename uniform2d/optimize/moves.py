@@ -262,6 +262,10 @@ class KernelMesh(NamedTuple):
     # sites: the deep interior of a large lattice); False: every triangle, as
     # the surface layer's meshes were made
     restrict: bool = False
+    # the descent's short-edge weight from the edges a move can change
+    # (:func:`uniform2d._kernel.descent._weights`): the optimiser's own meshes
+    # (:meth:`built`), not the surface layer's charts
+    movable_short: bool = False
 
     @classmethod
     def from_mesh(cls, polygon: Polygon, points, triangles, *, size=None, href=None,
@@ -289,7 +293,8 @@ class KernelMesh(NamedTuple):
         """:meth:`triangulated` for the optimiser's own sites (``edges`` given, no
         size field), kept in the kernel the triangulation was built in: no
         triangle list read out, checked and loaded into a second kernel (the
-        mesh returned is checked at the end).  The kernel's slots then come in
+        mesh returned is checked at the end; the descent weighs the short edges a
+        move can change, ``movable_short``).  The kernel's slots then come in
         the order the build made them, not that of a triangle list, so the moves
         can take other (equally valid) turns than after :meth:`triangulated`."""
         if len(sites) == 0:
@@ -299,7 +304,7 @@ class KernelMesh(NamedTuple):
         tb = edge_parameters(polygon, built.sites, edges)
         boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
         return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href,
-                      frozen)
+                      frozen)._replace(movable_short=True)
 
     def advance(self, sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
         """Run the stages of ``sched``, in place; returns ``before`` with this run's
@@ -318,7 +323,7 @@ class KernelMesh(NamedTuple):
             # each stage ends in its best state, the next goes on from there
             made, value = relax.descend(
                 *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
-                flat=S.FLAT, restrict=restrict,
+                flat=S.FLAT, restrict=restrict, movable_short=self.movable_short,
             )
             done += made
         if sched.spread_sweeps:
