@@ -118,18 +118,20 @@ def improve(
 
 
 def improve_kept(polygon: Polygon, sites, *, size=None, objective: str = "balanced", href=None,
-                 frozen=None, edges=None, **overrides):
+                 frozen=None, edges=None, movable_short: bool = False, **overrides):
     """:func:`improve` for the optimiser's own sites: built in the kernel once
     (:meth:`KernelMesh.built`, with ``edges`` and no size field) and returned as
     the kernel's own triangulation of the moved points (:meth:`KernelMesh.result`)
     instead of triangulating them again; the optimiser checks the mesh it
-    returns.  ``overrides``: the schedule's fields, as :func:`improve`'s."""
+    returns.  ``movable_short``: as :meth:`KernelMesh.built`'s.  ``overrides``:
+    the schedule's fields, as :func:`improve`'s."""
     polygon = as_polygon(polygon)
     if size is not None or edges is None:
         st = KernelMesh.triangulated(polygon, sites, size=size, href=href, frozen=frozen,
                                      edges=edges)
     else:
-        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges)
+        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges,
+                              movable_short=movable_short)
     if st is None:
         return finish(polygon, None, Progress())
     run = st.advance(default_schedule(len(st.xy), size is not None, **overrides),
@@ -173,7 +175,7 @@ def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
 
 def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=None,
                  report=None, spring_rounds=None, sweeps=None, exponents=None,
-                 spread_sweeps=None):
+                 spread_sweeps=None, movable_short: bool = False):
     """:func:`improve` from the best of several starts, found by successive halving.
 
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
@@ -190,6 +192,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     are built and their trials run on :func:`uniform2d.threads.get_threads`
     threads, each start on its own kernel state, the results ranked in the
     order of the starts: the same mesh on any number of threads.
+    ``movable_short``: as :meth:`KernelMesh.built`'s.
 
     Returns (index of the winning start, points, triangles, info) as :func:`improve`,
     the triangles the kernel's own (:meth:`KernelMesh.result`).
@@ -200,7 +203,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     """
     obj = objective_code(objective)
     built = thread_map(lambda s: KernelMesh.built(polygon, s[0], href=href, frozen=s[2],
-                                                  edges=s[1]), starts)
+                                                  edges=s[1], movable_short=movable_short),
+                       starts)
     alive = [(i, st, Progress()) for i, st in enumerate(built)]
     del built
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
@@ -263,8 +267,8 @@ class KernelMesh(NamedTuple):
     # the surface layer's meshes were made
     restrict: bool = False
     # the descent's short-edge weight from the edges a move can change
-    # (:func:`uniform2d._kernel.descent._weights`): the optimiser's own meshes
-    # (:meth:`built`), not the surface layer's charts
+    # (:func:`uniform2d._kernel.descent._weights`): the optimiser's angle
+    # attempt (:meth:`built`), not its first one nor the surface layer's charts
     movable_short: bool = False
 
     @classmethod
@@ -289,12 +293,13 @@ class KernelMesh(NamedTuple):
 
     @classmethod
     def built(cls, polygon: Polygon, sites, *, href=None, frozen=None,
-              edges=None) -> "KernelMesh | None":
+              edges=None, movable_short: bool = False) -> "KernelMesh | None":
         """:meth:`triangulated` for the optimiser's own sites (``edges`` given, no
         size field), kept in the kernel the triangulation was built in: no
         triangle list read out, checked and loaded into a second kernel (the
-        mesh returned is checked at the end; the descent weighs the short edges a
-        move can change, ``movable_short``).  The kernel's slots then come in
+        mesh returned is checked at the end; with ``movable_short`` the descent
+        weighs the short edges a move can change: the optimiser's angle
+        attempt, :mod:`~uniform2d.optimize.pipeline`).  The kernel's slots then come in
         the order the build made them, not that of a triangle list, so the moves
         can take other (equally valid) turns than after :meth:`triangulated`."""
         if len(sites) == 0:
@@ -304,7 +309,7 @@ class KernelMesh(NamedTuple):
         tb = edge_parameters(polygon, built.sites, edges)
         boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
         return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href,
-                      frozen)._replace(movable_short=True)
+                      frozen)._replace(movable_short=movable_short)
 
     def advance(self, sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
         """Run the stages of ``sched``, in place; returns ``before`` with this run's

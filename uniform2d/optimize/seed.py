@@ -52,9 +52,10 @@ def variants(polygon: Polygon, n: int):
     return [(c, e, lay) for lay in layers for e in edges for c in spacings]
 
 
-def start(polygon: Polygon, n: int, h: float, variant):
+def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False):
     """The sites of one start (boundary points, then the lattice), the polygon edge of
-    each (-1 inside) and which stay put."""
+    each (-1 inside) and which stay put.  With ``transition``, rows around small
+    holes first (:mod:`~uniform2d.optimize.transition`, held in place)."""
     spacing, edge, layered = variant
     # points on the rings' edges and on the interior segment pieces (after them)
     a, d, L = polygon_edges(polygon, constraints=True)
@@ -64,7 +65,9 @@ def start(polygon: Polygon, n: int, h: float, variant):
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
-    held, rows = with_transition(polygon, m, h, rows)
+    held = None
+    if transition:
+        held, rows = with_transition(polygon, m, h, rows)
     # a large start's short schedule cannot close holes where lattice points
     # were dropped: it fills a few too few instead (Fit.BELOW)
     large = n + len(polygon.vertices) > schedule.LARGE
