@@ -20,7 +20,7 @@ import uniform2d
 from uniform2d.geometry import polygon_edges
 from uniform2d.io import read_polygon
 from uniform2d.optimize import improve
-from uniform2d.optimize.angles import min_angles, raise_worst_angle
+from uniform2d.optimize.angles import ANGLE_FINE, ANGLE_POOR, min_angles, raise_worst_angle
 from uniform2d.optimize.boundary import boundary_counts, target_size
 from uniform2d.optimize.objective import extremes
 from uniform2d.optimize.transition import transition_rows
@@ -93,3 +93,21 @@ def test_worst_angle_pass_holds_the_extremes():
     cross = rel[:, 0] * d[edges[on], 1] - rel[:, 1] * d[edges[on], 0]
     assert np.abs(cross).max() <= 1e-12 * np.abs(d).max() ** 2  # still on their edges
     assert (edges >= 0).any() and (edges < 0).any()
+
+
+def test_angle_attempt_only_where_the_angle_needs_it():
+    """The angle attempt (rows around small holes) is kept where the first
+    mesh's worst angle is poor (the bolt plate at 500 vertices: 7.1 deg), not
+    where it is acceptable and the rows would cost the edges (``plate_zones``
+    at n = 1000: 25.1 deg, edge ratio 2.33 against 2.68 with the rows)."""
+    zones = read_polygon(Path(__file__).resolve().parents[1] / "data" / "constrained"
+                         / "plate_zones.json")
+    h = target_size(zones, 1000)
+    L = polygon_edges(zones, constraints=True)[2]
+    assert len(transition_rows(zones, boundary_counts(L, h, 1000), h)) > 0  # small holes
+    m = uniform2d.uniform_mesh(zones, 1000)
+    check_mesh(m.points, m.triangles, zones)
+    q = m.quality()
+    assert m.info["angle_attempt"] is False and ANGLE_POOR <= q.min_angle < ANGLE_FINE
+    plate = uniform2d.uniform_mesh(PLATE, 500 - len(PLATE.vertices))
+    assert plate.info["angle_attempt"] is True  # the floor: test_bolt_plate_angle_floor
