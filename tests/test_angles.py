@@ -20,7 +20,12 @@ import uniform2d
 from uniform2d.geometry import polygon_edges
 from uniform2d.io import read_polygon
 from uniform2d.optimize import improve
-from uniform2d.optimize.angles import ANGLE_FINE, ANGLE_POOR, min_angles, raise_worst_angle
+from uniform2d.optimize.angles import (
+    ANGLE_FINE,
+    ANGLE_POOR,
+    min_angles,
+    raise_worst_angle,
+)
 from uniform2d.optimize.boundary import boundary_counts, target_size
 from uniform2d.optimize.objective import extremes
 from uniform2d.optimize.transition import transition_rows
