@@ -8,9 +8,10 @@ Rows (NAME in brackets), each measured now, its peer in the same run:
 
 - ``uniform_mesh`` at n = 1000 and n = 10000 Steiner points [n1000, n10000]:
   seconds per polygon, geometric mean over the benchmark polygons
-  (``data/benchmarks``, kernels loaded first), against Gmsh Frontal-Delaunay at
+  (``data/benchmarks``, kernels loaded first), on 1 and 2 threads and on every
+  core (:func:`uniform2d.threads.set_threads`), against Gmsh Frontal-Delaunay at
   the same vertex count (its ``generate()`` alone, size bisected to the count as
-  in ``bench_uniform.py``);
+  in ``bench_uniform.py``; one surface: Gmsh meshes it on one thread);
 - 1e5 and 1e6 vertices on the square [1e5, 1e6], each in a fresh process
   (``bench_uniform.speed_run``): time and peak RSS per vertex; Gmsh at 1e5 only
   (its size bisection at 1e6 takes longer than the benchmark is worth);
@@ -40,28 +41,36 @@ import bench_compile  # noqa: E402
 import bench_insert  # noqa: E402
 import bench_uniform as bu  # noqa: E402
 import uniform2d  # noqa: E402
+from uniform2d.threads import get_threads, set_threads  # noqa: E402
 
 ROWS = ("n1000", "n10000", "1e5", "1e6", "insert", "first")
 
 
-def _everyday(n: int) -> tuple[float, float]:
-    """(ours, Gmsh): seconds per polygon at n Steiner points, geometric means."""
+def _everyday(n: int, threads: list[int]) -> tuple[dict, float]:
+    """({thread count: our seconds per polygon}, Gmsh's) at n Steiner points,
+    geometric means over the benchmark polygons; every thread count and Gmsh
+    measured polygon by polygon, in turn, so that a change of the machine's
+    load falls on all of them alike."""
     polys = bu.benchmark_polygons()
     for p in polys.values():
         uniform2d.uniform_mesh(p, 200)  # kernels loaded before any clock starts
-    ours, gmsh = [], []
+    ours, gmsh = {k: [] for k in threads}, []
     for p in polys.values():
-        t = time.perf_counter()
-        uniform2d.uniform_mesh(p, n)
-        ours.append(time.perf_counter() - t)
+        for k in threads:
+            set_threads(k)
+            t = time.perf_counter()
+            uniform2d.uniform_mesh(p, n)
+            ours[k].append(time.perf_counter() - t)
         gmsh.append(bu.gmsh_tuned(p, len(p.vertices) + n)[2])
-    return bu.gmean(ours), bu.gmean(gmsh)
+    set_threads(None)
+    return {k: bu.gmean(v) for k, v in ours.items()}, bu.gmean(gmsh)
 
 
 def _rows(args) -> list[tuple]:
     """(figure, ours, peer, ratio, target, met) for every row not skipped."""
     quick = args.quick
     na = "n/a (quick)"
+    threads = sorted({1, 2, get_threads()})
     out = []
 
     def add(figure, ours, peer, ratio, target, met):
@@ -73,11 +82,12 @@ def _rows(args) -> list[tuple]:
                            ("n10000", 1000 if quick else 10000, None)):
         if name in args.skip:
             continue
-        ours, gm = _everyday(n)
-        target = f"<= {limit} s/polygon" if limit else "<= 1x Gmsh"
-        met = ours <= limit if limit else ours <= gm
-        add(f"uniform_mesh n = {n}, s/polygon (gmean)", f"{ours:.3f}", f"Gmsh {gm:.3f}",
-            f"{ours / gm:.1f}x", target, met)
+        times, gm = _everyday(n, threads)
+        for k, ours in times.items():
+            target = f"<= {limit} s/polygon" if limit else "<= 1x Gmsh"
+            met = ours <= limit if limit else ours <= gm
+            add(f"uniform_mesh n = {n}, {k} thread{'s' * (k > 1)}, s/polygon (gmean)",
+                f"{ours:.3f}", f"Gmsh {gm:.3f}", f"{ours / gm:.1f}x", target, met)
     square = bu.benchmark_polygons()["square"]
     for name, N in (("1e5", 10_000 if quick else 100_000), ("1e6", 30_000 if quick else 1_000_000)):
         if name in args.skip:

@@ -1,4 +1,4 @@
-"""Make the figures of docs/guide.md.
+"""Make the figures of docs/guide.md (and docs/graded.md).
 
 Run from anywhere (needs only uniform2d and matplotlib)::
 
@@ -177,11 +177,22 @@ def fig_constrained(out: Path) -> None:
     plt.close(fig)
 
 
+def fig_graded(out: Path) -> None:
+    """Graded meshes (docs/graded.md): edges coloured by q = length / h(midpoint)."""
+    L = u.Polygon([(0, 0), (1, 0), (1, 1), (-1, 1), (-1, -1), (0, -1)])
+    mesh = u.uniform_mesh(L, 1200, size=lambda p: 0.02 + 0.6 * np.hypot(p[:, 0], p[:, 1]))
+    plt.close(mesh.plot(out / "graded_lshape.png"))
+    plate = u.read_polygon(DATA / "plate_bolts.json")
+    mesh = u.uniform_mesh(plate, 2000, size=u.refine(plate, "holes", ratio=0.25))
+    plt.close(mesh.plot(out / "graded_plate.png"))
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     out = Path(argv[0]) if argv else ROOT / "docs" / "img"
     out.mkdir(parents=True, exist_ok=True)
-    for f in (fig_bracket, fig_insert, fig_tplus, fig_corner, fig_truss, fig_constrained):
+    for f in (fig_bracket, fig_insert, fig_tplus, fig_corner, fig_truss, fig_constrained,
+              fig_graded):
         f(out)
         print(f"{f.__name__}: done")
     return 0

@@ -28,7 +28,7 @@ __all__ = ["read_patch", "read_model", "write_patch", "as_patch", "as_model", "W
 log = logging.getLogger(__name__)
 
 #: File extensions :func:`write_patch` accepts.
-WRITE_FORMATS = ("obj", "off", "ply", "stl", "glb")
+WRITE_FORMATS = ("obj", "off", "ply", "stl", "glb", "inp")
 
 
 def suffix(path: Path) -> str:
@@ -145,7 +145,7 @@ def _write_exact_text(fh, ext: str, V: np.ndarray, F: np.ndarray) -> None:
     fh.write(buf.getvalue().encode("ascii"))
 
 
-def write_patch(path, vertices, faces) -> Path:
+def write_patch(path, vertices, faces, *, element_type=None) -> Path:
     """Write a triangle mesh atomically.
 
     Parameters
@@ -154,9 +154,12 @@ def write_patch(path, vertices, faces) -> Path:
         Destination; the extension picks the format (:data:`WRITE_FORMATS`).
     vertices : array_like, shape (N, 3)
     faces : array_like, shape (M, 3)
+    element_type : str, optional
+        The Abaqus shell element type of an ``.inp`` file: ``S3`` (default) or
+        ``S3R`` (:mod:`uniform2d.io.abaqus_file`).
 
-    OBJ and OFF are written with 17 significant digits (coordinates read back to
-    within about 1e-17); PLY, STL and GLB store single precision (about 1e-7
+    OBJ, OFF and Abaqus INP are written with 17 significant digits (coordinates
+    read back exactly); PLY, STL and GLB store single precision (about 1e-7
     relative), and STL does not store shared vertices (they are merged on reading).
 
     Returns
@@ -168,8 +171,14 @@ def write_patch(path, vertices, faces) -> Path:
     ------
     UnsupportedFormatError
         If the extension is not in :data:`WRITE_FORMATS`.
+    InvalidArgumentError
+        If `element_type` is given for another format than ``.inp``, or is not
+        a shell type.
     """
     import trimesh
+
+    from uniform2d.errors import InvalidArgumentError
+    from uniform2d.io.abaqus_file import element_type_for, write_abaqus
 
     path = Path(path)
     ext = suffix(path)
@@ -177,6 +186,9 @@ def write_patch(path, vertices, faces) -> Path:
         raise UnsupportedFormatError(
             f"{path}: cannot write '.{ext}' files; use one of {', '.join(WRITE_FORMATS)}"
         )
+    if element_type is not None and ext != "inp":
+        raise InvalidArgumentError(f"{path}: an element type is written to .inp files only")
+    element_type = element_type_for(3, element_type) if ext == "inp" else None
     V = np.asarray(vertices, dtype=np.float64)
     F = np.asarray(faces, dtype=np.int64)
     mesh = trimesh.Trimesh(V, F, process=False, validate=False)
@@ -184,11 +196,15 @@ def write_patch(path, vertices, faces) -> Path:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".{ext}", dir=directory)
     try:
         os.chmod(tmp, _default_mode(path))
-        with os.fdopen(fd, "wb") as fh:
-            if ext in ("obj", "off"):
-                _write_exact_text(fh, ext, V, F)
-            else:
-                mesh.export(fh, file_type=ext)
+        if ext == "inp":
+            os.close(fd)
+            write_abaqus(tmp, V, F, element_type=element_type)
+        else:
+            with os.fdopen(fd, "wb") as fh:
+                if ext in ("obj", "off"):
+                    _write_exact_text(fh, ext, V, F)
+                else:
+                    mesh.export(fh, file_type=ext)
         os.replace(tmp, path)
     except BaseException:
         try:

@@ -49,6 +49,7 @@ class RemeshResult:
     atlas: Atlas | None = None
     chart: np.ndarray | None = None
 
-    def write(self, path):
-        """Write the 3-D mesh (see :func:`surface.write_patch`)."""
-        return write_patch(path, self.vertices, self.faces)
+    def write(self, path, **kwargs):
+        """Write the 3-D mesh (see :func:`surface.write_patch`; ``.inp`` files
+        declare shell elements, ``element_type="S3"`` by default)."""
+        return write_patch(path, self.vertices, self.faces, **kwargs)

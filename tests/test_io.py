@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import os
 from pathlib import Path
 
@@ -236,15 +237,18 @@ def test_dxf_lwpolyline_and_polyline_mixed(tmp_path, caplog):
         path,
         [([(1, 1), (2, 1), (2, 2)], True, "old"),
          ([(0, 0), (10, 0), (10, 10), (0, 10)], True, "lw")],
-        extra=lambda msp: msp.add_circle((5, 5), 1),
+        extra=lambda msp: (msp.add_circle((5, 5), 1), msp.add_ellipse((5, 8), (1, 0), 0.5)),
     )
     with caplog.at_level(logging.WARNING, logger="uniform2d"):
         p = read_polygon(path)
-    assert p == Polygon([(0, 0), (10, 0), (10, 10), (0, 10)], [[(1, 1), (2, 1), (2, 2)]])
-    assert "1 CIRCLE" in caplog.text
+    # the circle is a hole (a 23-gon: sagitta <= 0.01 of its radius), the ellipse ignored
+    assert p.outer.tolist() == [[0, 0], [10, 0], [10, 10], [0, 10]]
+    assert [len(h) for h in p.holes] == [3, 23]
+    assert p.area == pytest.approx(100 - 0.5 - 23 / 2 * math.sin(2 * math.pi / 23), rel=1e-12)
+    assert caplog.text.count("ignoring") == 1 and "ignoring 1 ELLIPSE: uniform2d reads" in caplog.text
 
 
-def test_dxf_bulges_are_chords_with_a_warning(tmp_path, caplog):
+def test_dxf_bulges_are_arcs(tmp_path, caplog):
     doc = ezdxf.new("R2010")
     doc.modelspace().add_lwpolyline(
         [(0, 0, 0), (10, 0, 0.5), (10, 10, 0), (0, 10, 0)], format="xyb", close=True
@@ -252,8 +256,18 @@ def test_dxf_bulges_are_chords_with_a_warning(tmp_path, caplog):
     doc.saveas(tmp_path / "b.dxf")
     with caplog.at_level(logging.WARNING, logger="uniform2d"):
         p = read_polygon(tmp_path / "b.dxf")
-    assert p.area == 100.0
-    assert "bulges" in caplog.text
+    # bulge 0.5 from (10, 0) to (10, 10): counter-clockwise, 4 atan(0.5) = 106.3 degrees,
+    # radius 6.25 about (6.25, 5); pieces with a sagitta <= 0.01 of the radius
+    theta, r = 4 * math.atan(0.5), 6.25
+    k = math.ceil(theta / (2 * math.acos(0.99)))
+    arc = p.outer[p.outer[:, 0] > 10]
+    assert len(p.outer) == 4 + k - 1 and len(arc) == k - 1
+    assert np.hypot(arc[:, 0] - 6.25, arc[:, 1] - 5) == pytest.approx(np.full(k - 1, r), rel=1e-14)
+    sag = r * (1 - math.cos(theta / k / 2))
+    assert sag <= 0.01 * r
+    assert p.area == pytest.approx(100 + r * r / 2 * (k * math.sin(theta / k) - math.sin(theta)),
+                                   rel=1e-13)
+    assert caplog.text == ""
 
 
 def test_dxf_mirrored_ocs_uses_world_coordinates(tmp_path):
@@ -379,12 +393,12 @@ def test_dxf_without_polylines(tmp_path):
 
     def stuff(msp):
         msp.add_line((0, 0), (1, 0))
-        msp.add_circle((0, 0), 1)
+        msp.add_ellipse((0, 0), (1, 0), 0.5)
 
     _dxf(path, [], extra=stuff)
-    with pytest.raises(FileFormatError, match="no closed polylines in modelspace") as e:
+    with pytest.raises(FileFormatError, match="no closed curve in modelspace") as e:
         read_polygon(path)
-    assert "1 CIRCLE, 1 LINE" in str(e.value)
+    assert "(found 1 ELLIPSE, 1 LINE)" in str(e.value)
 
 
 def test_dxf_not_a_dxf(tmp_path):

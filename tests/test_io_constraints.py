@@ -261,6 +261,6 @@ def test_bad_dxf_label_seed_is_named(tmp_path):
                                           msp.add_text("a", dxfattribs={"insert": (20, 20)})))
     with pytest.raises(InvalidConstraintError, match="outside the polygon or in a hole"):
         read_polygon(tmp_path / "l.dxf")
-    _dxf(tmp_path / "n.dxf", lambda msp: (msp.add_line((0, 0), (1, 0)), msp.add_circle((0, 0), 1)))
-    with pytest.raises(FileFormatError, match=r"no closed polylines in modelspace \(found 1 CIRCLE, 1 LINE"):
+    _dxf(tmp_path / "n.dxf", lambda msp: (msp.add_line((0, 0), (1, 0)), msp.add_arc((0, 0), 1, 0, 90)))
+    with pytest.raises(FileFormatError, match=r"no closed curve in modelspace \(found 1 ARC, 1 LINE"):
         read_polygon(tmp_path / "n.dxf")

@@ -73,7 +73,9 @@ def test_gmsh_labels_are_physical_names(tmp_path, mesh):
     assert '2 1 "west zone"' in text and '2 2 "region 1"' in text and '2 3 "7"' in text
     import meshio
     m = meshio.read(tmp_path / "m.msh")
-    assert {k: int(v[0]) for k, v in m.field_data.items()} == {"west zone": 1, "region 1": 2, "7": 3}
+    assert {k: v.tolist() for k, v in m.field_data.items()} == {
+        "west zone": [1, 2], "region 1": [2, 2], "7": [3, 2], "outer": [4, 1], "hole 0": [5, 1],
+        "segment 0": [6, 1], "segment 1": [7, 1], "segment 2": [8, 1], "point 0": [9, 0]}
 
 
 def test_abaqus_element_sets_are_named_after_labels(tmp_path, mesh):
@@ -88,15 +90,33 @@ def test_truss_csv_marks_segment_members_and_triangle_regions(tmp_path, mesh):
     rows = list(csv.DictReader(open(tmp_path / "m.csv")))
     members = [r for r in rows if r["kind"] == "member"]
     edges, ids = mesh.segment_members
-    marked = {(min(a, b) + 1, max(a, b) + 1): s for (a, b), s in zip(edges.tolist(), ids.tolist())}
+    # every number in the CSV counts from 1: ids, nodes, segments and regions
+    marked = {(min(a, b) + 1, max(a, b) + 1): s + 1
+              for (a, b), s in zip(edges.tolist(), ids.tolist())}
     for r in members:
         key = (int(r["i"]), int(r["j"]))
         assert r["segment"] == (str(marked[key]) if key in marked else "")
     assert sum(r["segment"] != "" for r in members) == len(edges)
+    assert {r["segment"] for r in members} == {"", "1", "2", "3"}
     tris = [r for r in rows if r["kind"] == "triangle"]
-    assert [int(r["region"]) for r in tris] == mesh.regions.tolist()
+    assert [int(r["region"]) - 1 for r in tris] == mesh.regions.tolist()
     labels = {int(r["region"]): r["label"] for r in tris}
-    assert labels == {0: "west zone", 1: "", 2: "7"}
+    assert labels == {1: "west zone", 2: "", 3: "7"}
+
+
+def test_truss_csv_written_before_counting_from_1_still_reads(tmp_path, mesh):
+    """Files of earlier versions counted regions from 0 (they always hold a 0)."""
+    mesh.write(tmp_path / "m.csv")
+    with open(tmp_path / "m.csv") as f:
+        rows = list(csv.reader(f))
+    col = rows[0].index("region")
+    for row in rows[1:]:
+        if row[0] == "triangle":
+            row[col] = str(int(row[col]) - 1)
+    with open(tmp_path / "old.csv", "w", newline="") as f:
+        csv.writer(f, lineterminator="\n").writerows(rows)
+    for name in ("m.csv", "old.csv"):
+        assert read_mesh(tmp_path / name, regions=True)[2].tolist() == mesh.regions.tolist()
 
 
 def test_truss_json_marks_segment_members(tmp_path, mesh):

@@ -177,7 +177,7 @@ def test_relocation_keeps_the_count_and_a_valid_cdt_and_never_raises_the_objecti
     sites = uniform2d.insert(p, n).points  # INSERT's points: far from uniform, much to move
     pts, tri, info = improve(p, sites, href=h, **RELOCATE)
     before = objective_value("balanced", *_extremes(pts, tri), h)
-    out, tri2, kept = _relocate(p, pts, tri, np.zeros(n, bool), "balanced", h, {}, info["edges"])
+    out, tri2, kept, _ = _relocate(p, pts, tri, np.zeros(n, bool), "balanced", h, {}, info["edges"])
     after = objective_value("balanced", *_extremes(out, tri2), h)
     assert len(out) == nV + n and np.array_equal(out[:nV], p.vertices)
     check_mesh(out, tri2, p)

@@ -123,7 +123,7 @@ def test_the_command_stops_its_warmer_and_prints_the_same_bytes(capfd, tmp_path,
     monkeypatch.setattr(_warmer, "spare_cpus", lambda: 1)
     code, out1, err1 = run(capfd, "mesh", SQUARE, "-n", 30, "-o", tmp_path / "b.vtu", "--stats")
     assert code == 0 and started.procs[1:] == [None]
-    assert (out, err) == (out1, err1)
+    assert (out.replace("a.vtu", "b.vtu"), err) == (out1, err1)  # --stats ends with "wrote ..."
     assert (tmp_path / "a.vtu").read_bytes() == (tmp_path / "b.vtu").read_bytes()
 
 

@@ -27,9 +27,11 @@ from .errors import (
 )
 from .insert import InsertResult, insert
 from .io import mesh_formats, polygon_formats, read_mesh, read_polygon, write_mesh, write_polygon
+from .io.size_file import read_size_field
 from .mesh import Mesh
 from .polygon import Polygon
 from .quality import Quality, quality
+from .refine import minimum as minimum_size, refine
 from .sizefield import SizeField
 from .tplus import tplus
 from .uniform import steiner_count_for_size, uniform_mesh
@@ -50,6 +52,9 @@ __all__ = [
     "quality",
     "Quality",
     "SizeField",
+    "refine",
+    "minimum_size",
+    "read_size_field",
     "read_polygon",
     "write_polygon",
     "read_mesh",

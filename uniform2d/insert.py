@@ -43,8 +43,10 @@ from ._kernel import heap
 from ._kernel import insert as kinsert
 from ._kernel.outcomes import ERR_PRECISION, RUN_STRIDE, run_failure
 from .errors import CoordinatePrecisionError, InsufficientPointsError, InternalError, PLEASE_REPORT
+from .grading import as_field
 from .polygon import Polygon
 from .sites import site_edges
+from .sizefield import SizeField
 from .tolerance import extent, rounding
 from .triangulation import load, unload
 from .validity import ensure_valid
@@ -109,10 +111,12 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     sites : array_like, shape (k, 2), optional
         Extra initial sites inside P or on its boundary (besides the polygon
         vertices), e.g. prescribed boundary points (T+ uses this).
-    size : SizeField or float, optional
+    size : SizeField, callable or float, optional
         A target-size field h: candidates are ranked by visible distance / h, so
         points are denser where h is small (the surface layer uses this).  A number,
         or a constant field, changes no comparison: the paper's algorithm exactly.
+        A callable ``h(points (k, 2)) -> (k,)`` is sampled on a grid first
+        (:func:`uniform2d.grading.as_field`); only h's shape matters.
         ``weights`` stay visible distances.
 
     Returns
@@ -142,6 +146,8 @@ def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 0:
         raise InsufficientPointsError(f"n must be a non-negative integer, got {n!r}")
     sites, edges = site_edges(polygon, sites)
+    if size is not None and not isinstance(size, (numbers.Real, SizeField)):
+        size = as_field(polygon, size)
     return insert_on_edges(polygon, int(n), sites, edges, size)
 
 

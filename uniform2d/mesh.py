@@ -9,7 +9,8 @@ from typing import Any
 import numpy as np
 
 from .io import write_mesh
-from .mesh_regions import segment_chains, triangle_regions
+from .io.registry import find_mesh_format
+from .mesh_regions import ring_chains, segment_chains, triangle_regions
 from .polygon import Polygon
 from .quality import quality
 
@@ -40,6 +41,13 @@ class Mesh:
     segment_members : tuple of ndarray
         ``(edges (K, 2) int64, ids (K,) int64)``: the mesh edges on the polygon's
         segments and the segment of each.
+    ring_members : tuple of ndarray
+        ``(edges (K, 2) int64, ids (K,) int64)``: the mesh edges on the polygon's
+        rings, each ring from its first vertex, and the ring of each (0 the
+        outer ring, ``1 + i`` hole ``i``).
+    size : SizeField or None
+        The size field a graded mesh follows, at the scale of its n (None for a
+        uniform mesh); :meth:`quality` then measures relative to it too.
     """
 
     points: np.ndarray
@@ -47,6 +55,7 @@ class Mesh:
     polygon: Polygon
     n_steiner: int
     info: dict[str, Any] = field(default_factory=dict)
+    size: Any = None
 
     def __post_init__(self):
         for a in (self.points, self.triangles):
@@ -69,6 +78,13 @@ class Mesh:
         ids.setflags(write=False)
         return edges, ids
 
+    @cached_property
+    def ring_members(self) -> tuple[np.ndarray, np.ndarray]:
+        edges, ids = ring_chains(self.polygon, self.points, self.triangles)
+        edges.setflags(write=False)
+        ids.setflags(write=False)
+        return edges, ids
+
     def quality(self, *, d_n=None):
         """Quality measures and certificates, see :func:`uniform2d.quality`.
 
@@ -77,15 +93,27 @@ class Mesh:
         if d_n is None:
             d_n = self.info.get("d_n")
         return quality(
-            self.points, self.triangles, self.polygon, n_steiner=self.n_steiner, d_n=d_n
+            self.points, self.triangles, self.polygon, n_steiner=self.n_steiner, d_n=d_n,
+            size=self.size,
         )
 
     def write(self, path, **kwargs) -> None:
-        """Write the mesh; the format follows the file extension (see ``uniform2d.io``)."""
+        """Write the mesh; the format follows the file extension (see ``uniform2d.io``).
+
+        Formats with named sets (``.msh``, ``.inp``, ``.vtu``, ``.vtk``) also get
+        the rings, the segments and the fixed points (see
+        :mod:`uniform2d.io.mesh_sets`); keyword arguments are passed on to
+        :func:`uniform2d.io.write_mesh` (e.g. ``element_type="CPE3"`` for
+        ``.inp``).
+        """
         if self.polygon.has_constraints or self.polygon.region_seeds:
             kwargs.setdefault("regions", self.regions)
             kwargs.setdefault("region_labels", self.region_labels)
             kwargs.setdefault("segment_members", self.segment_members)
+        if find_mesh_format(path, "write").sets:
+            kwargs.setdefault("ring_members", self.ring_members)
+            if len(self.polygon.fixed):
+                kwargs.setdefault("fixed_points", self.polygon.fixed)
         write_mesh(path, self.points, self.triangles, **kwargs)
 
     def plot(self, path=None, **kwargs):
@@ -95,6 +123,8 @@ class Mesh:
         if self.polygon.has_constraints or self.polygon.region_seeds:
             kwargs.setdefault("regions", self.regions)
             kwargs.setdefault("region_labels", self.region_labels)
+        if self.size is not None:  # a graded mesh: edges coloured by length / h
+            kwargs.setdefault("size", self.size)
         return plot_mesh(self.points, self.triangles, path, polygon=self.polygon, **kwargs)
 
     def __repr__(self) -> str:

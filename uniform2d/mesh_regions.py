@@ -27,7 +27,7 @@ from .errors import InvalidArgumentError
 from .regions import Regions
 from .tolerance import boundary_tol
 
-__all__ = ["segment_chains", "triangle_regions", "polygon_vertices_first"]
+__all__ = ["segment_chains", "ring_chains", "triangle_regions", "polygon_vertices_first"]
 
 
 def _fmt(x, y) -> str:
@@ -111,6 +111,56 @@ def segment_chains(polygon, points, triangles) -> tuple[np.ndarray, np.ndarray]:
         chain = _chain(pts, indptr, nbrs, used, len(polygon.vertices), int(a), int(b), tol)
         edges.extend(zip(chain[:-1], chain[1:]))
         ids.extend([int(s)] * (len(chain) - 1))
+    return np.array(edges, np.int64).reshape(-1, 2), np.array(ids, np.int64)
+
+
+def ring_chains(polygon, points, triangles) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh edges on the polygon's rings, each ring walked from its first vertex.
+
+    The boundary edges of a mesh of P (those of one triangle) run along its
+    rings, in the rings' direction when the triangles are counter-clockwise
+    (the interior on their left); since holes neither touch each other nor the
+    outer ring, every mesh boundary vertex has one edge out.
+
+    Returns
+    -------
+    edges : ndarray, shape (K, 2), int64
+        Mesh vertex pairs ``(a, b)``: ring 0 (the outer one) from its first
+        vertex round to it, then each hole's.
+    ids : ndarray, shape (K,), int64
+        The ring (0 the outer ring, ``1 + i`` hole ``i``) of each edge.
+
+    Raises
+    ------
+    InvalidArgumentError
+        If the mesh does not start with ``polygon.vertices`` or its boundary is
+        not the polygon's rings.
+    """
+    pts, tri = _check_mesh_arrays(polygon, points, triangles)
+    he = tri[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    key = np.sort(he, axis=1)
+    _, inverse, count = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    boundary = he[count[inverse.ravel()] == 1]
+    nxt = np.full(len(pts), -1, np.int64)
+    nxt[boundary[:, 0]] = boundary[:, 1]
+    edges, ids = [], []
+    for r in range(len(polygon.rings)):
+        lo, hi = int(polygon.ring_offsets[r]), int(polygon.ring_offsets[r + 1])
+        chain = [lo]
+        while len(chain) <= len(boundary) and nxt[chain[-1]] >= 0 and (
+                len(chain) == 1 or chain[-1] != lo):
+            chain.append(int(nxt[chain[-1]]))
+        on_ring = set(chain)
+        if chain[-1] != lo or len(chain) < 3 or not all(v in on_ring for v in range(lo, hi)):
+            raise InvalidArgumentError(
+                f"the mesh's boundary does not run along ring {r} of the polygon from its "
+                f"vertex {lo} {_fmt(*pts[lo])}; it does not conform to the polygon")
+        edges.extend(np.column_stack([chain[:-1], chain[1:]]).tolist())
+        ids.extend([r] * (len(chain) - 1))
+    if len(edges) != len(boundary):
+        raise InvalidArgumentError(
+            f"the mesh has {len(boundary)} boundary edges, {len(boundary) - len(edges)} of them "
+            "on no ring of the polygon; it does not conform to the polygon")
     return np.array(edges, np.int64).reshape(-1, 2), np.array(ids, np.int64)
 
 

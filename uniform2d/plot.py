@@ -57,23 +57,21 @@ def _exp(x):
     return np.exp(x)
 
 
-def _ratio_ticks(h: float) -> list[float]:
-    """Colour-bar ticks between 1/h and h, symmetric in log scale about 1."""
+def _ratio_ticks(lo: float, hi: float) -> list[float]:
+    """Colour-bar ticks between ``lo`` <= 1 <= ``hi``: 1, and on each side the
+    largest round ratio inside the range and one about halfway to it (in log scale)."""
     cands = [1.02, 1.05, 1.1, 1.25, 1.5, 2.0, 3.0, 5.0, 10.0, 20.0, 50.0, 100.0, 1e3, 1e4]
-    up = []
-    for limit in (h * (1 + 1e-9), None):
-        if limit is None:
-            if not up:
-                break
-            limit = np.sqrt(up[0])
-        below = [c for c in cands if c <= limit]
-        if below:
-            up.append(below[-1])
-    return sorted({1.0, *up, *(1.0 / u for u in up)})
+    ticks = {1.0}
+    for limit, side in ((hi, 1.0), (1.0 / lo, -1.0)):
+        inside = [c for c in cands if c <= limit * (1 + 1e-9)]
+        if inside:
+            halfway = [c for c in inside if c <= np.sqrt(inside[-1])]
+            ticks.update(c ** side for c in inside[-1:] + halfway[-1:])
+    return sorted(ticks)
 
 
 def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions=None,
-              region_labels=None) -> Figure:
+              region_labels=None, size=None) -> Figure:
     """Plot a triangle mesh with each edge coloured by its length, beside a histogram.
 
     The left panel draws every edge coloured by ``length / mean length`` on a
@@ -104,6 +102,10 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     region_labels : sequence, optional
         The label of each region (None for none): a legend below the mesh names
         the colours of the labelled ones.
+    size : callable, optional
+        A size field h (a graded mesh's :attr:`uniform2d.Mesh.size`): edges are then
+        coloured by q = length / h(midpoint) over its mean, and the histogram is
+        that of q (:mod:`uniform2d.relative`).
 
     Returns
     -------
@@ -141,18 +143,24 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
     reg = _as_regions(regions, len(tri))
 
     edges, lengths = edge_lengths(pts, tri)
+    if size is not None:  # q = length / h(midpoint): uniformity relative to h
+        mid = 0.5 * (pts[edges[:, 0]] + pts[edges[:, 1]])
+        lengths = lengths / np.asarray(size(mid), dtype=np.float64)
     mean = float(lengths.mean())
     rel = lengths / mean if mean > 0 else np.ones_like(lengths)
-    h, norm, extend = _colour_scale(rel, mean)
+    span, norm, extend = _colour_scale(rel, mean)
 
     fig = Figure(figsize=(12.0, 5.4), layout="constrained")
     ax_mesh, ax_hist = fig.subplots(1, 2, width_ratios=[1.45, 1.0])
     if reg is not None:
         _region_fill(ax_mesh, pts, tri, reg, region_labels)
-    lc = _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend)
+    lc = _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, span, extend)
     ratio = _histogram_panel(ax_hist, rel, lengths, mean, lc, norm)
+    if size is not None:
+        _relative_labels(ax_mesh, ax_hist, lc)
     if title is None:
-        title = f"{len(pts)} vertices, {len(tri)} triangles, edge ratio {ratio:.4g}"
+        what = "max q / min q" if size is not None else "edge ratio"
+        title = f"{len(pts)} vertices, {len(tri)} triangles, {what} {ratio:.4g}"
     fig.suptitle(title, fontsize=12)
 
     if path is not None:
@@ -160,6 +168,15 @@ def plot_mesh(points, triangles, path=None, *, polygon=None, title=None, regions
         atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=150, format=ext[1:].lower()), extension=ext)
         log.info("wrote %s", path)
     return fig
+
+
+def _relative_labels(ax_mesh, ax_hist, lc) -> None:
+    """The panels' words for q = length / h(midpoint) instead of the length."""
+    ax_mesh.set_title("Edges coloured by q / mean q, q = length / h(midpoint)", fontsize=11)
+    lc.colorbar.set_label("q / mean q", fontsize=9)
+    log_x = ax_hist.get_xscale() == "log"
+    ax_hist.set_xlabel("q / mean q" + (" (log scale)" if log_x else ""), fontsize=9)
+    ax_hist.set_title("Distribution of q (edge length relative to h)", fontsize=11)
 
 
 def _as_regions(regions, n_tri: int):
@@ -192,23 +209,23 @@ def _region_fill(ax, pts, tri, reg, labels=None) -> None:
 
 
 def _colour_scale(rel, mean):
-    """(h, norm, extend): the colour map spans length / mean in [1/h, h]."""
-    # Colour by log(length / mean), symmetric about 1, so that an edge twice the
-    # mean and one half the mean are equally saturated.  The range follows the
-    # 0.2% and 99.8% quantiles so that a few outliers (shown saturated) do not
-    # wash out the rest.
+    """((lo, hi), norm, extend): the colour map spans length / mean in [lo, hi]."""
+    # Colour by log(length / mean) over the range the edges span, so that the
+    # whole colour map is used: from the 0.2% to the 99.8% quantile, so that a
+    # few outliers (shown saturated) do not wash out the rest, and at least
+    # 1/1.05 to 1.05 so that a near-uniform mesh is not coloured by its noise.
     if mean > 0 and rel.min() > 0:
         q_lo, q_hi = np.quantile(rel, [0.002, 0.998])
-        h = float(max(q_hi, 1.0 / q_lo, 1.05))
+        lo, hi = float(min(q_lo, 1.0 / 1.05)), float(max(q_hi, 1.05))
     else:
-        h = 2.0
-    norm = FuncNorm((_log, _exp), vmin=1.0 / h, vmax=h)
+        lo, hi = 0.5, 2.0
+    norm = FuncNorm((_log, _exp), vmin=lo, vmax=hi)
     extend = {(False, False): "neither", (True, False): "min", (False, True): "max",
-              (True, True): "both"}[(bool(rel.min() < 1.0 / h), bool(rel.max() > h))]
-    return h, norm, extend
+              (True, True): "both"}[(bool(rel.min() < lo), bool(rel.max() > hi))]
+    return (lo, hi), norm, extend
 
 
-def _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend):
+def _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, span, extend):
     """The edges coloured by length / mean, the boundary on top, and the colour bar."""
     n_e = len(edges)
     lw = float(np.clip(55.0 / np.sqrt(n_e), 0.2, 1.2))
@@ -238,7 +255,7 @@ def _mesh_panel(fig, ax_mesh, pts, tri, edges, rel, poly, norm, h, extend):
     ax_mesh.set_title("Edges coloured by length / mean", fontsize=11)
     ax_mesh.tick_params(labelsize=8)
     cb = fig.colorbar(lc, ax=ax_mesh, shrink=0.85, pad=0.02, extend=extend)
-    ticks = _ratio_ticks(h)
+    ticks = _ratio_ticks(*span)
     cb.set_ticks(ticks, labels=[f"{t:.3g}" for t in ticks])
     cb.set_label("edge length / mean", fontsize=9)
     cb.ax.tick_params(labelsize=8)

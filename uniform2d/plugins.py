@@ -14,7 +14,7 @@ with :func:`patch_layer`.  The module provides:
     The patch in a file, with ``vertices`` (N, 3) and ``faces`` (M, 3).
 ``read_model(path)``
     The same for any manifold surface (closed, any genus, several parts).
-``remesh(patch, n_vertices=None, *, size=None, param="lscm", check=True, hausdorff=True, jobs=1, scheduler=None)``
+``remesh(patch, n_vertices=None, *, size=None, param="lscm", corner_angle=..., check=True, hausdorff=True, feature_angle=None, jobs=1, scheduler=None)``
     A remeshed patch with ``vertices``, ``faces``, ``report`` (``summary()``,
     ``as_dict()``, ``mesher``, ``target_size``, ``parameterization``) and ``write(path)``.
 ``WRITE_FORMATS`` and ``check_output(path)``

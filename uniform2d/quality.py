@@ -22,6 +22,7 @@ from .insert import min_distance_after
 from .measures import as_points, as_triangles, mesh_measures
 from .polygon import Polygon, as_polygon
 from .quality_result import Bound, Quality
+from .relative import relative_measures
 
 __all__ = ["quality", "Quality", "Bound", "BOUND_SLACK"]
 
@@ -81,7 +82,8 @@ def _steiner_count(n_steiner, n_points: int, n_v: int) -> int:
     return n
 
 
-def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=20) -> Quality:
+def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=20,
+            size=None) -> Quality:
     """Measure a triangle mesh and, given its polygon, certify how close to optimal it is.
 
     Parameters
@@ -105,6 +107,12 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
         ``False`` turns the packing terms off.  Ignored for other polygons.
     bins : int, optional
         Number of histogram bins of ``length / mean_edge`` (default 20).
+    size : callable, optional
+        A size field h (a :class:`~uniform2d.SizeField` or ``h(points (k, 2)) ->
+        (k,)``): ``Quality.relative`` then holds the measures relative to it
+        (:func:`uniform2d.relative.relative_measures`: q = length / h(midpoint)).
+        The certificates stay those of the absolute measures: they bound every
+        triangulation with n Steiner points, graded or not, but say nothing about q.
 
     Returns
     -------
@@ -168,6 +176,8 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
         raise InvalidArgumentError(f"bins must be a positive integer, got {bins}")
 
     fields = mesh_measures(pts, tri, bins)
+    if size is not None:
+        fields["relative"] = relative_measures(pts, tri, size)
     if polygon is None:
         return Quality(**fields)
 

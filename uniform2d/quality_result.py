@@ -137,6 +137,8 @@ class Quality:
     longest_edge_bound: Bound | None = None
     max_perimeter_bound: Bound | None = None
     edge_ratio_bound: Bound | None = None
+    #: Measures relative to a size field (:mod:`uniform2d.relative`), given one.
+    relative: "RelativeQuality | None" = None  # noqa: F821 (uniform2d.relative)
 
     def to_dict(self) -> dict:
         """All fields as plain JSON-serialisable types.
@@ -147,7 +149,9 @@ class Quality:
         out = {}
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
-            if isinstance(v, Bound):
+            if f.name == "relative" and v is not None:
+                v = v.to_dict()
+            elif isinstance(v, Bound):
                 v = v.to_dict()
             elif isinstance(v, tuple):
                 v = [_json_float(x) if isinstance(x, float) else x for x in v]
@@ -195,6 +199,8 @@ class Quality:
         for i in range(0, len(c), 4):
             cells = [f"{e[k]:5.3f} - {e[k + 1]:5.3f}: {c[k]:7d}" for k in range(i, min(i + 4, len(c)))]
             lines.append("    " + "   ".join(cells))
+        if self.relative is not None:
+            lines += self.relative.summary()
         if self.longest_edge_bound is not None:
             lines += [
                 "",

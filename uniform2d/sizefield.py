@@ -74,6 +74,10 @@ class SizeField:
         p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         return _bilinear(self.x, self.y, self.values, p[:, 0], p[:, 1])
 
+    def scaled(self, factor: float) -> "SizeField":
+        """The same field with every size multiplied by ``factor`` (> 0)."""
+        return SizeField(self.x, self.y, self.values * float(factor))
+
     def transformed(self, scale: float, offset) -> "SizeField":
         """The field of the mapped domain ``x' = scale * x + offset`` (sizes scale too)."""
         off = np.asarray(offset, dtype=np.float64)

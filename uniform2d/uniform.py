@@ -9,9 +9,12 @@ import numbers
 
 from .errors import InsufficientPointsError, InvalidArgumentError
 from .geometry import vertex_count
+from .graded import graded_mesh
+from .grading import as_field, count_for_field, field_integrals
 from .mesh import Mesh
 from .optimize import optimize_mesh
 from .outline import CORNER_ANGLE, resample_polygon, short_edge_warning
+from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
 
@@ -42,16 +45,28 @@ def uniform_mesh(
     polygon: Polygon,
     n: int | None = None,
     *,
-    size: float | None = None,
+    size=None,
     resample: float | None = None,
     corner_angle: float = CORNER_ANGLE,
     objective: str = "balanced",
     progress=None,
+    parts: int | None = None,
+    jobs: int = 1,
+    scheduler=None,
 ) -> Mesh:
     """The most uniform mesh uniform2d makes, with exactly ``n`` Steiner points.
 
-    Give exactly one of ``n`` (Steiner points, boundary and interior) and ``size``
-    (a target edge length; n is derived by :func:`steiner_count_for_size`).
+    Give ``n`` (Steiner points, boundary and interior), ``size`` or both.
+    ``size`` is a target edge length (a number: the mesh is uniform, and without
+    ``n`` its count is :func:`steiner_count_for_size`), or a size field for a
+    graded mesh: a :class:`~uniform2d.SizeField` or a callable ``h(points (k, 2))
+    -> (k,)`` (sampled on a grid, :func:`uniform2d.grading.as_field`).  With a
+    field and ``n``, h's shape is kept and its scale follows from n; without
+    ``n``, h is absolute and n is the count it implies
+    (:func:`uniform2d.grading.count_for_field`).  A graded mesh is made by
+    :func:`uniform2d.graded.graded_mesh` (guide: ``docs/graded.md``): its edges
+    are as uniform as possible *relative to h* and ``mesh.quality().relative``
+    measures that.  With a number, ``n`` and ``size`` together are an error.
     The mesh is optimised (:func:`uniform2d.optimize.optimize_mesh`) for
     ``objective``: ``"ratio"`` (longest / shortest edge), ``"max_edge"``,
     ``"max_perimeter"`` or ``"balanced"`` (all three), and is never worse on it than
@@ -66,6 +81,12 @@ def uniform_mesh(
     with; ``"seed"``: the starts tried; ``"relaxation"``; ``"relocation"``), for a
     progress bar; the library itself never prints, it logs the phases (INFO).
 
+    ``parts=K`` makes the mesh in K parts meshed apart, in ``jobs`` local
+    processes or on the Dask cluster of ``scheduler`` (an address or a
+    ``distributed.Client``), and stitched (:mod:`uniform2d.partitioned`; see
+    docs/partitioned.md): still exactly n points, the same bytes whatever ran
+    the parts, but a different (equally valid) mesh for every K.
+
     ``resample=tol`` (a fraction of the mesh spacing, e.g. 0.05 or 0.25) first
     resamples the polygon's rings at the mesh spacing, every boundary point within
     ``tol`` x spacing of the outline and the outline within that of the rings
@@ -77,9 +98,12 @@ def uniform_mesh(
     beyond its vertices), and ``mesh.info["resample"]`` says the tolerance, the
     deviation reached (a length, and as a fraction of the spacing), the kept
     vertices and ``"n"``.  A polygon with no edge shorter than a third of the
-    spacing is meshed as given (``info["resample"]["resampled"]`` False).  Without it (the default, the paper's mode) every vertex
-    is kept; when that makes a uniform mesh impossible (an edge shorter than a
-    third of the spacing) a warning is logged and kept in ``mesh.info["warning"]``.
+    spacing is meshed as given (``info["resample"]["resampled"]`` False).  With
+    a size field or ``parts`` it is refused (not supported yet).  Without it
+    (the default, the paper's mode) every vertex is kept; when that makes a
+    uniform mesh impossible (an edge shorter than a third of the spacing)
+    ``mesh.info["warning"]`` says so, and it is logged (a warning if the edge
+    ratio it forces is 10 or more, information otherwise).
 
     Examples
     --------
@@ -90,6 +114,15 @@ def uniform_mesh(
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
+    field = as_field(polygon, size)
+    if resample is not None and (field is not None or parts is not None):
+        raise InvalidArgumentError("resample= works with a uniform mesh in one part: a size "
+                                   "field (graded mesh) or parts= with it is not supported yet")
+    if field is not None:
+        if parts is not None:
+            raise InvalidArgumentError("parts= makes a uniform mesh in parts; a size field "
+                                       "(graded mesh) cannot be split yet: drop one of them")
+        return _graded(polygon, n, field, objective, progress)
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     if resample is not None:
@@ -105,6 +138,11 @@ def uniform_mesh(
             )
     if isinstance(n, numbers.Integral) and not isinstance(n, bool):
         check_point_count(n + len(polygon.vertices), what)
+    if parts is not None:
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+            raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+        return partitioned_mesh(polygon, int(n), parts, jobs=jobs, scheduler=scheduler,
+                                objective=objective)
     # optimize_mesh checks the mesh it makes (ensure_valid); its fallback, T+, was checked
     mesh = optimize_mesh(polygon, n, objective=objective, progress=progress)
     warning = short_edge_warning(polygon, n)
@@ -138,3 +176,22 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress) ->
     mesh = optimize_mesh(res.polygon, left, objective=objective, progress=progress)
     return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                 {**mesh.info, "resample": {**res.info(), "n": n_total}})
+
+
+def _graded(polygon: Polygon, n, field, objective: str, progress) -> Mesh:
+    """:func:`uniform_mesh` with a size field: n checked or implied, then graded_mesh."""
+    integrals = field_integrals(polygon, field)
+    what = f"n = {n}"
+    if n is None:
+        n = count_for_field(polygon, field)
+        what = f"the size field (n = {n})"
+        if n < 1:
+            raise InsufficientPointsError(
+                "the size field is larger than the polygon needs: it asks for no Steiner "
+                "points; use smaller sizes or give n"
+            )
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+        raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+    check_point_count(int(n) + len(polygon.vertices), what)
+    return graded_mesh(polygon, int(n), field, objective=objective, progress=progress,
+                       integrals=integrals)

@@ -15,6 +15,10 @@ have that tree optimised and generated once more for itself.  Inlined into
 its caller, its body is typed there instead and the copy is not made.  Small
 functions with many callers, or whose callee trees would be copied into
 several callers, stay separate.
+
+Every kernel releases the GIL (``nogil``): the kernel keeps no state between
+calls but its arguments, so independent calls (the optimiser's starts, each
+on its own arrays) run at once on a pool of threads (:mod:`uniform2d.threads`).
 """
 
 from __future__ import annotations
@@ -25,6 +29,8 @@ __all__ = ["njit"]
 
 
 def njit(*args, **options):
-    """``numba.njit`` with ``no_cfunc_wrapper=True`` (as a bare decorator or with options)."""
+    """``numba.njit`` with ``no_cfunc_wrapper=True`` and ``nogil=True`` (as a bare
+    decorator or with options)."""
     options.setdefault("no_cfunc_wrapper", True)
+    options.setdefault("nogil", True)
     return _njit(*args, **options)

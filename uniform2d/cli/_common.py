@@ -71,6 +71,19 @@ def positive_float(text: str) -> float:
     return value
 
 
+def angle_degrees(text: str) -> float:
+    """argparse type: an angle in degrees strictly between 0 and 180."""
+    import argparse
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an angle in degrees, got '{text}'") from None
+    if not 0.0 < value < 180.0:
+        raise argparse.ArgumentTypeError(f"the angle must be between 0 and 180 degrees, got {text}")
+    return value
+
+
 def announce_compile(quiet: bool = False, cold: bool | None = None) -> bool:
     """Say once on stderr that the kernels are being compiled, if they are about
     to be (``cold``; by default: a cold numba cache) and not --quiet; return
@@ -291,6 +304,7 @@ def _first_existing(path: Path) -> Path:
 def check_output_dir(path: Path, option: str) -> None:
     """Refuse, before any work, an output directory that is a file or cannot be created."""
     if path.is_dir():
+        _check_writable(path, f"cannot write into '{path}'", option)
         return
     if path.exists():
         raise NotADirectoryError(
@@ -302,12 +316,37 @@ def check_output_dir(path: Path, option: str) -> None:
         raise NotADirectoryError(
             f"cannot create the directory '{path}': '{base}' is a file; choose another {option}"
         )
+    _check_writable(base, f"cannot create the directory '{path}'", option)
+
+
+def _check_writable(directory: Path, what: str, option: str) -> None:
+    """Refuse a directory this process may not create files in (before any work)."""
+    if not os.access(directory, os.W_OK | os.X_OK):
+        raise PermissionError(f"{what}: the directory '{directory}' is not writable; "
+                              f"choose another {option} or change its permissions")
+
+
+def same_outputs(plan) -> None:
+    """Refuse a batch in which two inputs would write the same file, naming both."""
+    seen: dict = {}
+    for job in plan:
+        src, dsts = job[0], job[1]
+        for dst in (dsts if isinstance(dsts, (tuple, list)) else (dsts,)):
+            key = Path(dst).resolve()
+            if key in seen:
+                raise ValueError(f"inputs '{seen[key]}' and '{src}' would both write '{dst}'; "
+                                 "rename one, or mesh them into different directories")
+            seen[key] = src
 
 
 def check_output_file(path: Path, option: str) -> None:
     """Refuse, before any work, an output file whose directory is missing or is a file."""
     parent = path.parent
     if parent.is_dir():
+        _check_writable(parent, f"cannot write '{path}'", option)
+        if path.is_dir():
+            raise IsADirectoryError(f"cannot write '{path}': it is a directory; choose another "
+                                    f"{option} (or '{path}/' to write inside it)")
         return
     base = _first_existing(parent)
     if base.exists() and not base.is_dir():

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from ._common import positive_float, print_json
+from ._sizing import add_size_options, field_from_args
 
 
 def add_parser(subparsers):
@@ -21,6 +22,7 @@ def add_parser(subparsers):
     p.add_argument("input", metavar="INPUT", help="polygon file")
     p.add_argument("--size", type=positive_float, metavar="H",
                    help="target edge length: print the n it asks for")
+    add_size_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON document instead")
     return p
 
@@ -99,6 +101,11 @@ def run(args) -> int:
 
     polygon = read_polygon(args.input)
     d = describe(polygon, args.size)
+    field = field_from_args(polygon, args)
+    if field is not None:
+        from ..grading import count_for_field
+
+        d["field_n"] = count_for_field(polygon, field)
     if args.json:
         print_json({"input": args.input, **d})
         return 0
@@ -124,7 +131,10 @@ def run(args) -> int:
         f"  smallest sensible n: {d['smallest_sensible_n']}  (T+ puts at least this many "
         "points on the rings and segments)",
     ]
-    if args.size is not None:
+    if field is not None:
+        lines.append(f"  size field -> n = {d['field_n']} Steiner points "
+                     f"({d['vertices'] + d['field_n']} mesh vertices)")
+    elif args.size is not None:
         lines.append(f"  size {g(args.size)} -> n = {d['suggested_n']} Steiner points "
                      f"({d['vertices'] + d['suggested_n']} mesh vertices)")
     print("\n".join(lines))

@@ -5,6 +5,9 @@ Outputs
 * One input: ``-o FILE`` (the format follows the extension, any of
   ``uniform2d.io.mesh_formats()``); ``-o DIR`` (an existing directory, or any
   name ending in ``/``, created if missing) writes ``DIR/<input stem><--format>``.
+  ``-o`` may be repeated: ``-o a.msh -o a.inp -o a.vtu`` writes the one mesh in
+  each format (``--element-type`` picks the Abaqus element type of ``.inp``
+  outputs).
   Without ``-o`` the mesh is written next to the input as
   ``<input stem><--format>`` (default ``.vtu``), like ``gmsh -2``.  ``--plot``
   names a figure file, or a directory when it ends in ``/``.
@@ -37,12 +40,20 @@ from ._common import (
     positive_float,
     positive_int,
     run_batch,
+    same_outputs,
     shows_progress,
 )
+from ._mesh_write import write_outputs
+from ._sizing import add_size_options, field_from_args, has_field
 
 log = logging.getLogger(__name__)
 
 METHODS = ("uniform", "paper")
+#: Abaqus element types of planar meshes (uniform2d.io.abaqus_file.PLANAR_TYPES).
+ELEMENT_TYPES = ("CPS3", "CPE3", "CAX3")
+
+#: ParaView's partitioned VTU: written piece by piece with --parts.
+PVTU = ".pvtu"
 
 
 def add_parser(subparsers):
@@ -52,16 +63,26 @@ def add_parser(subparsers):
         "mesh",
         help="mesh polygon files (exactly n Steiner points, near-equal edges)",
         description="Mesh one or more polygon files with exactly n Steiner points "
-        "(boundary and interior) and edges as equal in length as possible.",
+        "(boundary and interior) and edges as equal in length as possible. -n counts the "
+        "points ADDED to the polygon's own vertices |V| (its ring vertices, segment ends and "
+        "fixed points): the mesh has n + |V| vertices. --vertices N asks for N vertices in "
+        "total instead.",
         epilog="mesh formats: " + ", ".join(mesh_formats()),
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="polygon file(s): .json, .geojson, .wkt, .poly, .dxf")
-    count = p.add_mutually_exclusive_group(required=True)
+    # one of the three, or none with --size-field (checked by _check_count)
+    count = p.add_mutually_exclusive_group()
     count.add_argument("-n", type=positive_int, metavar="N",
-                       help="number of Steiner points (boundary and interior)")
+                       help="number of Steiner points: vertices added on the boundary and inside, "
+                       "on top of the polygon's own |V| (the mesh has N + |V| vertices)")
+    count.add_argument("--vertices", type=positive_int, metavar="N",
+                       help="total number of mesh vertices, the polygon's own included "
+                       "(N - |V| Steiner points; N must exceed |V|)")
     count.add_argument("--size", type=positive_float, metavar="H",
-                       help="target edge length; n is derived from the area and perimeter")
+                       help="target edge length; n is derived from the area and perimeter "
+                       "(with --refine: the coarse size, n derived from the field)")
+    add_size_options(p)
     p.add_argument("--resample", type=positive_float, metavar="TOL",
                    help="resample the outline at the mesh spacing, within TOL x spacing of it "
                    "(e.g. 0.05 or 0.25): for dense outlines (coastlines, CAD curves); corners, "
@@ -72,16 +93,24 @@ def add_parser(subparsers):
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
-    p.add_argument("-o", "--output", metavar="OUTPUT",
+    p.add_argument("-o", "--output", metavar="OUTPUT", action="append",
                    help="output mesh file (one input) or directory (existing, or ending in '/': "
-                   "created); default: next to the input")
+                   "created); default: next to the input. Repeat it to write one mesh in "
+                   "several formats: -o a.msh -o a.inp -o a.vtu")
+    p.add_argument("--element-type", type=str.upper, choices=ELEMENT_TYPES, metavar="TYPE",
+                   help="Abaqus element type of .inp outputs: " + ", ".join(ELEMENT_TYPES)
+                   + " (plane stress, plane strain, axisymmetric; default CPS3)")
     p.add_argument("--format", default=".vtu", metavar="EXT",
                    help="extension of outputs named after their input (default .vtu)")
     p.add_argument("--plot", metavar="PNG",
                    help="also write a figure of the mesh (.png, .pdf, .svg); a name ending in '/' "
                    "is a directory receiving <input name>.png (with several inputs --plot must be "
                    "a directory)")
-    add_parallel_options(p, "the inputs")
+    p.add_argument("--parts", type=positive_int, metavar="K",
+                   help="mesh each input in K parts of near-equal area on the --jobs processes or "
+                   "the --scheduler cluster, and stitch them (docs/partitioned.md); with "
+                   "-o NAME.pvtu every part is written as its own piece, never gathered")
+    add_parallel_options(p, "the inputs (with --parts: the parts)")
     show = p.add_mutually_exclusive_group()
     show.add_argument("--stats", action="store_true",
                       help="print the quality summary and optimality certificates")
@@ -98,11 +127,13 @@ def _stem(path: Path) -> str:
     return name[: -len(fmt.extension)] if fmt is not None else path.stem
 
 
-def _format_extension(text: str) -> str:
+def _format_extension(text: str, parts=None) -> str:
     from ..errors import UnsupportedFormatError
     from ..io.registry import MESH_FORMATS
 
     ext = (text if text.startswith(".") else "." + text).lower()
+    if ext == PVTU and parts:
+        return ext
     if ext not in MESH_FORMATS:
         raise UnsupportedFormatError(
             f"unknown --format '{text}'; use one of {', '.join(MESH_FORMATS)}"
@@ -133,8 +164,14 @@ def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     return plot, False
 
 
-def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
-    """The -o path and whether it names a directory, checked before any meshing."""
+def _writable(directory: Path, option: str) -> None:
+    """Refuse, before any meshing, an existing output directory we may not write into."""
+    if directory.is_dir() and not os.access(directory, os.W_OK | os.X_OK):
+        raise PermissionError(13, f"{option}: the directory is not writable", str(directory))
+
+
+def _output_target(text: str | None, several: bool, parts=None) -> tuple[Path | None, bool]:
+    """One -o path and whether it names a directory, checked before any meshing."""
     from ..io.registry import MESH_FORMATS, find_mesh_format, match_format
 
     if text is None:
@@ -144,55 +181,98 @@ def _output_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
         raise ValueError(f"with several inputs, -o must be a directory, got '{out}'")
     if several or names_directory(text):
         check_output_dir(out, "-o")
+        _writable(out, "-o")
         return out, True
+    if out.suffix.lower() == PVTU:
+        if not parts:
+            raise ValueError(f"'{out}': a .pvtu is written piece by piece from a mesh made in "
+                             "parts; add --parts K (or write another format)")
+        check_output_file(out, "-o")
+        return out, False
     find_mesh_format(out, "write")
     check_output_file(out, "-o")
+    _writable(out.parent if str(out.parent) else Path("."), "-o")
     return out, False
 
 
-def _plan(args) -> list[tuple[Path, Path, Path | None]]:
-    """(input, output, plot) per input, every check that needs no meshing done."""
+def _outputs(args, inputs: list[Path], ext: str) -> list[tuple[Path, ...]]:
+    """The output files of each input, every -o checked before any meshing."""
+    texts = args.output or [None]
+    several = len(inputs) > 1
+    if several and len(texts) > 1:
+        raise ValueError("with several inputs, give one -o directory (it receives "
+                         "<input name><--format> per input)")
+    targets = [_output_target(t, several, args.parts) for t in texts]
+    outs = []
+    for src in inputs:
+        stem = _stem(src)
+        mine = tuple(src.parent / (stem + ext) if out is None else
+                     (out / (stem + ext) if is_dir else out) for out, is_dir in targets)
+        for (out, _), d in zip(targets, mine):
+            if out is None:  # next to the input: that directory must be writable
+                check_output_file(d, "-o")
+        if len({d.resolve() for d in mine}) != len(mine):
+            raise ValueError(f"the outputs {', '.join(map(str, mine))} name one file twice")
+        outs.append(mine)
+    if args.element_type is not None and not any(
+            d.name.lower().endswith(".inp") for mine in outs for d in mine):
+        raise ValueError(f"--element-type {args.element_type} applies to Abaqus .inp outputs, "
+                         "and no output is one; add -o NAME.inp")
+    return outs
+
+
+def _plan(args) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
+    """(input, outputs, plot) per input, every check that needs no meshing done."""
     inputs = [Path(s) for s in args.inputs]
     for src in inputs:  # all inputs before any output
         if not src.exists():
             raise FileNotFoundError(2, "input file not found", str(src))
-    ext = _format_extension(args.format)
+    ext = _format_extension(args.format, args.parts)
     several = len(inputs) > 1
-    out, out_is_dir = _output_target(args.output, several)
+    outs = _outputs(args, inputs, ext)
     plot, plot_is_dir = _plot_target(args.plot, several)
 
     plan = []
-    for src in inputs:
-        stem = _stem(src)
-        if out is None:
-            dst = src.parent / (stem + ext)
-        else:
-            dst = out / (stem + ext) if out_is_dir else out
+    for src, dst in zip(inputs, outs):
         fig = None
         if plot is not None:
-            fig = plot / (stem + ".png") if plot_is_dir else plot
+            fig = plot / (_stem(src) + ".png") if plot_is_dir else plot
+        if any(d.suffix.lower() == PVTU for d in dst):
+            if fig is not None:
+                raise ValueError("--plot needs the whole mesh, which a .pvtu output never "
+                                 "gathers; drop --plot or write another format")
+            if len(dst) > 1:
+                raise ValueError("a .pvtu output is written piece by piece by the workers; "
+                                 "write it alone (other formats in another run)")
         plan.append((src, dst, fig))
-    targets = [d.resolve() for _, d, _ in plan]
-    if len(set(targets)) != len(targets):
-        raise ValueError("two inputs have the same name: their outputs would overwrite each other")
+    same_outputs(plan)
     return plan
 
 
-def _mesh_one(polygon, args, progress=None):
-    from ..errors import InsufficientPointsError, InvalidArgumentError
-    from ..resources import check_point_count
-    from ..tplus import tplus
-    from ..uniform import steiner_count_for_size, uniform_mesh
+def steiner_for_vertices(polygon, total: int) -> int:
+    """The Steiner count giving ``total`` mesh vertices: ``total - |V|``."""
+    from ..errors import InvalidArgumentError
 
-    if args.method == "uniform":
-        if args.corner_angle is not None and args.resample is None:
-            raise InvalidArgumentError("--corner-angle works with --resample only")
-        extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
-        return uniform_mesh(polygon, n=args.n, size=args.size, resample=args.resample,
-                            progress=progress, **extra)
-    if args.resample is not None:
-        raise InvalidArgumentError("--resample works with --method uniform (the default) only")
-    n, what = args.n, f"n = {args.n}"
+    nv = len(polygon.vertices)
+    if total <= nv:
+        raise InvalidArgumentError(
+            f"--vertices {total} leaves no point to add: the polygon has {nv} vertices of its "
+            f"own (ring vertices, segment ends and fixed points); give --vertices above {nv}, "
+            "or -n for the points to add")
+    return total - nv
+
+
+def _count(polygon, args) -> int:
+    """n from -n or --size, checked against this machine's memory."""
+    from ..errors import InsufficientPointsError
+    from ..resources import check_point_count
+    from ..uniform import steiner_count_for_size
+
+    n = args.n
+    what = f"n = {n}"
+    if getattr(args, "vertices", None) is not None:
+        n = steiner_for_vertices(polygon, args.vertices)
+        what = f"--vertices {args.vertices} (n = {n})"
     if n is None:
         n = steiner_count_for_size(polygon, args.size)
         what = f"size {args.size!r} (n = {n})"
@@ -202,68 +282,89 @@ def _mesh_one(polygon, args, progress=None):
                 "Steiner points; use a smaller size"
             )
     check_point_count(n + len(polygon.vertices), what)
-    return tplus(polygon, n)
+    return n
 
 
-def _write_both(mesh, dst: Path, fig: Path | None) -> None:
-    """The mesh file and its figure, both or neither: the figure is drawn to a
-    temporary file next to ``fig`` first and moved into place after the mesh is
-    written (each write is atomic on its own).  Errors name ``fig``, never the
-    temporary file."""
-    import os
-    import secrets
+def _mesh_one(polygon, args, progress=None):
+    from ..tplus import tplus
+    from ..uniform import uniform_mesh
 
-    from ..io.atomic import named_for
+    n_arg = args.n
+    if getattr(args, "vertices", None) is not None:
+        n_arg = steiner_for_vertices(polygon, args.vertices)
+    field = field_from_args(polygon, args)
+    if field is not None:
+        return uniform_mesh(polygon, n=n_arg, size=field, progress=progress)
+    if args.method == "uniform":
+        extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
+        return uniform_mesh(polygon, n=n_arg, size=args.size, resample=args.resample,
+                            progress=progress, **extra)
+    return tplus(polygon, _count(polygon, args))
 
-    if fig is None:
-        mesh.write(dst)
-        return
-    import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def _parts_bar(args, name: str):
+    from tqdm import tqdm
 
-    tmp = fig.with_name(f".{fig.stem}.tmp-{secrets.token_hex(4)}{fig.suffix}")
-    existed = dst.exists()
-    try:
-        try:
-            plt.close(mesh.plot(tmp))
-        except OSError as exc:
-            raise named_for(exc, tmp, fig) from None
-        mesh.write(dst)
-        try:
-            os.replace(tmp, fig)
-        except OSError as exc:
-            if not existed:
-                dst.unlink(missing_ok=True)
-            raise named_for(exc, tmp, fig) from None
-    finally:
-        tmp.unlink(missing_ok=True)
+    return tqdm(total=args.parts, desc=name, unit="part", file=sys.stderr, leave=False,
+                disable=not shows_progress(args.quiet))
+
+
+def _process_parts(args, job) -> dict:
+    """One input in ``--parts`` parts: a .pvtu written piece by piece, or the
+    stitched mesh in any other format."""
+    from ..io import read_polygon
+    from ..partitioned import partitioned_mesh, write_pvtu
+
+    src, dsts, fig = job
+    polygon = read_polygon(src)
+    n = _count(polygon, args)
+    with _parts_bar(args, src.name) as bar:
+        if dsts[0].suffix.lower() == PVTU:  # then the only output (_plan)
+            dst = dsts[0]
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            info = write_pvtu(polygon, n, args.parts, dst, jobs=args.part_jobs,
+                              scheduler=args.part_scheduler, bar=bar)
+            return {"input": str(src), "output": str(dst), "outputs": [str(dst)], "plot": None,
+                    "method": "partitioned",
+                    "n_steiner": n, "n_points": info["points"], "n_triangles": info["triangles"],
+                    "info": info, "quality": None, "summary": "(a .pvtu is never gathered: "
+                    "no quality summary)", "regions": None}
+        mesh = partitioned_mesh(polygon, n, args.parts, jobs=args.part_jobs,
+                                scheduler=args.part_scheduler, bar=bar)
+    return _written(args, src, dsts, fig, polygon, mesh)
 
 
 def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     """Mesh one input and write its files; returns what to show (no printing here)."""
+    from ..graded import PHASES as GRADED
     from ..io import read_polygon
     from ..optimize.pipeline import PHASES
 
     src, dst, fig = job
     polygon = read_polygon(src)
     log.info("%s: %r", src, polygon)
-    bar = PhaseBar(PHASES, src.name) if getattr(args, "phase_bar", False) else None
+    bar = PhaseBar(GRADED if has_field(args) else PHASES, src.name) if getattr(args, "phase_bar", False) else None
     try:
         mesh = _mesh_one(polygon, args, bar)
     finally:
         if bar is not None:
             bar.close()
+    return _written(args, src, dst, fig, polygon, mesh)
+
+
+def _written(args, src: Path, dst: Path, fig, polygon, mesh) -> dict:
+    """Write the mesh (and its figure); what to show of it."""
     log.info("%s: %r", src, mesh)
     quality = mesh.quality() if (args.stats or args.json) else None
-    dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
+    for d in dst:
+        d.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
     if fig is not None:
         fig.parent.mkdir(parents=True, exist_ok=True)
-    _write_both(mesh, dst, fig)
+    write_outputs(mesh, dst, fig, getattr(args, "element_type", None))
     return {
         "input": str(src),
-        "output": str(dst),
+        "output": str(dst[0]),
+        "outputs": [str(d) for d in dst],
         "plot": str(fig) if fig is not None else None,
         "method": args.method,
         "n_steiner": mesh.info["resample"]["n"] if "resample" in mesh.info else mesh.n_steiner,
@@ -293,7 +394,7 @@ def _regions(mesh) -> list[dict]:
 def _show(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
-            print(f"== {doc['input']} -> {doc['output']}")
+            print(f"== {doc['input']} -> {', '.join(doc['outputs'])}")
         print(doc["summary"])
         if "warning" in doc["info"]:
             print("note: " + doc["info"]["warning"])
@@ -304,8 +405,8 @@ def _show(args, doc: dict, several: bool) -> None:
             print(f"  region {k}{label}: {r['triangles']} triangles, area {r['area']:.6g}")
         if doc["info"].get("method") == "paper" and "d_n" in doc["info"]:
             _print_tplus(doc["info"])
-    elif not args.quiet and not args.json:
-        print(f"wrote {doc['output']} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
+    if not args.quiet and not args.json:
+        print(f"wrote {', '.join(doc['outputs'])} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
               f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
         if "resample" in doc["info"]:
             print("  " + _resample_line(doc["info"]["resample"]))
@@ -318,9 +419,46 @@ def _resample_line(r: dict) -> str:
             f"{r['kept_vertices']} input vertices kept, {r['boundary_points']} boundary points")
 
 
+def _check_count(args) -> None:
+    """-n, --vertices, --size and the field options: what may go together (argparse
+    keeps the first three apart)."""
+    counted = args.n is not None or getattr(args, "vertices", None) is not None
+    if args.resample is not None and (args.method != "uniform" or has_field(args)
+                                      or getattr(args, "parts", None) is not None):
+        raise ValueError("--resample works with --method uniform (the default) in one part, "
+                         "without a size field (--refine, --size-field, --parts)")
+    if args.corner_angle is not None and args.resample is None:
+        raise ValueError("--corner-angle works with --resample only")
+    if has_field(args):
+        if args.method != "uniform":
+            raise ValueError("--refine and --size-field need --method uniform (the paper's T+ "
+                             "has no size field)")
+        if args.refine and not counted and args.size is None:
+            raise ValueError("--refine needs -n N or --vertices N (the count; the field's "
+                             "shape) or --size H (its coarse size; n follows)")
+        return
+    if not counted and args.size is None:
+        raise ValueError("give one of -n N, --vertices N and --size H (or a size field: "
+                         "--refine, --size-field)")
+
+
 def run(args) -> int:
+    _check_count(args)
     check_parallel_options(args)
     plan = _plan(args)
+    if args.parts:
+        if has_field(args):
+            raise ValueError("--parts makes a uniform mesh in parts; it cannot be used with "
+                             "--refine or --size-field yet")
+        if args.method != "uniform":
+            raise ValueError("--parts makes the uniform mesh in parts; it cannot be used with "
+                             "--method paper")
+        # the inputs one after the other here; the parts of each on the workers
+        args.part_jobs, args.part_scheduler = args.jobs, args.scheduler
+        args.jobs, args.scheduler = 1, None
+        args.phase_bar = False
+        return run_batch(args, _process_parts, plan, "meshing", _show,
+                         lambda doc: {k: v for k, v in doc.items() if k != "summary"}, warm=True)
     # one input runs here, where its phases can be shown as they pass
     args.phase_bar = len(plan) == 1 and shows_progress(args.quiet)
     return run_batch(args, _process, plan, "meshing", _show,

@@ -3,7 +3,8 @@
 Wraps the ``remesh`` of the registered surface-patch layer (the ``surface``
 extra: trimesh, libigl, pymeshlab; found through :mod:`uniform2d.plugins`).
 Input: any triangle-mesh format the layer reads; output: one of its
-``WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb).  One input: ``-o FILE``.
+``WRITE_FORMATS`` (.obj, .off, .ply, .stl, .glb, .inp with shell elements).
+One input: ``-o FILE``, repeated for several formats (``-o a.obj -o a.inp``).
 Several: ``-o DIR`` (created if missing) receives ``<input stem><--format>``
 each, ``--plot`` must then be a directory too; a bad input is one line and the
 others go on (exit code 2 at the end), as with ``uniform2d mesh``.
@@ -16,14 +17,18 @@ import sys
 from pathlib import Path
 
 from ._common import (
+    INPUT_ERRORS,
     add_parallel_options,
+    angle_degrees,
     check_output_dir,
     check_output_file,
     check_parallel_options,
     names_directory,
     positive_float,
     positive_int,
+    report_failure,
     run_batch,
+    same_outputs,
 )
 
 log = logging.getLogger(__name__)
@@ -39,23 +44,31 @@ def add_parser(subparsers):
         "3-D edges: a patch that flattens well is flattened (libigl), its flat domain meshed "
         "with uniform2d and lifted back; any other model (closed, any genus, several parts, "
         "strongly curved) is cut into an atlas of such charts sharing their seams. With one "
-        "input, --jobs/--scheduler mesh its charts in parallel (same output bytes).",
+        "input, --jobs/--scheduler mesh its charts in parallel (same output bytes). -n counts "
+        "ALL the vertices of the output (unlike `uniform2d mesh -n`, which counts the points "
+        "added to a polygon's own).",
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="surface mesh file(s) (.obj, .off, .ply, .stl, ...)")
     count = p.add_mutually_exclusive_group(required=True)
     count.add_argument("-n", type=positive_int, metavar="N",
-                       help="number of vertices of the output")
+                       help="total number of vertices of the output mesh (boundary included)")
     count.add_argument("--size", type=positive_float, metavar="H", help="target 3-D edge length")
-    p.add_argument("-o", "--output", required=True, metavar="OUTPUT",
-                   help="output mesh file (.obj, .off, .ply, .stl, .glb), or with several "
-                   "inputs a directory (created if missing)")
+    p.add_argument("-o", "--output", required=True, metavar="OUTPUT", action="append",
+                   help="output mesh file (.obj, .off, .ply, .stl, .glb, .inp), or with several "
+                   "inputs a directory (created if missing); repeat it to write several "
+                   "formats: -o a.obj -o a.inp")
+    p.add_argument("--element-type", type=str.upper, choices=("S3", "S3R"), metavar="TYPE",
+                   help="Abaqus shell element type of .inp outputs: S3 (default) or S3R")
     p.add_argument("--format", default=".obj", metavar="EXT",
                    help="extension of outputs named after their input in a directory "
                    "(default .obj)")
     p.add_argument("--param", choices=PARAMS, default="lscm",
                    help="parameterisation tried first (default lscm)")
-    p.add_argument("--feature-angle", type=_angle, metavar="DEG",
+    p.add_argument("--corner-angle", type=angle_degrees, metavar="DEG",
+                   help="keep as output vertices the boundary vertices where the boundary "
+                   "turns by more than DEG degrees (in 3-D; default: the surface layer's, 30)")
+    p.add_argument("--feature-angle", type=angle_degrees, metavar="DEG",
                    help="keep creases: interior edges whose faces' normals differ by more "
                    "than DEG degrees become chains of output edges on the input's edges "
                    "(default: none; a model cut into an atlas still has its seams on edges "
@@ -67,19 +80,6 @@ def add_parser(subparsers):
     show.add_argument("--stats", action="store_true", help="print the remesh report")
     show.add_argument("--json", action="store_true", help="print the report as JSON")
     return p
-
-
-def _angle(text: str) -> float:
-    """An angle in degrees strictly between 0 and 180 (argparse type)."""
-    import argparse
-
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an angle in degrees, got '{text}'") from None
-    if not 0.0 < value < 180.0:
-        raise argparse.ArgumentTypeError(f"the angle must be between 0 and 180 degrees, got {text}")
-    return value
 
 
 def _target(text: str | None, several: bool, option: str) -> tuple[Path | None, bool]:
@@ -96,31 +96,40 @@ def _target(text: str | None, several: bool, option: str) -> tuple[Path | None, 
     return path, False
 
 
-def _plan(args, layer) -> list[tuple[Path, Path, Path | None]]:
-    """(input, output, figure) per input, every check that needs no remeshing done."""
+def _plan(args, layer) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
+    """(input, outputs, figure) per input, every check that needs no remeshing done."""
     from ..plot import check_figure_path
 
     inputs = [Path(s) for s in args.inputs]
     several = len(inputs) > 1
     ext = args.format if args.format.startswith(".") else "." + args.format
-    named_file = Path(args.output).suffix.lstrip(".").lower() in layer.WRITE_FORMATS
-    if several and named_file and not names_directory(args.output):
-        raise ValueError(f"with several inputs, -o must be a directory, got '{args.output}'")
-    out, out_dir = _target(args.output, several, "-o")
+    if several and len(args.output) > 1:
+        raise ValueError("with several inputs, give one -o directory (it receives "
+                         "<input name><--format> per input)")
+    named_file = Path(args.output[0]).suffix.lstrip(".").lower() in layer.WRITE_FORMATS
+    if several and named_file and not names_directory(args.output[0]):
+        raise ValueError(f"with several inputs, -o must be a directory, got '{args.output[0]}'")
+    outs = [_target(text, several, "-o") for text in args.output]
     plot, plot_dir = _target(args.plot, several, "--plot")
     plan = []
     for src in inputs:
-        dst = out / (src.stem + ext) if out_dir else out
+        dsts = tuple(out / (src.stem + ext) if out_dir else out for out, out_dir in outs)
         fig = (plot / (src.stem + ".png") if plot_dir else plot) if plot is not None else None
-        layer.check_output(dst)
-        if not out_dir:
-            check_output_file(dst, "-o")
+        for dst, (_, out_dir) in zip(dsts, outs):
+            layer.check_output(dst)
+            if not out_dir:
+                check_output_file(dst, "-o")
+        if len({d.resolve() for d in dsts}) != len(dsts):
+            raise ValueError(f"the outputs {', '.join(map(str, dsts))} name one file twice")
         if fig is not None and not plot_dir:
             check_figure_path(fig)
             check_output_file(fig, "--plot")
-        plan.append((src, dst, fig))
-    if len({d.resolve() for _, d, _ in plan}) != len(plan):
-        raise ValueError("two inputs have the same name: their outputs would overwrite each other")
+        plan.append((src, dsts, fig))
+    if args.element_type is not None and not any(
+            d.name.lower().endswith(".inp") for _, dsts, _ in plan for d in dsts):
+        raise ValueError(f"--element-type {args.element_type} applies to Abaqus .inp outputs, "
+                         "and no output is one; add -o NAME.inp")
+    same_outputs(plan)
     return plan
 
 
@@ -135,14 +144,19 @@ def _process(args, job) -> dict:
     model = layer.read_model(src)
     log.info("%s: %r", src, model)
     inner = getattr(args, "chart_jobs", {})  # one input: its charts in parallel instead
+    if args.corner_angle is not None:  # else the layer's default
+        inner = {**inner, "corner_angle": args.corner_angle}
     result = layer.remesh(model, n_vertices=args.n, size=args.size, param=args.param,
                           feature_angle=args.feature_angle, **inner)
-    dst.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
-    result.write(dst)
+    for d in dst:
+        d.parent.mkdir(parents=True, exist_ok=True)  # checked by _plan: only a named directory
+        inp = d.name.lower().endswith(".inp") and getattr(args, "element_type", None)
+        result.write(d, **({"element_type": args.element_type} if inp else {}))
     if fig is not None:
         fig.parent.mkdir(parents=True, exist_ok=True)
         layer.plot_result(result, fig)
-    return {"input": str(src), "output": str(dst), "plot": str(fig) if fig else None,
+    return {"input": str(src), "output": str(dst[0]), "outputs": [str(d) for d in dst],
+            "plot": str(fig) if fig else None,
             "n_vertices": len(result.vertices), "n_faces": len(result.faces),
             "report": result.report.as_dict(), "summary": result.report.summary()}
 
@@ -150,10 +164,10 @@ def _process(args, job) -> dict:
 def _show(args, doc: dict, several: bool) -> None:
     if args.stats:
         if several:
-            print(f"== {doc['input']} -> {doc['output']}")
+            print(f"== {doc['input']} -> {', '.join(doc['outputs'])}")
         print(doc["summary"])
-    elif not args.quiet and not args.json:
-        print(f"wrote {doc['output']} ({doc['n_vertices']} vertices, {doc['n_faces']} faces)"
+    if not args.quiet and not args.json:
+        print(f"wrote {', '.join(doc['outputs'])} ({doc['n_vertices']} vertices, {doc['n_faces']} faces)"
               + (f", figure {doc['plot']}" if doc["plot"] else ""))
     sys.stdout.flush()
 
@@ -168,5 +182,11 @@ def run(args) -> int:
     if len(plan) == 1 and (args.jobs > 1 or args.scheduler is not None):
         args.chart_jobs = {"jobs": args.jobs, "scheduler": args.scheduler}
         args.jobs, args.scheduler = 1, None
-    return run_batch(args, _process, plan, "remeshing", _show,
-                     lambda doc: {k: doc[k] for k in ("input", "output", "report")})
+    try:
+        return run_batch(args, _process, plan, "remeshing", _show,
+                         lambda doc: {k: doc[k] for k in ("input", "output", "outputs", "report")})
+    except INPUT_ERRORS as exc:
+        if len(plan) > 1:
+            raise
+        report_failure(plan[0][0], exc)  # one line naming the input, as in a batch
+        return 2

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ._common import (
     add_parallel_options,
+    angle_degrees,
     announce_compile,
     check_output_dir,
     check_parallel_options,
@@ -32,7 +33,9 @@ def add_parser(subparsers):
         "for .obj/.ply/.stl/.off patches) and with each peer tuned to the same vertex "
         "count, and write DIR/index.html (one self-contained page), DIR/report.md, "
         "DIR/results.json (every number) and DIR/meshes/. Peers that are not installed "
-        "are listed as such.",
+        "are listed as such. A polygon's segments, fixed points and regions go to our meshes "
+        "and to every peer that takes them (gmsh, triangle, cvt); a peer that cannot is "
+        "listed as not comparable.",
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="polygon files and/or surface patches (.obj, .ply, .stl, .off)")
@@ -44,6 +47,9 @@ def add_parser(subparsers):
                    "where installed by hand)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory")
     add_parallel_options(p, "cases")
+    p.add_argument("--feature-angle", type=angle_degrees, metavar="DEG",
+                   help="surface inputs: keep edges bent more than DEG degrees as feature lines "
+                   "in our remesh (as `remesh --feature-angle`; e.g. 30 for a folded plate)")
     p.add_argument("--no-figures", action="store_true", help="leave the pictures out of index.html")
     return p
 
@@ -64,6 +70,7 @@ def run(args) -> int:
         scheduler=args.scheduler,
         progress=not args.quiet and sys.stderr.isatty(),
         figures=not args.no_figures,
+        feature_angle=args.feature_angle,
     )
     if not args.quiet:
         counts = {}

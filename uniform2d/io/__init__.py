@@ -10,7 +10,10 @@ segments, fixed points and region labels): ``.json`` (our own format,
 (:mod:`~uniform2d.io.poly_file`) and ``.dxf`` (:mod:`~uniform2d.io.dxf_file`);
 what they share is :mod:`uniform2d.io.common`.
 Meshes carry their regions as cell data where the format has it
-(:mod:`uniform2d.io.cells`).  Mesh files
+(:mod:`uniform2d.io.cells`); ``.msh``, ``.inp``, ``.vtu`` and ``.vtk`` also
+carry the named sets of :mod:`uniform2d.io.mesh_sets` (regions, rings,
+segments, fixed points), written by :mod:`~uniform2d.io.gmsh_file`,
+:mod:`~uniform2d.io.abaqus_file` and :mod:`~uniform2d.io.vtk_file`.  Mesh files
 (:func:`write_mesh`, :func:`read_mesh`): meshio formats (``.vtu``, ``.msh``,
 ``.obj``, ...) and two truss formats for structural design, ``.csv`` and
 ``.truss.json`` (see :mod:`uniform2d.io.truss`).  The single list of formats is

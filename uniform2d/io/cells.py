@@ -11,15 +11,16 @@ style          stored as
 ``medit``      Medit element references ``medit:ref``, region + 1
 ``netgen``     Netgen face indices ``netgen:index``, region + 1
 ``avsucd``     AVS-UCD material ids, the region numbers from 0
-``gmsh``       Gmsh physical and elementary tags, region + 1, with the
-               labels as physical names (written as Gmsh 2.2, which keeps
-               one tag per element: meshio's Gmsh 4.1 writer cannot)
+``gmsh``       Gmsh physical tags, region + 1 (read only: written by
+               :mod:`uniform2d.io.gmsh_file`, with names)
 ``abaqus``     one element set per region, ``REGION_<r>`` or
-               ``REGION_<r>_<LABEL>`` (the label in letters, digits, ``_``)
+               ``REGION_<r>_<LABEL>`` (read only: written by
+               :mod:`uniform2d.io.abaqus_file`)
 =============  ===========================================================
 
 :func:`to_meshio` gives the keyword arguments of :class:`meshio.Mesh` for a
-style, :func:`from_meshio` reads the regions back (None if the file has none).
+style it writes, :func:`from_meshio` reads the regions back (None if the file
+has none).
 """
 
 from __future__ import annotations
@@ -39,36 +40,11 @@ STYLES = (*_KEYED, "abaqus")
 _SET = re.compile(r"^REGION_(\d+)(?:_.*)?$", re.IGNORECASE)
 
 
-def _label_text(label) -> str:
-    return re.sub(r"[^A-Za-z0-9_]+", "_", str(label)).strip("_").upper()
-
-
-def gmsh_name(r: int, label) -> str:
-    return f"region {r}" if label is None else str(label)
-
-
-def set_name(r: int, label) -> str:
-    text = _label_text(label) if label is not None else ""
-    return f"REGION_{r}" + (f"_{text}" if text else "")
-
-
-def to_meshio(style: str, regions: np.ndarray, labels) -> dict:
-    """``cell_data``, ``cell_sets`` and ``field_data`` for one triangle block."""
+def to_meshio(style: str, regions: np.ndarray) -> dict:
+    """``cell_data`` for one triangle block (styles other than gmsh and abaqus)."""
     regions = np.asarray(regions, dtype=np.int64)
-    labels = tuple(labels) if labels is not None else (None,) * (int(regions.max()) + 1)
-    if style == "abaqus":
-        return {"cell_sets": {set_name(r, labels[r] if r < len(labels) else None):
-                              [np.flatnonzero(regions == r)] for r in np.unique(regions)}}
     key, offset = _KEYED[style]
-    out = {"cell_data": {key: [regions + offset]}}
-    if style == "gmsh":
-        out["cell_data"]["gmsh:geometrical"] = [regions + offset]
-        names = {}
-        for r in np.unique(regions):
-            name = gmsh_name(int(r), labels[r] if r < len(labels) else None)
-            names.setdefault(name, np.array([r + offset, 2]))
-        out["field_data"] = names
-    return out
+    return {"cell_data": {key: [regions + offset]}}
 
 
 def from_meshio(path, style: str, mesh, n_triangles: int):

@@ -1,13 +1,22 @@
 """DXF polygon files, ``.dxf`` (read and written with ezdxf: the ``dxf`` extra).
 
-Closed ``LWPOLYLINE`` and 2-D/3-D ``POLYLINE`` entities in modelspace are the
-outline (the one with the largest area) and its holes, except those on a layer
-whose name starts with ``ZONE`` (any case), which are zones as in GeoJSON,
-labelled with their layer name, and those on a ``SEGMENT*`` layer, which are
-closed segments.  Open ``LINE``, ``LWPOLYLINE`` and ``POLYLINE`` entities are
-segments, ``POINT`` entities fixed points, ``TEXT`` and ``MTEXT`` entities label
-the region around their insertion point with their text.  Arc segments
-(bulges) are replaced by their chords, with a logged warning.
+Read from modelspace:
+
+- Closed curves are the outline (the one with the largest area) and its holes:
+  closed ``LWPOLYLINE`` and 2-D/3-D ``POLYLINE`` entities, ``CIRCLE`` entities
+  (bolt holes), and chains of two or more ``LINE``, ``ARC`` and open polyline
+  entities meeting end to end two by two (a slot drawn as two lines and two
+  arcs).  On a layer whose name starts with ``ZONE`` (any case) they are zones
+  as in GeoJSON, labelled with their layer name; on a ``SEGMENT*`` layer,
+  closed segments.
+- Every other ``LINE``, ``ARC`` and open polyline is a segment, ``POINT``
+  entities are fixed points, ``TEXT`` and ``MTEXT`` entities label the region
+  around their insertion point with their text.
+- Curves (circles, arcs, polyline bulges) become polylines whose pieces have a
+  sagitta of at most ``chord_tol`` x their radius (default 0.01: 23 pieces a
+  full circle); see :mod:`uniform2d.io.dxf_curves` for the rule.
+- Other entities (ELLIPSE, SPLINE, INSERT, HATCH, ...) are ignored with one
+  logged warning naming them.
 
 Written on layers ``OUTER`` and ``HOLES`` (and ``SEGMENTS``, ``POINTS`` and
 ``REGIONS`` for a polygon with constraints), with ezdxf's fixed metadata: the
@@ -23,8 +32,8 @@ import numpy as np
 import shapely
 
 from ..errors import InvalidPolygonError, UnsupportedFormatError
-from ..geometry import signed_area
 from ..polygon import Polygon
+from . import dxf_curves
 from .common import fail, make_polygon, zone_seeds
 from .fileformat import FileFormat
 
@@ -34,8 +43,8 @@ logger = logging.getLogger(__name__)
 
 #: What :func:`uniform2d.io.polygon_formats` says of this format.
 DESCRIPTION = (
-    "DXF closed LWPOLYLINE/POLYLINE entities (largest is the outline), open ones and LINEs "
-    "as segments, POINTs, TEXT labels"
+    "DXF closed LWPOLYLINE/POLYLINE, CIRCLE and LINE/ARC chains (largest is the outline), "
+    "open ones as segments, POINTs, TEXT labels; arcs and bulges to a chord tolerance"
 )
 
 
@@ -47,10 +56,6 @@ def _ezdxf():
         raise UnsupportedFormatError(
             "reading and writing .dxf files needs ezdxf: pip install 'uniform2d[dxf]'") from None
     return ezdxf
-
-
-# -- rings: the outline and its holes ------------------------------------------------
-_GEOMETRY_ENTITIES = {"LINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE", "INSERT", "HATCH"}
 
 
 def _open_dxf(path):
@@ -68,90 +73,83 @@ def _open_dxf(path):
         fail(path, f"not a readable DXF file (truncated or malformed: {type(exc).__name__})")
 
 
-def _dxf_polyline(e):
-    """(points, closed, has bulges) of a 2-D/3-D polyline entity, None for any other."""
+def _dxf_polyline(e, tol: float):
+    """(points (k, 2) in world coordinates, bulges as arcs; closed) of a 2-D/3-D
+    polyline entity, None for any other."""
     kind = e.dxftype()
     if kind == "LWPOLYLINE":
-        pts = [tuple(v) for v in e.vertices_in_wcs()]
-        return pts, bool(e.closed), any(b != 0 for (b,) in e.get_points("b"))
-    if kind == "POLYLINE" and (e.is_2d_polyline or e.is_3d_polyline):
-        pts = [tuple(v) for v in e.points_in_wcs()]
-        return pts, bool(e.is_closed), any(v.dxf.get("bulge", 0) != 0 for v in e.vertices)
+        xy = dxf_curves.bulge_polyline(list(e.get_points("xyb")), bool(e.closed), tol)
+        return dxf_curves.to_wcs(e, xy, float(e.dxf.elevation)), bool(e.closed)
+    if kind == "POLYLINE" and e.is_2d_polyline:
+        xyb = [(v.dxf.location.x, v.dxf.location.y, v.dxf.get("bulge", 0.0)) for v in e.vertices]
+        xy = dxf_curves.bulge_polyline(xyb, bool(e.is_closed), tol)
+        return dxf_curves.to_wcs(e, xy, float(e.dxf.elevation.z)), bool(e.is_closed)
+    if kind == "POLYLINE" and e.is_3d_polyline:
+        xy = np.array([tuple(v)[:2] for v in e.points_in_wcs()], dtype=np.float64).reshape(-1, 2)
+        return xy, bool(e.is_closed)
     return None
 
 
-def _dxf_ring(path, name: str, pts, closed: bool, bulged: bool) -> np.ndarray:
-    """One polyline's ring (x, y); an open one is an error unless it ends where it starts."""
-    xy = np.asarray(pts, dtype=np.float64).reshape(-1, 3)[:, :2]
-    if not closed:
-        if len(xy) >= 4 and np.array_equal(xy[0], xy[-1]):
-            logger.info("%s: %s ends where it starts; read as closed", path, name)
+def _dxf_entities(path, doc, tol: float):
+    """Rings (with names), zones, segments, points and seeds of a modelspace."""
+    rings, names, zones, segments, points, seeds, ignored = [], [], [], [], [], [], Counter()
+    opened = []  # (piece, name, layer, exact ends, entity number) of LINE, ARC, open polylines
+
+    def closed_curve(ring, name, layer, at):
+        if layer.upper().startswith(("ZONE", "SEGMENT")):
+            segments.append((at, np.vstack([ring, ring[:1]])))
+            if layer.upper().startswith("ZONE") and len(ring) >= 3:
+                zones.append((shapely.Polygon(ring), layer))
         else:
-            fail(
-                path,
-                f"{name} is open; close it (set its 'closed' flag in CAD) or delete it: "
-                "every polyline must be the outline or a hole",
-            )
-    if bulged:
-        logger.warning(
-            "%s: %s has arc segments (bulges); they are read as straight chords. "
-            "Approximate arcs by short segments in CAD if the curvature matters",
-            path,
-            name,
-        )
-    return xy
+            rings.append(ring)
+            names.append(name.replace(" (", f" #{len(rings)} (", 1))
+
+    for at, e in enumerate(doc.modelspace()):
+        kind, layer = e.dxftype(), str(e.dxf.get("layer", "0"))
+        what = "polyline" if kind in ("LWPOLYLINE", "POLYLINE") else kind.lower()
+        name = f"{what} (handle {e.dxf.handle}, layer {layer})"
+        poly = _dxf_polyline(e, tol)
+        if poly is not None:
+            xy, closed = poly
+            if not closed and len(xy) >= 4 and np.array_equal(xy[0], xy[-1]):
+                logger.info("%s: %s ends where it starts; read as closed", path, name)
+                xy, closed = xy[:-1], True
+            if closed:
+                closed_curve(xy, name, layer, at)
+            else:
+                opened.append((xy, name, layer, True, at))
+        elif kind == "CIRCLE":
+            closed_curve(dxf_curves.circle_ring(e, tol), name, layer, at)
+        elif kind == "ARC":
+            xy = dxf_curves.arc_polyline(e, tol)
+            if np.array_equal(xy[0], xy[-1]):  # start angle = end angle: a whole circle
+                closed_curve(xy[:-1], name, layer, at)
+            else:
+                opened.append((xy, name, layer, False, at))
+        elif kind == "LINE":
+            opened.append((np.array([(e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y)]),
+                           name, layer, True, at))
+        elif kind == "POINT":
+            points.append(np.array([e.dxf.location.x, e.dxf.location.y]))
+        elif _text(e) is not None:
+            x, y = float(e.dxf.insert.x), float(e.dxf.insert.y)
+            seeds.append((x, y, _text(e)))
+        else:
+            ignored[kind] += 1
+    loops, rest = dxf_curves.chains([o[0] for o in opened], [o[3] for o in opened])
+    for order, ring in loops:
+        closed_curve(ring, "chain (of " + ", ".join(opened[i][1] for i in order) + ")",
+                     opened[order[0]][2], opened[order[0]][4])
+    segments += [(opened[i][4], piece) for i, piece in rest]
+    segments = [piece for _, piece in sorted(segments, key=lambda s: s[0])]  # file order
+    if ignored:
+        logger.warning("%s: ignoring %s: uniform2d reads LWPOLYLINE, POLYLINE, CIRCLE, ARC, LINE, "
+                       "POINT, TEXT and MTEXT entities (explode blocks and convert ellipses and "
+                       "splines to polylines in CAD)",
+                       path, ", ".join(f"{n} {k}" for k, n in sorted(ignored.items())))
+    return rings, names, zones, segments, points, seeds
 
 
-def _dxf_rings(path, doc):
-    """The rings of the modelspace's polylines and their labels, in file order."""
-    rings, labels, ignored = [], [], Counter()
-    for e in doc.modelspace():
-        poly = _dxf_polyline(e)
-        if poly is None:
-            ignored[e.dxftype()] += 1
-            continue
-        name = f"polyline #{len(rings) + 1} (handle {e.dxf.handle}, layer {e.dxf.get('layer', '0')})"
-        rings.append(_dxf_ring(path, name, *poly))
-        labels.append(name)
-    geometric = {k: n for k, n in ignored.items() if k in _GEOMETRY_ENTITIES}
-    if geometric:
-        logger.warning(
-            "%s: ignoring %s; uniform2d reads only closed LWPOLYLINE/POLYLINE entities "
-            "(convert circles, arcs and lines to closed polylines)",
-            path,
-            ", ".join(f"{n} {k}" for k, n in sorted(geometric.items())),
-        )
-    if not rings:
-        found = ", ".join(f"{n} {k}" for k, n in sorted(ignored.items())) or "nothing"
-        fail(
-            path,
-            f"no closed polylines in modelspace (found {found}); draw the outline and the "
-            "holes as closed LWPOLYLINE or POLYLINE entities",
-        )
-    return rings, labels
-
-
-def _read_rings(path) -> Polygon:
-    """Read closed polylines from a DXF modelspace: the largest is outer, the rest holes."""
-    rings, labels = _dxf_rings(path, _open_dxf(path))
-    outer_i = int(np.argmax([abs(signed_area(r)) for r in rings]))
-    order = [outer_i] + [i for i in range(len(rings)) if i != outer_i]
-    outer_shape = shapely.Polygon(rings[outer_i]) if len(rings[outer_i]) >= 3 else None
-    for i in order[1:]:
-        if outer_shape is not None and len(rings[i]) >= 3 and outer_shape.disjoint(
-            shapely.Polygon(rings[i])
-        ):
-            raise InvalidPolygonError(
-                f"{path}: {labels[i]} lies outside the outer ring ({labels[outer_i]}, the "
-                "largest); uniform2d meshes one polygon at a time: put each part in its own "
-                "file"
-            )
-    return make_polygon(
-        path, rings[outer_i], [rings[i] for i in order[1:]], [labels[i] for i in order]
-    )
-
-
-# -- segments, points, zones and labels ---------------------------------------------
 def _text(e) -> str | None:
     kind = e.dxftype()
     if kind == "TEXT":
@@ -161,65 +159,51 @@ def _text(e) -> str | None:
     return None
 
 
-def _dxf_entities(path, doc):
-    """Rings (with names), zones, segments, points and seeds of a modelspace."""
-    rings, names, zones, segments, points, seeds, ignored = [], [], [], [], [], [], Counter()
-    for e in doc.modelspace():
-        kind, layer = e.dxftype(), str(e.dxf.get("layer", "0"))
-        poly = _dxf_polyline(e)
-        if poly is not None:
-            pts, closed, bulged = poly
-            xy = np.asarray(pts, dtype=np.float64).reshape(-1, 3)[:, :2]
-            ends_at_start = len(xy) >= 4 and np.array_equal(xy[0], xy[-1])
-            name = f"polyline (handle {e.dxf.handle}, layer {layer})"
-            if bulged:
-                logger.warning("%s: %s has arc segments (bulges); they are read as straight "
-                               "chords", path, name)
-            kind_of = layer.upper()
-            if (closed or ends_at_start) and kind_of.startswith(("ZONE", "SEGMENT")):
-                ring = xy[:-1] if ends_at_start else xy
-                segments.append(np.vstack([ring, ring[:1]]))
-                if kind_of.startswith("ZONE") and len(ring) >= 3:
-                    zones.append((shapely.Polygon(ring), layer))
-            elif closed or ends_at_start:
-                rings.append(_dxf_ring(path, name, pts, closed, False))
-                names.append(name)
-            else:
-                segments.append(xy)
-        elif kind == "LINE":
-            segments.append(np.array([(e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y)]))
-        elif kind == "POINT":
-            points.append(np.array([e.dxf.location.x, e.dxf.location.y]))
-        elif _text(e) is not None:
-            x, y = float(e.dxf.insert.x), float(e.dxf.insert.y)
-            seeds.append((x, y, _text(e)))
-        else:
-            ignored[kind] += 1
-    if ignored:
-        logger.warning("%s: ignoring %s", path, ", ".join(f"{n} {k}" for k, n in sorted(ignored.items())))
-    return rings, names, zones, segments, points, seeds
+def _check_parts(path, rings, names, outer: int) -> None:
+    """Every other ring must meet the outline's area: one polygon per file."""
+    if len(rings[outer]) < 3:
+        return
+    shape = shapely.Polygon(rings[outer])
+    for k, r in enumerate(rings):
+        if k != outer and len(r) >= 3 and shape.disjoint(shapely.Polygon(r)):
+            raise InvalidPolygonError(
+                f"{path}: {names[k]} lies outside the outer ring ({names[outer]}, the "
+                "largest); uniform2d meshes one polygon at a time: put each part in its own "
+                "file"
+            )
 
 
-def read_dxf(path) -> Polygon:
-    """Read a DXF modelspace: closed polylines as the outline and holes (on a
-    ZONE* or SEGMENT* layer: closed segments), open LINE/LWPOLYLINE/POLYLINE as
-    segments, POINT as fixed points, TEXT/MTEXT and ZONE* layers as labels."""
+def read_dxf(path, *, chord_tol: float = dxf_curves.CHORD_TOL) -> Polygon:
+    """Read a DXF modelspace: closed curves (polylines, circles, line and arc
+    chains) as the outline and holes (on a ZONE* or SEGMENT* layer: closed
+    segments), other LINE/ARC/open polylines as segments, POINT as fixed points,
+    TEXT/MTEXT and ZONE* layers as labels.
+
+    Parameters
+    ----------
+    path : path
+    chord_tol : float
+        Largest sagitta of the pieces of a curve, as a fraction of its radius
+        (:data:`uniform2d.io.dxf_curves.CHORD_TOL`).
+    """
     doc = _open_dxf(path)
-    rings, names, zones, segments, points, seeds = _dxf_entities(path, doc)
-    if not (segments or points or seeds):
-        return _read_rings(path)
+    rings, names, zones, segments, points, seeds = _dxf_entities(path, doc, chord_tol)
     if not rings:
         found = Counter(e.dxftype() for e in doc.modelspace())
-        fail(path, "no closed polylines in modelspace (found "
-                    + ", ".join(f"{n} {k}" for k, n in sorted(found.items()))
-                    + "); draw the outline as a closed LWPOLYLINE or POLYLINE")
+        fail(path, "no closed curve in modelspace (found "
+                    + (", ".join(f"{n} {k}" for k, n in sorted(found.items())) or "nothing")
+                    + "); draw the outline as a closed LWPOLYLINE or POLYLINE, a CIRCLE, or "
+                    "LINEs and ARCs meeting end to end")
     outer = int(np.argmax([abs(shapely.Polygon(r).area) if len(r) >= 3 else 0.0 for r in rings]))
     holes = [r for k, r in enumerate(rings) if k != outer]
+    labels = [names[outer]] + [n for k, n in enumerate(names) if k != outer]
+    if not (segments or points or seeds):
+        _check_parts(path, rings, names, outer)
+        return make_polygon(path, rings[outer], holes, labels)
     pts = np.array(points, dtype=np.float64).reshape(-1, 2)
     seeds = zone_seeds(path, rings[outer], holes, segments, pts, zones, seeds)
-    return make_polygon(path, rings[outer], holes,
-                             [names[outer]] + [n for k, n in enumerate(names) if k != outer],
-                             segments=segments, points=pts, regions=seeds)
+    return make_polygon(path, rings[outer], holes, labels, segments=segments, points=pts,
+                        regions=seeds)
 
 
 def _write_rings(path, polygon: Polygon) -> None:

@@ -29,6 +29,14 @@ class FileFormat:
     members : bool
         Mesh formats only: whether members (edges) on the polygon's segments
         are marked (the truss formats).
+    sets : bool
+        Mesh formats only: whether the named sets of
+        :mod:`uniform2d.io.mesh_sets` are stored (rings, segments, fixed
+        points); the writer then takes ``segment_members``, ``ring_members``
+        and ``fixed_points``.
+    element_types : tuple of str
+        Mesh formats only: the element types the writer can declare (its
+        ``element_type`` keyword; the first is the default), empty if none.
     """
 
     extension: str
@@ -38,3 +46,5 @@ class FileFormat:
     point_data: bool = False
     regions: bool = False
     members: bool = False
+    sets: bool = False
+    element_types: tuple = ()

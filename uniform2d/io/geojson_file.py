@@ -95,6 +95,9 @@ def _geojson_polygon_coords(path, data):
             fail(path, 'the MultiPolygon needs "coordinates": a non-empty list of polygons')
         if len(coords) != 1:
             multipolygon_error(path, len(coords))
+        if not isinstance(coords[0], list) or not coords[0]:
+            fail(path, f"the MultiPolygon's only polygon is {short(coords[0])}; it must be a "
+                       "non-empty list of rings [[[x, y], ...], ...] (outer ring first)")
         logger.info("%s: reading a one-part MultiPolygon as a Polygon", path)
         return _geojson_polygon_coords(path, {"type": "Polygon", "coordinates": coords[0]})
     if kind in ("Point", "MultiPoint", "LineString", "MultiLineString"):

@@ -45,7 +45,7 @@ import numpy as np
 from ..errors import FileFormatError
 from . import cells as _cells
 
-__all__ = ["meshio_reader", "meshio_writer", "check_planar_mesh"]
+__all__ = ["meshio_reader", "meshio_writer", "write_meshio", "check_planar_mesh"]
 
 logger = logging.getLogger(__name__)
 
@@ -128,7 +128,8 @@ def check_planar_mesh(path, points, triangles):
     return np.ascontiguousarray(pts), tri
 
 
-def meshio_reader(file_format: str, extension: str | None = None, regions: str | None = None):
+def meshio_reader(file_format: str, extension: str | None = None, regions: str | None = None,
+                  reader=None):
     """A reader ``path -> (points (N, 2), triangles (M, 3))`` for one meshio format.
 
     `file_format` names both meshio's format and its submodule (``"vtu"`` ->
@@ -141,14 +142,16 @@ def meshio_reader(file_format: str, extension: str | None = None, regions: str |
     PERMAS reader reads no gzip; see :func:`_readable_name`).  With
     ``regions=True`` the reader returns ``(points, triangles, regions)``, the
     regions read as style `regions` of :mod:`uniform2d.io.cells` says (None when
-    the file has none, or the format stores none).
+    the file has none, or the format stores none).  `reader` replaces meshio's
+    (a function ``name -> meshio.Mesh``).
     """
     style = regions
+    own = reader
 
     def read(path, regions=False):
         import meshio
 
-        reader = getattr(meshio, file_format).read
+        reader = own or getattr(meshio, file_format).read
         try:
             with _meshio_messages(path), _readable_name(path, extension) as name:
                 mesh = reader(name)
@@ -195,6 +198,28 @@ def _drop_timestamp(name: str) -> None:
         f.write(_STAMP.sub(rb"\1", head, count=1) + rest)
 
 
+def write_meshio(path, mesh, file_format: str, **options) -> None:
+    """Write a :class:`meshio.Mesh` with meshio's `file_format` writer: its messages
+    logged, no time stamp in the header, ``.gz`` names compressed here (with no
+    name or time in the gzip header: same input, same bytes)."""
+    import meshio
+
+    name = str(path)
+    gz = name.lower().endswith(".gz")
+    plain = name[: -len(".gz")] if gz else name
+    try:
+        with _meshio_messages(path):
+            meshio.write(plain, mesh, file_format=file_format, **options)
+        _drop_timestamp(plain)
+        if gz:
+            with open(plain, "rb") as src, open(name, "wb") as raw:
+                with gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0) as dst:
+                    shutil.copyfileobj(src, dst)
+    finally:
+        if gz and os.path.exists(plain):
+            os.unlink(plain)
+
+
 def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False,
                   regions: str | None = None, **options):
     """A writer ``(path, points, triangles, point_data=None, *, regions=None,
@@ -210,8 +235,7 @@ def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False,
         Write the triangles as 32-bit integers (for formats without 64-bit ones).
     regions : str, optional
         How the format stores one region per triangle (a style of
-        :mod:`uniform2d.io.cells`); None if it cannot.  A Gmsh file with regions
-        is written as Gmsh 2.2.
+        :mod:`uniform2d.io.cells`); None if it cannot.
     **options
         Passed on to meshio's writer (e.g. ``binary=False``).
     """
@@ -225,28 +249,14 @@ def meshio_writer(file_format: str, *, pad_z: bool = False, int32: bool = False,
         if pad_z:
             pts = np.column_stack([pts, np.zeros(len(pts))])
         tri = np.asarray(triangles, dtype=np.int32 if int32 else None)
-        more = _cells.to_meshio(style, regions, labels) if style and regions is not None else {}
+        more = _cells.to_meshio(style, regions) if style and regions is not None else {}
         mesh = meshio.Mesh(
             pts,
             [("triangle", tri)],
             point_data={k: np.asarray(v) for k, v in (point_data or {}).items()},
             **more,
         )
-        fmt = "gmsh22" if file_format == "gmsh" and more else file_format
-        name = str(path)
-        gz = name.lower().endswith(".gz")
-        plain = name[: -len(".gz")] if gz else name
-        try:
-            with _meshio_messages(path):
-                meshio.write(plain, mesh, file_format=fmt, **options)
-            _drop_timestamp(plain)
-            if gz:  # compressed here, with no name or time in the header: same bytes each run
-                with open(plain, "rb") as src, open(name, "wb") as raw:
-                    with gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0) as dst:
-                        shutil.copyfileobj(src, dst)
-        finally:
-            if gz and os.path.exists(plain):
-                os.unlink(plain)
+        write_meshio(path, mesh, file_format, **options)
 
     write.__name__ = f"write_{file_format}"
     write.__doc__ = f"Write a triangle mesh with meshio's {file_format!r} writer."

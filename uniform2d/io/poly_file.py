@@ -78,16 +78,22 @@ class _PolyLines:
         except ValueError:
             fail(self.path, f"line {n}: unreadable {what} {tokens[k]!r}")
 
+    def count(self, n: int, tokens, what: str, of: str) -> int:
+        """The non-negative count ``what`` (of ``of``) that starts line ``n``."""
+        value = self.number(n, tokens, 0, what, int)
+        if value < 0:
+            fail(self.path, f"line {n}: negative {what} {value}; a count cannot be negative: "
+                            f"give 0 or the number of {of} that follow")
+        return value
+
 
 def _read_vertices(lines: _PolyLines, count_line=None):
     """Read a vertex section (header + lines); return (xy array, base, numbers)."""
     n, tokens = count_line if count_line else lines.next("the vertex count")
-    nv = lines.number(n, tokens, 0, "vertex count", int)
+    nv = lines.count(n, tokens, "vertex count", "vertex lines")
     dim = lines.number(n, tokens, 1, "dimension", int) if len(tokens) > 1 else 2
     if dim != 2:
         fail(lines.path, f"line {n}: dimension is {dim}; a .poly polygon must be 2-D")
-    if nv < 0:
-        fail(lines.path, f"line {n}: negative vertex count {nv}")
     left = len(lines.lines) - lines.i
     if nv > left:  # before allocating: a corrupt count must not look like a memory problem
         fail(lines.path, f"line {n}: the header counts {nv} vertices, but only {left} lines follow")
@@ -118,7 +124,7 @@ def _poly_sections(path):
     left at the regional attributes section."""
     lines = _PolyLines(path, read_text(path))
     n, tokens = lines.next("the vertex count")
-    nv = lines.number(n, tokens, 0, "vertex count", int)
+    nv = lines.count(n, tokens, "vertex count", "vertex lines")
     if nv == 0:
         node = path.with_suffix(".node")
         if not node.is_file():
@@ -129,7 +135,7 @@ def _poly_sections(path):
     nv = len(xy)
 
     n, tokens = lines.next("the segment count")
-    ns = lines.number(n, tokens, 0, "segment count", int)
+    ns = lines.count(n, tokens, "segment count", "segment lines")
     segments = []
     for k in range(ns):
         n, tokens = lines.next(f"segment {k + 1} of {ns}")
@@ -151,9 +157,7 @@ def _poly_sections(path):
     n, tokens = lines.next("the hole count", optional=True)
     holes_xy = []
     if n is not None:
-        nh = lines.number(n, tokens, 0, "hole count", int)
-        if nh < 0:
-            fail(path, f"line {n}: negative hole count {nh}; give 0 or the number of hole points")
+        nh = lines.count(n, tokens, "hole count", "hole points")
         for k in range(nh):
             n, tokens = lines.next(f"hole point {k + 1} of {nh}")
             hid = lines.number(n, tokens, 0, "hole number", int)
@@ -168,9 +172,7 @@ def _poly_attributes(path, lines) -> list:
     n, tokens = lines.next("", optional=True)
     if n is None:
         return []
-    count = lines.number(n, tokens, 0, "regional attribute count", int)
-    if count < 0:
-        fail(path, f"line {n}: negative regional attribute count {count}")
+    count = lines.count(n, tokens, "regional attribute count", "regional attribute lines")
     out = []
     for k in range(count):
         n, tokens = lines.next(f"regional attribute {k + 1} of {count}")

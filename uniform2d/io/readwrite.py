@@ -176,6 +176,31 @@ def _as_mesh(points, triangles, point_data):
     return pts, tri, data
 
 
+def _as_members(members, n_pts: int, name: str):
+    if members is None:
+        return None
+    edges, ids = (np.asarray(a, dtype=np.int64) for a in members)
+    if edges.ndim != 2 or edges.shape[1:] != (2,) or ids.shape != (len(edges),) or (
+            edges.size and (edges.min() < 0 or edges.max() >= n_pts)) or (
+            ids.size and ids.min() < 0):
+        raise InvalidArgumentError(
+            f"{name} must be (edges (K, 2) point indices, ids (K,) from 0), "
+            f"got shapes {edges.shape} and {ids.shape}")
+    return edges, ids
+
+
+def _as_fixed(fixed, n_pts: int):
+    if fixed is None:
+        return None
+    f = np.asarray(fixed)
+    if f.ndim != 1 or (f.size and (not np.issubdtype(f.dtype, np.integer) or f.min() < 0
+                                   or f.max() >= n_pts)):
+        raise InvalidArgumentError(
+            f"fixed_points must be (F,) point indices in 0..{n_pts - 1}, got shape {f.shape} "
+            f"and dtype {f.dtype}")
+    return f.astype(np.int64)
+
+
 def _as_regions(regions, labels, members, n_tri: int, n_pts: int):
     if regions is None:
         if labels is not None:
@@ -192,19 +217,12 @@ def _as_regions(regions, labels, members, n_tri: int, n_pts: int):
         if labels is not None and len(labels) <= int(reg.max()):
             raise InvalidArgumentError(
                 f"region_labels has {len(labels)} entries, but the regions go up to {int(reg.max())}")
-    if members is not None:
-        edges, ids = (np.asarray(a, dtype=np.int64) for a in members)
-        if edges.ndim != 2 or edges.shape[1:] != (2,) or ids.shape != (len(edges),) or (
-                edges.size and (edges.min() < 0 or edges.max() >= n_pts)):
-            raise InvalidArgumentError(
-                "segment_members must be (edges (K, 2) point indices, ids (K,)) "
-                f"got shapes {edges.shape} and {ids.shape}")
-        members = edges, ids
-    return reg, labels, members
+    return reg, labels, _as_members(members, n_pts, "segment_members")
 
 
 def write_mesh(path, points, triangles, *, point_data=None, regions=None, region_labels=None,
-               segment_members=None) -> None:
+               segment_members=None, ring_members=None, fixed_points=None,
+               element_type=None) -> None:
     """Write a triangle mesh, in the format given by the extension.
 
     Parameters
@@ -226,7 +244,19 @@ def write_mesh(path, points, triangles, *, point_data=None, regions=None, region
     segment_members : (edges (K, 2), ids (K,)), optional
         Mesh edges on the polygon's segments and their segment
         (:attr:`uniform2d.Mesh.segment_members`): the truss formats mark those
-        members with their segment.
+        members with their segment; formats with named sets
+        (:mod:`uniform2d.io.mesh_sets`) a set per segment.
+    ring_members : (edges (K, 2), ids (K,)), optional
+        Mesh edges on the polygon's rings and their ring, 0 the outer one
+        (:attr:`uniform2d.Mesh.ring_members`): a set per ring in formats with
+        named sets (``.msh``, ``.inp``, ``.vtu``, ``.vtk``), ignored by others.
+    fixed_points : array_like of int, shape (F,), optional
+        The point of each fixed point of the polygon (``polygon.fixed``): a set
+        per point in formats with named sets, ignored by others.
+    element_type : str, optional
+        The element type of formats that declare one: ``.inp`` takes ``CPS3``
+        (plane stress, default), ``CPE3`` (plane strain) or ``CAX3``
+        (axisymmetric).
 
     Raises
     ------
@@ -242,6 +272,12 @@ def write_mesh(path, points, triangles, *, point_data=None, regions=None, region
     fmt = find_mesh_format(path, "write")
     pts, tri, data = _as_mesh(points, triangles, point_data)
     reg, labels, members = _as_regions(regions, region_labels, segment_members, len(tri), len(pts))
+    rings = _as_members(ring_members, len(pts), "ring_members")
+    fixed = _as_fixed(fixed_points, len(pts))
+    if element_type is not None and str(element_type).upper() not in fmt.element_types:
+        hint = (f"use one of {', '.join(fmt.element_types)}" if fmt.element_types else
+                f"the {fmt.extension} format declares no element type")
+        raise InvalidArgumentError(f"{path}: element type {element_type!r} not available; {hint}")
     if data and not fmt.point_data:
         logger.warning(
             "%s: the %s format does not store point data; dropping %s",
@@ -255,7 +291,11 @@ def write_mesh(path, points, triangles, *, point_data=None, regions=None, region
                        fmt.extension)
         reg = labels = None
     more = {} if reg is None else {"regions": reg, "labels": labels}
-    if members is not None and fmt.members:
+    if members is not None and (fmt.members or fmt.sets):
         more["segment_members"] = members
+    if fmt.sets:
+        more.update(ring_members=rings, fixed_points=fixed)
+    if element_type is not None:
+        more["element_type"] = str(element_type).upper()
     atomic_write(path, lambda tmp: fmt.writer(tmp, pts, tri, data, **more),
                  extension=fmt.extension)

@@ -42,19 +42,28 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import UnsupportedFormatError
-from . import dxf_file, geojson_file, json_file, poly_file, wkt_file
+from . import (
+    abaqus_file,
+    dxf_file,
+    geojson_file,
+    gmsh_file,
+    json_file,
+    poly_file,
+    wkt_file,
+)
 from . import truss as _truss
 from .fileformat import FileFormat
 from .mesh_files import meshio_reader, meshio_writer
+from .vtk_file import vtk_writer
 
 __all__ = [
-    "POLYGON_FORMATS",
     "MESH_FORMATS",
-    "polygon_formats",
-    "mesh_formats",
-    "find_polygon_format",
+    "POLYGON_FORMATS",
     "find_mesh_format",
+    "find_polygon_format",
     "match_format",
+    "mesh_formats",
+    "polygon_formats",
 ]
 
 
@@ -69,28 +78,32 @@ POLYGON_FORMATS: dict[str, FileFormat] = _table(
 
 
 def _meshio(ext, description, name, *, pad_z=False, int32=False, point_data=False,
-            regions=None, **options):
+            regions=None, writer=None, reader=None, sets=False, element_types=(), **options):
     return FileFormat(
         ext,
         description + ("; stored as 3-D points with z = 0" if pad_z else ""),
-        meshio_reader(name, ext, regions),
-        meshio_writer(name, pad_z=pad_z, int32=int32, regions=regions, **options),
+        meshio_reader(name, ext, regions, reader),
+        writer or meshio_writer(name, pad_z=pad_z, int32=int32, regions=regions, **options),
         point_data,
         regions is not None,
+        sets=sets,
+        element_types=element_types,
     )
 
 
 MESH_FORMATS: dict[str, FileFormat] = _table(
-    _meshio(".vtu", "VTK XML unstructured grid (ParaView)", "vtu", pad_z=True, point_data=True,
-            regions="region"),
-    _meshio(".vtk", "legacy VTK (ParaView, VisIt)", "vtk", pad_z=True, point_data=True,
-            regions="region"),
-    _meshio(".msh", "Gmsh 4.1, ASCII (2.2 when it carries regions as physical tags)", "gmsh",
-            binary=False, regions="gmsh"),
+    _meshio(".vtu", "VTK XML unstructured grid (ParaView), with named sets", "vtu", pad_z=True,
+            point_data=True, regions="region", writer=vtk_writer("vtu"), sets=True),
+    _meshio(".vtk", "legacy VTK (ParaView, VisIt), with the sets' cells", "vtk", pad_z=True,
+            point_data=True, regions="region", writer=vtk_writer("vtk"), sets=True),
+    _meshio(".msh", "Gmsh 4.1, ASCII, with named physical groups", "gmsh", regions="gmsh",
+            writer=gmsh_file.write_gmsh, sets=True),
     _meshio(".obj", "Wavefront OBJ", "obj", pad_z=True),
     _meshio(".ply", "Stanford PLY", "ply", pad_z=True, int32=True, point_data=True),
     _meshio(".off", "Geomview OFF", "off", pad_z=True),
-    _meshio(".inp", "Abaqus input file", "abaqus", regions="abaqus"),
+    _meshio(".inp", "Abaqus input file (CPS3, CPE3 or CAX3 elements), with named sets", "abaqus",
+            regions="abaqus", writer=abaqus_file.write_abaqus, reader=abaqus_file.read_abaqus_text,
+            sets=True, element_types=abaqus_file.PLANAR_TYPES),
     _meshio(".mesh", "Medit / INRIA mesh, ASCII", "medit", regions="medit"),
     _meshio(".meshb", "Medit / INRIA mesh, binary", "medit", regions="medit"),
     _meshio(".su2", "SU2 native mesh", "su2"),

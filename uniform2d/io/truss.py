@@ -39,9 +39,12 @@ column       meaning
 
 A mesh of a polygon with segments or regions (:attr:`uniform2d.Mesh.regions`)
 gets three more columns after ``length``: ``segment`` on member rows (the
-number of the polygon segment the member lies on, counted from 0 as in
-``Polygon.segments``; empty for other members), ``region`` and ``label`` on
-triangle rows (the triangle's region, counted from 0, and its label if any).
+number of the polygon segment the member lies on; empty for other members),
+``region`` and ``label`` on triangle rows (the triangle's region and its label
+if any).  Every number in the file counts from **1**, these two columns too:
+segment 1 is ``Polygon.segments[0]``, region 1 is region 0 of
+:attr:`uniform2d.Mesh.regions` (files written before uniform2d counted both
+from 0; a ``region`` column holding a 0 is read that way).
 Point data (one value per node, e.g. an insertion weight) is appended as extra
 columns after those, named after the data, filled on node rows only.
 Reading maps node ids to rows, so ids need not be contiguous, but they must be
@@ -187,14 +190,14 @@ def write_truss_csv(path, points, triangles, point_data=None, *, regions=None, l
             extra = [_cell(c[n]) for c in columns]
             w.writerow(["node", n + 1, _num(x), _num(y), "", "", "", ""] + pad + extra)
         for m, ((i, j), length) in enumerate(zip(ij, lengths)):
-            tag = [str(seg[m]) if seg[m] >= 0 else "", "", ""] if tagged else []
+            tag = [str(seg[m] + 1) if seg[m] >= 0 else "", "", ""] if tagged else []
             w.writerow(["member", m + 1, "", "", i + 1, j + 1, "", _num(length)] + tag + blank)
         for t, (a, b, c) in enumerate(triangles):
             tag = []
             if tagged:
                 r = int(regions[t]) if regions is not None else None
                 lab = labels[r] if labels is not None and r is not None else None
-                tag = ["", "" if r is None else str(r), "" if lab is None else _cell(lab)]
+                tag = ["", "" if r is None else str(r + 1), "" if lab is None else _cell(lab)]
             w.writerow(["triangle", t + 1, "", "", a + 1, b + 1, c + 1, ""] + tag + blank)
 
 
@@ -306,8 +309,10 @@ def read_truss_csv(path, regions=False):
     if not regions:
         return np.array(xy, dtype=np.float64), triangles
     reg = np.array(region_rows, dtype=np.int64) if "region" in col else None
-    if reg is not None and reg.size and reg.min() < 0:
-        _fail(path, "a triangle has a negative region")
+    if reg is not None and reg.size:
+        if reg.min() < 0:
+            _fail(path, "a triangle has a negative region; regions count from 1")
+        reg = reg - (reg.min() > 0)  # from 1; a file counting from 0 holds a 0
     return np.array(xy, dtype=np.float64), triangles, reg
 
 

@@ -52,7 +52,9 @@ def _read_polygon(path) -> Polygon:
         fail(path, f"not valid WKT ({exc})")
     if geom.geom_type == "MultiPolygon":
         if geom.is_empty:
-            fail(path, "contains an empty MULTIPOLYGON; give one POLYGON with its coordinates")
+            fail(path, "contains an empty MULTIPOLYGON: there is no polygon to mesh; give one "
+                       "POLYGON ((x y, ...)) with the outline's coordinates (export the shape "
+                       "again if it was meant to have some)")
         if len(geom.geoms) != 1:
             multipolygon_error(path, len(geom.geoms))
         logger.info("%s: reading a one-part MULTIPOLYGON as a POLYGON", path)
@@ -60,7 +62,8 @@ def _read_polygon(path) -> Polygon:
     if geom.geom_type != "Polygon":
         fail(path, f"contains a {geom.geom_type}; expected a POLYGON")
     if geom.is_empty:
-        fail(path, "contains an empty POLYGON")
+        fail(path, "contains an empty POLYGON: there is no polygon to mesh; give the "
+                   "outline's coordinates, POLYGON ((x y, ...))")
     if geom.has_z:
         logger.warning("%s: z coordinates are ignored", path)
     return make_polygon(
@@ -82,6 +85,8 @@ def read_wkt(path) -> Polygon:
         fail(path, f"not valid WKT ({exc})")
     polys, segments, points = [], [], []
     for k, g in enumerate(geom.geoms):
+        if g.geom_type == "MultiPolygon" and len(g.geoms) == 1:
+            g = g.geoms[0]  # a one-part MULTIPOLYGON, as at the top level
         if g.geom_type == "Polygon" and not g.is_empty:
             polys.append(g)
         elif g.geom_type in ("LineString", "MultiLineString"):
@@ -90,7 +95,9 @@ def read_wkt(path) -> Polygon:
         elif g.geom_type in ("Point", "MultiPoint"):
             points += [np.asarray(p.coords)[0, :2] for p in getattr(g, "geoms", [g])
                        if not p.is_empty]
-        else:
+        elif g.geom_type == "MultiPolygon" and len(g.geoms) > 1:
+            multipolygon_error(path, len(g.geoms))
+        elif not (g.geom_type in ("Polygon", "MultiPolygon") and g.is_empty):
             fail(path, f"member {k} of the GEOMETRYCOLLECTION is a {g.geom_type}; expected one "
                         "POLYGON with LINESTRING, MULTILINESTRING, POINT or MULTIPOINT members")
     if len(polys) != 1:

@@ -129,7 +129,8 @@ class Candidates:
     regions, anchored at ``origin``), clear of its boundary and of the first rows
     (when given): the candidates :func:`seed_interior` counts."""
 
-    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows, face=None, origin=None):
+    def __init__(self, polygon: Polygon, h: float, edge: int | None, rows, face=None, origin=None,
+                 held=None):
         a, d, L = polygon_edges(polygon)
         e = int(np.argmax(L)) if edge is None else int(edge)
         self.angle = math.atan2(d[e, 1], d[e, 0])
@@ -146,6 +147,8 @@ class Candidates:
         if rows is not None:
             self.rtree = cKDTree(rows)
             self.band = h * math.sqrt(3) / 2
+        # points placed before the lattice anywhere (rows around small holes)
+        self.held = cKDTree(held) if held is not None and len(held) else None
 
     def __call__(self, sp):
         P = hex_lattice(self.bounds, sp, self.angle, self.origin)
@@ -160,6 +163,8 @@ class Candidates:
             ok &= dist >= self.band + 0.5 * sp
             near = np.flatnonzero(ok & (dist < 2.0 * self.band + sp))
             ok[near] = self.rtree.query(P[near])[0] >= 0.75 * sp
+        if self.held is not None:
+            ok &= self.held.query(P)[0] >= 0.75 * sp
         return P[ok], dist[ok]
 
 
@@ -241,6 +246,7 @@ def drop_nearest(cand: Candidates, P, dist, count: int) -> np.ndarray:
 def seed_interior(
     polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
     rows: np.ndarray | None = None, bedges: np.ndarray | None = None, fit: Fit = Fit.NEAREST,
+    held: np.ndarray | None = None,
 ) -> np.ndarray:
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
     ``edge`` (default: the longest), deterministic.  With ``rows`` (from
@@ -252,21 +258,29 @@ def seed_interior(
     placed them, so that gaps are found without judging them by distance.
     ``over``: as :func:`closest_count`'s (the optimiser's starts; the default
     keeps :func:`lattice_seed`'s points as they were); ``under``: also as
-    its, where the lattice is not split into regions."""
+    its, where the lattice is not split into regions.  ``held`` (optional):
+    points placed before the rows (:mod:`~uniform2d.optimize.transition`'s),
+    which come first in the result and which the lattice keeps clear of
+    wherever they are (the rows only near the boundary)."""
     if count <= 0:
         return np.empty((0, 2))
-    if rows is not None and len(rows) >= count:
+    if held is not None and (not len(held) or len(held) >= count):
+        held = None
+    if rows is not None and len(rows) >= count - (0 if held is None else len(held)):
         rows = None
+    if held is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
+        rows = held if rows is None else np.concatenate([held, rows])
+        held = None
     if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
         return _seed_regions(polygon, count, h, bpts, edge, rows, bedges, fit is not Fit.NEAREST)
-    cand = Candidates(polygon, h, edge, rows)
+    cand = Candidates(polygon, h, edge, rows, held=held)
     total = count
-    if rows is not None:
-        count = total - len(rows)
+    first = [q for q in (held, rows) if q is not None]
+    count = total - sum(len(q) for q in first)
     P, dist = closest_count(cand, count, h, fit)
     P = drop_nearest(cand, P, dist, count)
-    if rows is not None:
-        P = np.concatenate([rows, P])
+    if first:
+        P = np.concatenate([*first, P])
         count = total
     if fit is Fit.BELOW:
         return fill_band_gaps(polygon, bpts, P, count, h, cand.sa, cand.sb, bedges)

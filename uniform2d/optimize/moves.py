@@ -14,6 +14,7 @@ triangulation is returned (:func:`improve_kept`, :meth:`KernelMesh.result`).
 from __future__ import annotations
 
 import math
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -23,6 +24,7 @@ from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon, as_polygon
 from ..sites import edge_parameters
+from ..threads import thread_map
 from ..triangulation import load_mesh, triangulate
 from ..triangulation import load as build
 from . import schedule as S
@@ -116,18 +118,20 @@ def improve(
 
 
 def improve_kept(polygon: Polygon, sites, *, size=None, objective: str = "balanced", href=None,
-                 frozen=None, edges=None, **overrides):
+                 frozen=None, edges=None, movable_short: bool = False, **overrides):
     """:func:`improve` for the optimiser's own sites: built in the kernel once
     (:meth:`KernelMesh.built`, with ``edges`` and no size field) and returned as
     the kernel's own triangulation of the moved points (:meth:`KernelMesh.result`)
     instead of triangulating them again; the optimiser checks the mesh it
-    returns.  ``overrides``: the schedule's fields, as :func:`improve`'s."""
+    returns.  ``movable_short``: as :meth:`KernelMesh.built`'s.  ``overrides``:
+    the schedule's fields, as :func:`improve`'s."""
     polygon = as_polygon(polygon)
     if size is not None or edges is None:
         st = KernelMesh.triangulated(polygon, sites, size=size, href=href, frozen=frozen,
                                      edges=edges)
     else:
-        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges)
+        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges,
+                              movable_short=movable_short)
     if st is None:
         return finish(polygon, None, Progress())
     run = st.advance(default_schedule(len(st.xy), size is not None, **overrides),
@@ -171,7 +175,7 @@ def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
 
 def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=None,
                  report=None, spring_rounds=None, sweeps=None, exponents=None,
-                 spread_sweeps=None):
+                 spread_sweeps=None, movable_short: bool = False):
     """:func:`improve` from the best of several starts, found by successive halving.
 
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
@@ -184,7 +188,11 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
     the long ones on the few that can win.  ``report(done, total)``, if given, is
-    called before the first trial and after each.
+    called before the first trial and after each round of trials.  The starts
+    are built and their trials run on :func:`uniform2d.threads.get_threads`
+    threads, each start on its own kernel state, the results ranked in the
+    order of the starts: the same mesh on any number of threads.
+    ``movable_short``: as :meth:`KernelMesh.built`'s.
 
     Returns (index of the winning start, points, triangles, info) as :func:`improve`,
     the triangles the kernel's own (:meth:`KernelMesh.result`).
@@ -194,10 +202,11 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     few MB each), not for many starts of a huge mesh.
     """
     obj = objective_code(objective)
-    alive = []
-    for sites, edges, frozen in starts:
-        st = KernelMesh.built(polygon, sites, href=href, frozen=frozen, edges=edges)
-        alive.append((len(alive), st, Progress()))
+    built = thread_map(lambda s: KernelMesh.built(polygon, s[0], href=href, frozen=s[2],
+                                                  edges=s[1], movable_short=movable_short),
+                       starts)
+    alive = [(i, st, Progress()) for i, st in enumerate(built)]
+    del built
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
     keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
     sizes = [len(alive)]
@@ -207,13 +216,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     if report is not None:
         report(done, total)
     for sched, size in zip(S.TRIALS, sizes):
-        scored = []
-        for i, st, run in alive[:size]:
-            run = st.advance(sched, obj, run) if st is not None else run
-            scored.append((st.rank(obj) if st is not None else 0.0, i, st, run))
-            done += 1
-            if report is not None:
-                report(done, total)
+        scored = thread_map(partial(_trial, sched=sched, obj=obj), alive[:size])
+        done += len(scored)
+        if report is not None:
+            report(done, total)
         scored.sort(key=lambda r: r[:2])
         alive = [r[1:] for r in scored]
     (i, st, run), = alive[:1]
@@ -226,6 +232,17 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
         sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
     run = st.advance(sched, obj, run)
     return i, *st.result(run)
+
+
+def _trial(alive, sched: S.Schedule, obj: int):
+    """One start's trial of :func:`improve_best`: (rank, index, state, progress)
+    after running ``sched`` on it (its own kernel state: trials run at once on
+    threads, :func:`uniform2d.threads.thread_map`)."""
+    i, st, run = alive
+    if st is None:
+        return 0.0, i, st, run
+    run = st.advance(sched, obj, run)
+    return st.rank(obj), i, st, run
 
 
 class KernelMesh(NamedTuple):
@@ -249,6 +266,10 @@ class KernelMesh(NamedTuple):
     # sites: the deep interior of a large lattice); False: every triangle, as
     # the surface layer's meshes were made
     restrict: bool = False
+    # the descent's short-edge weight from the edges a move can change
+    # (:func:`uniform2d._kernel.descent._weights`): the optimiser's angle
+    # attempt (:meth:`built`), not its first one nor the surface layer's charts
+    movable_short: bool = False
 
     @classmethod
     def from_mesh(cls, polygon: Polygon, points, triangles, *, size=None, href=None,
@@ -272,11 +293,13 @@ class KernelMesh(NamedTuple):
 
     @classmethod
     def built(cls, polygon: Polygon, sites, *, href=None, frozen=None,
-              edges=None) -> "KernelMesh | None":
+              edges=None, movable_short: bool = False) -> "KernelMesh | None":
         """:meth:`triangulated` for the optimiser's own sites (``edges`` given, no
         size field), kept in the kernel the triangulation was built in: no
         triangle list read out, checked and loaded into a second kernel (the
-        mesh returned is checked at the end).  The kernel's slots then come in
+        mesh returned is checked at the end; with ``movable_short`` the descent
+        weighs the short edges a move can change: the optimiser's angle
+        attempt, :mod:`~uniform2d.optimize.pipeline`).  The kernel's slots then come in
         the order the build made them, not that of a triangle list, so the moves
         can take other (equally valid) turns than after :meth:`triangulated`."""
         if len(sites) == 0:
@@ -286,7 +309,7 @@ class KernelMesh(NamedTuple):
         tb = edge_parameters(polygon, built.sites, edges)
         boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
         return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href,
-                      frozen)
+                      frozen)._replace(movable_short=movable_short)
 
     def advance(self, sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
         """Run the stages of ``sched``, in place; returns ``before`` with this run's
@@ -305,7 +328,7 @@ class KernelMesh(NamedTuple):
             # each stage ends in its best state, the next goes on from there
             made, value = relax.descend(
                 *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
-                flat=S.FLAT, restrict=restrict,
+                flat=S.FLAT, restrict=restrict, movable_short=self.movable_short,
             )
             done += made
         if sched.spread_sweeps:

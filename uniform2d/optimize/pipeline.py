@@ -13,13 +13,15 @@ from ..insert import min_distance_after
 from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
+from ..threads import thread_map
 from ..tplus import tplus_if_feasible
 from ..validity import ensure_valid
 from . import schedule as S
+from .angles import ANGLE_FINE, ANGLES_MAX, angle_attempt_wins, raise_worst_angle
+from .boundary import target_size
 from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
-from .boundary import target_size
 from .seed import start, variants
 
 __all__ = ["optimize_mesh"]
@@ -27,13 +29,17 @@ __all__ = ["optimize_mesh"]
 log = logging.getLogger(__name__)
 
 
-def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, report):
+def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, report,
+                angled: bool = False):
     """The mesh moved from the best start of :func:`~uniform2d.optimize.seed.variants`
     (successive halving when there are several, see
     :func:`~uniform2d.optimize.moves.improve_best`): (points, triangles, improve's
-    info, frozen sites, boundary points, variant)."""
+    info, frozen sites, boundary points, variant).  ``angled``: the starts with
+    rows around small holes, the descent weighing the movable short edges
+    (:func:`_finished`)."""
     tried = variants(polygon, n)
-    made = [start(polygon, n, h, variant) for variant in tried]
+    made = thread_map(lambda variant: start(polygon, n, h, variant, angled), tried)
+    options = {**options, "movable_short": angled}
     if len(made) == 1:  # nothing to rank
         report("seed", 0, 1)
         report("seed", 1, 1)
@@ -50,6 +56,33 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
         )
     report("relaxation", 1, 1)
     return pts, tri, run, made[i][2], made[i][3], tried[i]
+
+
+def _finished(polygon: Polygon, n: int, h: float, objective: str, options, report,
+              angled: bool = False):
+    """A finished mesh: the best start (:func:`_best_start`), relocation, the
+    worst-angle pass, checked: (points, triangles, improve's info, k, variant,
+    relocations, angle rounds).  ``angled``: the angle attempt, with rows
+    around small holes and the movable short edges weighed (see
+    :func:`~uniform2d.optimize.angles.angle_attempt_wins`)."""
+    nV = len(polygon.vertices)
+    pts, tri, run, frozen, k, variant = _best_start(polygon, n, h, objective, options, report,
+                                                    angled)
+    moved, edges = 0, run["edges"]
+    if n + nV <= S.RELOCATE_MAX:
+        report("relocation", 0, 1)
+        pts, tri, moved, edges = relocate(polygon, pts, tri, frozen, objective, h, options, edges)
+        report("relocation", 1, 1)
+    raised = 0
+    if n + nV <= ANGLES_MAX:
+        pts, tri, raised = raise_worst_angle(polygon, pts, tri, edges)
+    # the kernel's own triangles (moves.finish_kept), checked here once
+    ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
+    return pts, tri, run, k, variant, moved, raised
+
+
+def _quiet(phase: str, done: int, total: int) -> None:
+    """The angle attempt's progress: not reported (its phases ran once)."""
 
 
 def _seed_then_relax(report, done: int, total: int) -> None:
@@ -153,17 +186,17 @@ def optimize_mesh(
     report("T+", 1, 1)
 
     h = target_size(polygon, n)
-    pts, tri, run, frozen, k, (spacing, edge, layered) = _best_start(
-        polygon, n, h, objective, options, report
-    )
-    moved = 0
-    if n + nV <= S.RELOCATE_MAX:
-        report("relocation", 0, 1)
-        pts, tri, moved = relocate(polygon, pts, tri, frozen, objective, h, options, run["edges"])
-        report("relocation", 1, 1)
-    # the kernel's own triangles (moves.finish_kept), checked here once
-    ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
+    pts, tri, run, k, (spacing, edge, layered), moved, raised = _finished(
+        polygon, n, h, objective, options, report)
     q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
+    angled = False
+    if n + nV <= ANGLES_MAX and q_new.min_angle < ANGLE_FINE:
+        log.info("uniform: worst angle %.1f deg; the angle attempt too", q_new.min_angle)
+        other = _finished(polygon, n, h, objective, options, _quiet, angled=True)
+        q_other = quality(other[0], other[1])
+        if angle_attempt_wins(q_new, q_other):
+            pts, tri, run, k, (spacing, edge, layered), moved, raised = other
+            q_new, angled = q_other, True
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
 
@@ -179,6 +212,8 @@ def optimize_mesh(
         "relax_iterations": run["spring_rounds"],
         "sweeps": run["sweeps"],
         "relocated": moved,
+        "angle_rounds": raised,
+        "angle_attempt": angled,
         "start": (
             None
             if tp_info is None

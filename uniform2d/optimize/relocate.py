@@ -38,7 +38,7 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
     ``edges`` (as :func:`~uniform2d.optimize.improve`'s) says which sites are on
     the boundary: they are known by construction, never judged by distance.
 
-    Returns (points, triangles, moves kept).
+    Returns (points, triangles, moves kept, the sites' ``edges`` after the moves).
     """
     nV = len(polygon.vertices)
     value = objective_value(objective, *extremes(pts, tri), h)
@@ -77,7 +77,7 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
             pts, tri, value, edges = p2, t2, v2, info2["edges"]
             kept += 1
             failed.clear()
-    return pts, tri, kept
+    return pts, tri, kept, edges
 
 
 def _near_constraint(polygon: Polygon, p, edge: int) -> bool:

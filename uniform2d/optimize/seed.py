@@ -19,6 +19,7 @@ from . import schedule
 from .boundary import boundary_counts, boundary_points
 from .lattice import Fit, seed_interior
 from .rows import boundary_rows
+from .transition import with_transition
 
 __all__ = ["variants", "start"]
 
@@ -51,9 +52,10 @@ def variants(polygon: Polygon, n: int):
     return [(c, e, lay) for lay in layers for e in edges for c in spacings]
 
 
-def start(polygon: Polygon, n: int, h: float, variant):
+def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False):
     """The sites of one start (boundary points, then the lattice), the polygon edge of
-    each (-1 inside) and which stay put."""
+    each (-1 inside) and which stay put.  With ``transition``, rows around small
+    holes first (:mod:`~uniform2d.optimize.transition`, held in place)."""
     spacing, edge, layered = variant
     # points on the rings' edges and on the interior segment pieces (after them)
     a, d, L = polygon_edges(polygon, constraints=True)
@@ -63,13 +65,18 @@ def start(polygon: Polygon, n: int, h: float, variant):
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
     rows = boundary_rows(polygon, m, spacing * h) if layered else None
+    held = None
+    if transition:
+        held, rows = with_transition(polygon, m, h, rows)
     # a large start's short schedule cannot close holes where lattice points
     # were dropped: it fills a few too few instead (Fit.BELOW)
     large = n + len(polygon.vertices) > schedule.LARGE
     ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid,
-                         Fit.BELOW if large else Fit.ABOVE)
+                         Fit.BELOW if large else Fit.ABOVE, held)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays
     deep = to_segments(ipts, a, a + d, 2.0 * schedule.BAND * h) > schedule.BAND * h
+    if held is not None and len(held) < n - len(bpts):  # seed_interior puts them first
+        deep[: len(held)] = True  # the rows around small holes stay
     frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
     edges = np.concatenate([beid, np.full(len(ipts), -1, np.int64)])
     return np.concatenate([bpts, ipts]), edges, frozen, len(bpts)

@@ -23,6 +23,7 @@ from .base import (
     mesh,
     names,
     size_for_count,
+    takes_constraints,
     tune,
 )
 
@@ -33,6 +34,7 @@ __all__ = [
     "available",
     "kind",
     "describe",
+    "takes_constraints",
     "mesh",
     "PeerMesh",
     "Tuned",

@@ -46,6 +46,7 @@ __all__ = [
     "available",
     "kind",
     "describe",
+    "takes_constraints",
     "mesh",
     "tune",
     "tuned_mesh",
@@ -157,6 +158,16 @@ def available(name: str) -> bool:
 def kind(name: str) -> str:
     """``"planar"`` or ``"surface"``."""
     return load(name).KIND
+
+
+def takes_constraints(name: str) -> bool:
+    """Whether planar peer ``name`` meshes a polygon's interior segments and fixed
+    points as mesh edges and vertices (its module sets ``CONSTRAINTS = True``).
+
+    A peer that does not is given only the rings, so its mesh is of another
+    problem: the report marks its cases of a constrained polygon "not comparable".
+    """
+    return bool(getattr(load(name), "CONSTRAINTS", False))
 
 
 def describe(name: str) -> dict:

@@ -3,8 +3,9 @@
 The usual "just smooth it" answer to uniform meshing, implemented plainly:
 
 1. h = :func:`~uniform2d.peers.base.size_for_count` for the target count N.
-2. Boundary: every polygon edge of length L gets ``max(1, round(L / h))``
-   equal pieces; these boundary vertices stay fixed.  (If they alone exceed N,
+2. Boundary: every polygon edge and interior segment piece
+   (``polygon.constraint_edges``) of length L gets ``max(1, round(L / h))``
+   equal pieces; these boundary vertices, and the fixed points, stay fixed.  (If they alone exceed N,
    h grows by 5 % until they fit.)
 3. Interior: the remaining points start uniformly at random in P (fixed seed).
 4. Lloyd iterations: each interior point moves to the centroid of its Voronoi
@@ -33,6 +34,9 @@ NAME = "cvt"
 KIND = "planar"
 DESCRIPTION = "Lloyd/CVT baseline (uniform2d): fixed equispaced boundary, Lloyd iterations, CDT"
 REQUIRES = ()
+#: Segments are split like ring edges and kept by the CDT; fixed points are
+#: fixed generators (see :func:`uniform2d.peers.takes_constraints`).
+CONSTRAINTS = True
 
 #: Lloyd iterations (at most).
 ITERATIONS = 60
@@ -48,9 +52,10 @@ def available() -> bool:
 
 
 def boundary_points(polygon, h: float) -> np.ndarray:
-    """Equispaced points strictly inside the polygon edges, ``max(1, round(L/h))`` pieces each."""
+    """Equispaced points strictly inside the constraint edges (ring edges, then
+    segment pieces), ``max(1, round(L/h))`` pieces each."""
     V = polygon.vertices
-    E = polygon.edges
+    E = polygon.constraint_edges
     out = []
     for a, b in E:
         pa, pb = V[a], V[b]

@@ -21,12 +21,14 @@ import threading
 
 import numpy as np
 
-from .base import PeerMesh, planar_result, tuned_planar_mesh
+from .base import PeerMesh, planar_result, tuned_mesh, tuned_planar_mesh
 
 NAME = "gmsh"
 KIND = "planar"
 DESCRIPTION = "Gmsh Frontal-Delaunay (Mesh.Algorithm 6), constant size MeshSizeMax"
 REQUIRES = ("gmsh",)
+#: Segments and fixed points are embedded (see :func:`uniform2d.peers.takes_constraints`).
+CONSTRAINTS = True
 
 _LOCK = threading.Lock()
 
@@ -64,13 +66,16 @@ def _build(gmsh, polygon, size: float) -> None:
         gmsh.model.mesh.embed(0, lone, 2, surface)
 
 
-def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
+def mesh_with_size(polygon, size: float, field=None) -> tuple[np.ndarray, np.ndarray]:
     """Mesh ``polygon`` with Gmsh at the constant target edge length ``size``.
 
     Parameters
     ----------
     polygon : uniform2d.Polygon
     size : float
+    field : callable, optional
+        A size field ``h(points (k, 2)) -> (k,)``: Gmsh then gets ``size * h`` through
+        its size callback (``gmsh.model.mesh.setSizeCallback``), with no upper bound.
 
     Returns
     -------
@@ -91,7 +96,12 @@ def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
             gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
             gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
             gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-            gmsh.option.setNumber("Mesh.MeshSizeMax", float(size))
+            if field is None:
+                gmsh.option.setNumber("Mesh.MeshSizeMax", float(size))
+            else:
+                gmsh.model.mesh.setSizeCallback(
+                    lambda dim, tag, x, y, z, lc: float(size) * float(field(np.array([[x, y]]))[0])
+                )
             gmsh.model.mesh.generate(2)
             tags, coords, _ = gmsh.model.mesh.getNodes()
             etypes, _, enodes = gmsh.model.mesh.getElements(2)
@@ -115,3 +125,13 @@ def mesh(polygon, n_vertices: int) -> PeerMesh:
     """Gmsh mesh of ``polygon`` with its size tuned to ``n_vertices`` vertices."""
     return tuned_planar_mesh(mesh_with_size, polygon, n_vertices,
                              lambda size: {"parameter": "Mesh.MeshSizeMax"})
+
+
+def graded_mesh(polygon, field, n_vertices: int) -> PeerMesh:
+    """Gmsh mesh of ``polygon`` following the size field ``field`` (a callable on
+    (k, 2) points), its scale tuned to ``n_vertices`` vertices."""
+    from ..grading import as_field, scale_for_count
+
+    s0 = scale_for_count(polygon, as_field(polygon, field), n_vertices - len(polygon.vertices))
+    return tuned_mesh(lambda s: mesh_with_size(polygon, s, field), n_vertices, s0,
+                      lambda s: {"parameter": "scale of the size callback", "scale": s})

@@ -3,8 +3,11 @@
 The maximum triangle area is derived from a target edge length h as the area of
 the equilateral triangle, sqrt(3)/4 h^2, and h is bisected until the vertex
 count matches.  The area is written in fixed-point notation: the wrapper
-silently ignores an area written like ``1e-6``.  Triangle is called under a
-module lock (the C library keeps global state).
+silently ignores an area written like ``1e-6``.  The input is a PSLG: every
+vertex of the polygon (fixed points included) and every constraint edge (ring
+edges and interior segment pieces) as a segment, which Triangle keeps as a union
+of mesh edges.  Triangle is called under a module lock (the C library keeps
+global state).
 """
 
 from __future__ import annotations
@@ -22,6 +25,9 @@ NAME = "triangle"
 KIND = "planar"
 DESCRIPTION = "Triangle, quality mesh 'pq20a<area>' (min angle 20 deg, max area sqrt(3)/4 h^2)"
 REQUIRES = ("triangle",)
+#: Segments go in as PSLG segments, fixed points as PSLG vertices
+#: (see :func:`uniform2d.peers.takes_constraints`).
+CONSTRAINTS = True
 
 #: Minimum angle asked of Triangle (the ``q`` switch).
 MIN_ANGLE = 20
@@ -69,7 +75,7 @@ def mesh_with_size(polygon, size: float) -> tuple[np.ndarray, np.ndarray]:
 
     data = {
         "vertices": np.array(polygon.vertices, dtype=np.float64),
-        "segments": np.array(polygon.edges, dtype=np.int32),
+        "segments": np.array(polygon.constraint_edges, dtype=np.int32),
     }
     if polygon.n_holes:
         data["holes"] = _hole_points(polygon)

@@ -10,7 +10,7 @@ import numpy as np
 
 from .._jsonable import jsonable
 from ..errors import InvalidArgumentError
-from .cases import load_inputs, plan
+from .cases import describe_constraints, load_inputs, plan, polygon_of
 from .render import mesh_figure, render_html, render_markdown
 from .runners import iter_cases
 
@@ -33,10 +33,9 @@ def strip_timings(results: dict) -> dict:
 def _input_info(inp) -> dict:
     d = {"name": inp.name, "path": inp.path, "kind": inp.kind}
     if inp.kind == "polygon":
-        from ..polygon import Polygon
-
-        p = Polygon(inp.geometry["outer"], inp.geometry["holes"])
-        d.update(n_vertices=len(p.vertices), n_holes=p.n_holes, area=p.area, perimeter=p.perimeter)
+        p = polygon_of(inp.geometry)
+        d.update(n_vertices=len(p.vertices), n_holes=p.n_holes, area=p.area, perimeter=p.perimeter,
+                 **describe_constraints(inp.geometry))
     else:
         d.update(n_vertices=len(inp.geometry["vertices"]), n_faces=len(inp.geometry["faces"]))
     return d
@@ -62,18 +61,20 @@ def write_obj(path, vertices, faces) -> None:
     Path(path).write_text("\n".join(lines) + "\n")
 
 
-def _draw(group, pngs: dict) -> None:
+def _draw(group, pngs: dict, inputs: dict) -> None:
     """The figure of one input at one n: ``group`` is its [(case, points, triangles)]."""
     first = group[0][0]
     items = [(c["method"], pts, tri) for c, pts, tri in group if pts is not None]
+    inp = inputs[first["input"]]
+    segments = inp.geometry.get("segments", ()) if inp.kind == "polygon" else ()
     if items:
         pngs[(first["input"], first["n"])] = mesh_figure(
-            first["kind"], items, title=f"{first['input']}, n = {first['n']}"
+            first["kind"], items, title=f"{first['input']}, n = {first['n']}", segments=segments
         )
 
 
 def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, scheduler=None,
-                progress: bool = False, figures: bool = True) -> dict:
+                progress: bool = False, figures: bool = True, feature_angle=None) -> dict:
     """Compare uniform2d with peer meshers on polygons and surface patches.
 
     Parameters
@@ -99,6 +100,11 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         tqdm bar over cases on stderr.
     figures : bool
         Embed mesh pictures and histograms in ``index.html``.
+    feature_angle : float, optional
+        For surface patches: edges bent more than this (degrees) are kept as
+        feature lines by our remesh (see ``surface.remesh``).  Polygons keep
+        their segments, fixed points and regions in our meshes and in every peer
+        that takes them; the cases of a peer that does not are "not comparable".
 
     Returns
     -------
@@ -131,7 +137,9 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         if not p["available"]:
             log.warning("peer %s is not installed (needs %s)", p["name"], ", ".join(p["requires"]))
     inputs = load_inputs(paths)
-    cases = plan(inputs, ns, names, availability={p["name"]: p["available"] for p in info})
+    by_name = {i.name: i for i in inputs}
+    cases = plan(inputs, ns, names, availability={p["name"]: p["available"] for p in info},
+                 feature_angle=feature_angle)
     out_dir = Path(out_dir)
     (out_dir / "meshes").mkdir(parents=True, exist_ok=True)
     # Each result is written, and each figure drawn, as soon as its cases are in:
@@ -147,11 +155,11 @@ def make_report(paths, out_dir, *, ns=(200,), peers=None, jobs: int = 1, schedul
         results_list.append(r)
         if figures:
             if group and (group[0][0]["input"], group[0][0]["n"]) != (r["input"], r["n"]):
-                _draw(group, pngs)
+                _draw(group, pngs, by_name)
                 group = []
             group.append((r, pts, tri))
     if group:
-        _draw(group, pngs)
+        _draw(group, pngs, by_name)
     results = jsonable({
         "format": RESULTS_FORMAT,
         "uniform2d_version": __version__,

@@ -11,8 +11,14 @@ Polygons: ``tplus`` (:func:`uniform2d.tplus`) and ``uniform``
 (:func:`uniform2d.uniform_mesh`) with n Steiner points, i.e. ``n + |V|``
 vertices, then every planar peer tuned to that same vertex count.
 Surface patches: ``remesh`` (the registered surface layer's ``remesh`` with
-``n_vertices=n``, see :mod:`uniform2d.plugins`), then every surface peer tuned
-to n vertices.
+``n_vertices=n`` and the report's ``feature_angle``, see
+:mod:`uniform2d.plugins`), then every surface peer tuned to n vertices.
+
+A polygon keeps its whole problem: rings, interior segments, fixed points and
+region labels go to our methods and to every peer that takes them
+(:func:`uniform2d.peers.takes_constraints`).  A peer that does not is not run
+on a polygon with segments or fixed points: its cases say ``"not comparable"``,
+since its mesh would be of another problem.
 """
 
 from __future__ import annotations
@@ -74,7 +80,8 @@ class Input:
         The file, as given.
     kind : {"polygon", "surface"}
     geometry : dict
-        ``{"outer": ..., "holes": [...]}`` (lists of (x, y)) for a polygon,
+        ``{"outer": ..., "holes": [...], "segments": [...], "points": [...],
+        "regions": [...]}`` (lists of (x, y); regions as (x, y, label)) for a polygon,
         ``{"vertices": (N, 3) list, "faces": (M, 3) list}`` for a patch.
     """
 
@@ -84,10 +91,10 @@ class Input:
     geometry: dict
 
     def n_boundary_vertices(self) -> int:
-        """|V| of a polygon (0 for a patch)."""
+        """|V| of a polygon, constraint vertices included (0 for a patch)."""
         if self.kind != "polygon":
             return 0
-        return len(self.geometry["outer"]) + sum(len(h) for h in self.geometry["holes"])
+        return len(polygon_of(self.geometry).vertices)
 
 
 def load_input(path, name: str | None = None) -> Input:
@@ -106,9 +113,40 @@ def load_input(path, name: str | None = None) -> Input:
         return Input(name, str(path), "surface", geom)
     from ..io import read_polygon
 
-    poly = read_polygon(p)
-    geom = {"outer": poly.outer.tolist(), "holes": [h.tolist() for h in poly.holes]}
-    return Input(name, str(path), "polygon", geom)
+    return Input(name, str(path), "polygon", polygon_geometry(read_polygon(p)))
+
+
+def polygon_geometry(polygon) -> dict:
+    """The plain, picklable geometry of a :class:`uniform2d.Polygon`: its rings
+    as given (T-junctions are spliced again by :func:`polygon_of`), segments,
+    fixed points and region labels.
+
+    >>> from uniform2d import Polygon
+    >>> g = polygon_geometry(Polygon([(0, 0), (2, 0), (2, 1), (0, 1)], points=[(1, 0.5)]))
+    >>> g["points"], len(polygon_of(g).vertices)
+    ([[1.0, 0.5]], 5)
+    """
+    return {
+        "outer": polygon.outer.tolist(),
+        "holes": [h.tolist() for h in polygon.holes],
+        "segments": [s.tolist() for s in polygon.segments],
+        "points": polygon.points.tolist(),
+        "regions": [[float(x), float(y), lab] for x, y, lab in polygon.region_seeds],
+    }
+
+
+def polygon_of(geom: dict):
+    """The :class:`uniform2d.Polygon` of :func:`polygon_geometry`'s dict."""
+    from ..polygon import Polygon
+
+    return Polygon(geom["outer"], geom["holes"], segments=geom.get("segments", ()),
+                   points=geom.get("points", ()), regions=geom.get("regions", ()))
+
+
+def describe_constraints(geom: dict) -> dict:
+    """Counts of a polygon geometry's constraints: segments, fixed points, regions."""
+    return {"n_segments": len(geom.get("segments", ())), "n_points": len(geom.get("points", ())),
+            "n_regions": len(geom.get("regions", ()))}
 
 
 def _unique_names(paths) -> list[str]:
@@ -127,7 +165,7 @@ def load_inputs(paths) -> list[Input]:
     return [load_input(p, nm) for p, nm in zip(paths, _unique_names(paths))]
 
 
-def plan(inputs, ns, peer_names, *, availability=None) -> list[dict]:
+def plan(inputs, ns, peer_names, *, availability=None, feature_angle=None) -> list[dict]:
     """The case list: for each input, each n, our methods then each applicable peer.
 
     Parameters
@@ -140,20 +178,26 @@ def plan(inputs, ns, peer_names, *, availability=None) -> list[dict]:
     availability : dict, optional
         ``{peer: bool}``; default :func:`uniform2d.peers.available` for each.
         A peer that is not available still gets its cases, with status
-        ``"not installed"``; they are never run.
+        ``"not installed"``; they are never run.  Nor are those of a peer that
+        cannot take a polygon's segments or fixed points: status ``"not comparable"``.
+    feature_angle : float, optional
+        Passed to the surface layer's ``remesh`` for surface inputs: edges bent
+        more than this (degrees) are kept as feature lines.
 
     Returns
     -------
     list of dict
         Cases, in report order; keys ``id``, ``input``, ``kind``, ``n``,
         ``method``, ``family`` (``"ours"`` or ``"peer"``), ``target_vertices``,
-        ``status`` (``"pending"`` or ``"not installed"``) and ``geometry``.
+        ``status`` (``"pending"``, ``"not installed"`` or ``"not comparable"``)
+        and ``geometry``.
     """
     from .. import peers as _peers
 
     if availability is None:
         availability = {p: _peers.available(p) for p in peer_names}
     kinds = {p: _peers.kind(p) for p in peer_names}
+    constrained = {p: _peers.takes_constraints(p) for p in peer_names if kinds[p] == "planar"}
     cases = []
     for inp in inputs:
         peer_kind = "planar" if inp.kind == "polygon" else "surface"
@@ -162,7 +206,11 @@ def plan(inputs, ns, peer_names, *, availability=None) -> list[dict]:
             methods = [(m, "ours") for m in OURS[inp.kind]]
             methods += [(p, "peer") for p in peer_names if kinds[p] == peer_kind]
             for method, family in methods:
-                ok = family == "ours" or availability.get(method, False)
+                status = "pending"
+                if family == "peer" and not availability.get(method, False):
+                    status = "not installed"
+                elif family == "peer" and _has_constraints(inp) and not constrained[method]:
+                    status = "not comparable"
                 cases.append(
                     {
                         "id": f"{inp.name}-n{int(n)}-{method}",
@@ -173,11 +221,17 @@ def plan(inputs, ns, peer_names, *, availability=None) -> list[dict]:
                         "method": method,
                         "family": family,
                         "target_vertices": target,
-                        "status": "pending" if ok else "not installed",
+                        "status": status,
                         "geometry": inp.geometry,
+                        **({"feature_angle": feature_angle} if inp.kind == "surface" else {}),
                     }
                 )
     return cases
+
+
+def _has_constraints(inp) -> bool:
+    g = inp.geometry
+    return inp.kind == "polygon" and bool(g.get("segments") or g.get("points"))
 
 
 # -- measures --------------------------------------------------------------------
@@ -209,17 +263,11 @@ def planar_measures(points, triangles, polygon=None) -> tuple[dict, dict]:
 
 
 # -- running a case ----------------------------------------------------------------
-def _polygon(geom):
-    from ..polygon import Polygon
-
-    return Polygon(geom["outer"], geom["holes"])
-
-
 def _make(case):
     """(points, triangles, details) of a case; details is JSON-able."""
     method, n = case["method"], case["n"]
     if case["kind"] == "polygon":
-        polygon = _polygon(case["geometry"])
+        polygon = polygon_of(case["geometry"])
         if method in ("tplus", "uniform"):
             from ..tplus import tplus
             from ..uniform import uniform_mesh
@@ -234,7 +282,8 @@ def _make(case):
     V0 = np.asarray(case["geometry"]["vertices"], dtype=np.float64)
     F0 = np.asarray(case["geometry"]["faces"], dtype=np.int64)
     if method == "remesh":
-        r = patch_layer().remesh((V0, F0), n, check=False, hausdorff=False)
+        r = patch_layer().remesh((V0, F0), n, check=False, hausdorff=False,
+                                 feature_angle=case.get("feature_angle"))
         det = {"mesher": r.report.mesher, "target_size": r.report.target_size,
                "parameterization": r.report.parameterization.get("method")}
         return np.asarray(r.vertices), np.asarray(r.faces), det
@@ -291,6 +340,10 @@ def run_case(case: dict) -> dict:
     if case["status"] == "not installed":
         out["message"] = f"{case['method']} is not installed"
         return out
+    if case["status"] == "not comparable":
+        out["message"] = (f"{case['method']} cannot take the segments and fixed points: "
+                          "its mesh would be of another problem")
+        return out
     t0 = time.perf_counter()
     try:
         pts, tri, details = _make(case)
@@ -304,7 +357,7 @@ def run_case(case: dict) -> dict:
     pts = np.ascontiguousarray(pts, dtype=np.float64)
     tri = np.ascontiguousarray(tri, dtype=np.int64)
     if case["kind"] == "polygon":
-        meas, qd = planar_measures(pts, tri, _polygon(case["geometry"]))
+        meas, qd = planar_measures(pts, tri, polygon_of(case["geometry"]))
     else:
         V0 = np.asarray(case["geometry"]["vertices"], dtype=np.float64)
         F0 = np.asarray(case["geometry"]["faces"], dtype=np.int64)

@@ -16,10 +16,16 @@ import numpy as np
 
 from .cases import MEASURES
 
-__all__ = ["mesh_figure", "render_html", "render_markdown", "summary_rows", "fmt", "certificate"]
+__all__ = ["mesh_figure", "grid_shape", "render_html", "render_markdown", "summary_rows", "fmt", "certificate"]
 
 #: Bins of the edge-length histograms, in units of each mesh's mean edge.
 HIST_BINS = np.linspace(0.0, 2.5, 51)
+#: (width, height) in inches of one panel of a report figure.
+PANEL_SIZE = (3.4, 3.1)
+#: Histogram colours, far apart so they stay apart in the page's 128-colour PNGs.
+HIST_COLOURS = ("#1f4fd1", "#e8590c", "#2b9348", "#c2185b", "#7b5ea7", "#8d6e00", "#00838f")
+#: Colour of a polygon's segments drawn over the meshes.
+SEGMENT_COLOUR = "#d62828"
 
 
 def fmt(value, spec: str) -> str:
@@ -82,7 +88,8 @@ def _time(c) -> str:
 
 
 def _status(c) -> str:
-    return {"ok": "", "not installed": "not installed", "failed": "failed"}.get(c["status"], c["status"])
+    return {"ok": "", "not installed": "not installed", "failed": "failed",
+            "not comparable": "not comparable"}.get(c["status"], c["status"])
 
 
 # -- figures -------------------------------------------------------------------
@@ -92,8 +99,23 @@ def _edge_lengths(points, triangles):
     return np.linalg.norm(points[e[:, 1]] - points[e[:, 0]], axis=1)
 
 
-def mesh_figure(kind: str, items, *, title: str = "", dpi: int = 72) -> bytes:
-    """PNG of several meshes side by side and their edge-length histograms.
+def grid_shape(n_panels: int) -> tuple[int, int]:
+    """(rows, columns) of the report figure's grid: at most three columns, no row
+    of one panel under a row of three.
+
+    >>> [grid_shape(k) for k in (2, 3, 4, 6, 7)]
+    [(1, 2), (1, 3), (2, 2), (2, 3), (3, 3)]
+    """
+    cols = 2 if n_panels in (2, 4) else min(3, n_panels)
+    return math.ceil(n_panels / cols), cols
+
+
+def mesh_figure(kind: str, items, *, title: str = "", dpi: int = 100, segments=()) -> bytes:
+    """PNG of several meshes in a grid, and their edge-length histograms in the
+    last cell.
+
+    Panels are :data:`PANEL_SIZE` inches at ``dpi`` (three across: about 1000
+    pixels wide at 100 dpi), with text of 9 to 13 points, readable at 100 %.
 
     Parameters
     ----------
@@ -101,6 +123,9 @@ def mesh_figure(kind: str, items, *, title: str = "", dpi: int = 72) -> bytes:
     items : list of (label, points, triangles)
     title : str
     dpi : int
+    segments : sequence of (k, 2) arrays
+        A polygon's interior segments, drawn over every planar mesh (so one sees
+        that each mesh has them as edges).
 
     Returns
     -------
@@ -111,37 +136,43 @@ def mesh_figure(kind: str, items, *, title: str = "", dpi: int = 72) -> bytes:
     from matplotlib.figure import Figure
 
     k = len(items)
-    fig = Figure(figsize=(2.6 * (k + 1), 2.9), dpi=dpi)
+    rows, cols = grid_shape(k + 1)
+    fig = Figure(figsize=(PANEL_SIZE[0] * cols, PANEL_SIZE[1] * rows + 0.4), dpi=dpi,
+                 layout="constrained")
     FigureCanvasAgg(fig)
     for i, (label, P, T) in enumerate(items):
         if kind == "polygon":
-            ax = fig.add_subplot(1, k + 1, i + 1)
-            ax.triplot(P[:, 0], P[:, 1], T, lw=0.35, color="0.15")
+            ax = fig.add_subplot(rows, cols, i + 1)
+            ax.triplot(P[:, 0], P[:, 1], T, lw=0.45, color="0.15")
+            for seg in segments:
+                seg = np.asarray(seg)
+                ax.plot(seg[:, 0], seg[:, 1], color=SEGMENT_COLOUR, lw=1.6, zorder=3)
             ax.set_aspect("equal")
         else:
-            ax = fig.add_subplot(1, k + 1, i + 1, projection="3d")
+            ax = fig.add_subplot(rows, cols, i + 1, projection="3d")
             ax.plot_trisurf(P[:, 0], P[:, 1], P[:, 2], triangles=T, color="0.92",
-                            edgecolor="0.15", linewidth=0.2, shade=False)
+                            edgecolor="0.15", linewidth=0.25, shade=False)
             ax.set_box_aspect(np.ptp(P, axis=0) + 1e-12)
         ax.set_axis_off()
-        ax.set_title(f"{label}\n{len(P)} vertices", fontsize=8)
-    ax = fig.add_subplot(1, k + 1, k + 1)
-    for label, P, T in items:
+        ax.set_title(f"{label}: {len(P)} vertices", fontsize=11)
+    ax = fig.add_subplot(rows, cols, k + 1)
+    for i, (label, P, T) in enumerate(items):
         L = _edge_lengths(P, T)
-        ax.hist(L / L.mean(), bins=HIST_BINS, histtype="step", density=True, label=label, lw=1.0)
-    ax.set_xlabel("edge length / mean", fontsize=7)
-    ax.tick_params(labelsize=6)
-    ax.set_title("edge lengths", fontsize=8)
-    ax.legend(fontsize=6, frameon=False)
+        ax.hist(L / L.mean(), bins=HIST_BINS, histtype="step", density=True, label=label,
+                lw=1.4, color=HIST_COLOURS[i % len(HIST_COLOURS)])
+    ax.set_xlabel("edge length / mean", fontsize=10)
+    ax.set_ylabel("density", fontsize=10)
+    ax.tick_params(labelsize=9)
+    ax.set_title("edge lengths", fontsize=11)
+    ax.legend(fontsize=9, frameon=False)
     if title:
-        fig.suptitle(title, fontsize=9)
-    fig.tight_layout()
+        fig.suptitle(title, fontsize=13)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", metadata={"Software": None})
-    try:  # line art: a 64-colour palette keeps the self-contained page small
+    try:  # line art: a 128-colour palette keeps the self-contained page small
         from PIL import Image
 
-        img = Image.open(io.BytesIO(buf.getvalue())).convert("RGB").quantize(colors=64)
+        img = Image.open(io.BytesIO(buf.getvalue())).convert("RGB").quantize(colors=128)
         small = io.BytesIO()
         img.save(small, format="PNG", optimize=True)
         return small.getvalue()
@@ -162,7 +193,8 @@ def summary_rows(results: dict, kind: str):
         cs = [c for c in results["cases"] if c["kind"] == kind and c["method"] == m]
         ok = [c for c in cs if c["status"] == "ok"]
         row = {"method": m, "cases": len(ok), "of": len(cs),
-               "status": "not installed" if all(c["status"] == "not installed" for c in cs) else ""}
+               "status": next((st for st in ("not installed", "not comparable")
+                               if all(c["status"] == st for c in cs)), "")}
         for key, _, _ in cols:
             vals = [c["measures"][key] for c in ok if c["measures"].get(key) is not None]
             if key == "vertex_error":
@@ -191,7 +223,7 @@ def _e(x) -> str:
 
 def _case_row_html(c, cols) -> str:
     cls = "ours" if c["family"] == "ours" else ""
-    if c["status"] == "not installed":
+    if c["status"] in ("not installed", "not comparable"):
         cls = "missing"
     elif c["status"] == "failed":
         cls = "failed"
@@ -203,7 +235,8 @@ def _case_row_html(c, cols) -> str:
         cells.append(f'<td class="l"><a href="{_e(c["mesh"])}">{_e(c["mesh"].split("/")[-1])}</a></td>')
     else:
         cells.append(f'<td class="l" colspan="{len(cols) + 2}">{_e(_status(c))}'
-                     + (f": {_e(c['message'])}" if c["status"] == "failed" else "") + "</td>")
+                     + (f": {_e(c['message'])}" if c["status"] in ("failed", "not comparable") else "")
+                     + "</td>")
     return (f'<tr id="case-{_e(c["id"])}" class="{cls}" data-case="{_e(c["id"])}" '
             f'data-status="{_e(c["status"])}">' + "".join(cells) + "</tr>")
 
@@ -294,10 +327,16 @@ def render_html(results: dict, figures: dict | None = None) -> str:
     return "\n".join(out) + "\n"
 
 
+def _plural(k: int, word: str) -> str:
+    return f"{k} {word}" + ("" if k == 1 else "s")
+
+
 def _describe(inp) -> str:
     if inp["kind"] == "polygon":
-        return (f"polygon, {inp['n_vertices']} vertices, {inp['n_holes']} holes, "
-                f"area {inp['area']:.6g}")
+        counts = [f"{inp['n_vertices']} vertices", _plural(inp["n_holes"], "hole")]
+        counts += [_plural(inp[k], w) for k, w in (("n_segments", "segment"), ("n_points", "fixed point"),
+                                                   ("n_regions", "labelled region")) if inp.get(k)]
+        return f"polygon, {', '.join(counts)}, area {inp['area']:.6g}"
     return f"surface patch, {inp['n_vertices']} vertices, {inp['n_faces']} faces"
 
 
@@ -338,7 +377,8 @@ def render_markdown(results: dict) -> str:
             if c["status"] == "ok":
                 cells = [fmt(c["measures"].get(k), s) for k, _, s in cols] + [_time(c)]
             else:
-                msg = _status(c) + (f": {c['message']}" if c["status"] == "failed" else "")
+                msg = _status(c) + (f": {c['message']}" if c["status"] in ("failed", "not comparable")
+                                    else "")
                 cells = [msg.replace("|", "/")] + [""] * len(cols)
             name = f"**{c['method']}**" if c["family"] == "ours" else c["method"]
             lines.append(f"| {name} | " + " | ".join(cells) + " |")

@@ -50,8 +50,8 @@ def iter_cases(cases, *, jobs: int = 1, scheduler=None, progress: bool = False):
         Results, in the order of ``cases``.
     """
     check_jobs(jobs, scheduler)
-    todo = [c for c in cases if c["status"] != "not installed"]
-    log.info("%d cases to run (%d not installed)", len(todo), len(cases) - len(todo))
+    todo = [c for c in cases if c["status"] == "pending"]
+    log.info("%d cases to run (%d not installed or not comparable)", len(todo), len(cases) - len(todo))
     with _bar(len(cases), progress) as bar:
         yield from ordered_map(run_case, cases, jobs=jobs, scheduler=scheduler,
                                initializer=warm_up, bar=bar)

@@ -1,0 +1,224 @@
+"""Benchmark: graded meshes with exactly n points, ours against Gmsh given the same h.
+
+Usage::
+
+    python benchmarks/bench_graded.py [--vertices 2000] [--fe-vertices 2000 8000] [--no-fe]
+
+Cases (each a polygon and a size field h):
+
+* ``lshape-corner``: the L-shape [-1, 1]^2 minus the quadrant x > 0, y < 0, with
+  h = 0.02 + 0.6 r (r the distance to the re-entrant corner);
+* ``bolt-plate``: ``data/plate_bolts.json`` with ``uniform2d.refine(..., "holes",
+  ratio=0.25)`` (size a quarter of the coarse one on the holes, growing at slope 0.3);
+* ``bracket``: ``data/l_bracket.json`` with the minimum of refinement near its
+  re-entrant corners (ratio 0.2) and near its holes (ratio 0.3).
+
+For every case: ours, ``uniform2d.uniform_mesh(polygon, n, size=h)`` with n = vertices
+- |V| Steiner points; Gmsh's Frontal-Delaunay with h through its size callback
+(``gmsh.model.mesh.setSizeCallback``), the callback's scale bisected until its vertex
+count is as close to ours as the bisection gets (``uniform2d.peers.gmsh_peer.graded_mesh``).
+Printed: vertices, max q / min q and the CV of q (q = edge length / h(midpoint)), the
+smallest angle, the time, and ours against ``uniform_mesh(polygon, n)`` (uniform, the
+same n) in time.  Goals: max q / min q <= 1.6 and CV <= 0.06; time <= 1.5x uniform.
+
+Finite elements (scikit-fem, the ``fe`` extra: ``pip install ".[fe,compare]"``; skipped
+with a note when missing or with ``--no-fe``):
+
+* L-shape, Poisson with exact solution u = r^(2/3) sin(2 theta / 3) (Dirichlet data
+  from u), P1, H1-seminorm error of ours graded, Gmsh graded and ours uniform at the
+  same vertex count.
+* Bolt plate, plane stress (E = 210000, nu = 0.3), left edge clamped, unit traction
+  along x on the right edge, P2: the energy-norm error sqrt(a(u_ref, u_ref) - a(u_h, u_h))
+  relative to sqrt(a(u_ref, u_ref)) (Galerkin orthogonality: exact for the exact
+  solution; the reference is ours graded with 12 times the vertices), of ours graded
+  and Gmsh graded at each of ``--fe-vertices``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+import uniform2d
+from uniform2d.peers import gmsh_peer
+from uniform2d.relative import relative_measures
+
+LSHAPE = uniform2d.Polygon([(0, 0), (1, 0), (1, 1), (-1, 1), (-1, -1), (0, -1)])
+
+
+def corner_h(p):
+    return 0.02 + 0.6 * np.hypot(p[:, 0], p[:, 1])
+
+
+def cases():
+    plate = uniform2d.read_polygon(ROOT / "data" / "plate_bolts.json")
+    bracket = uniform2d.read_polygon(ROOT / "data" / "l_bracket.json")
+    return {
+        "lshape-corner": (LSHAPE, corner_h),
+        "bolt-plate": (plate, uniform2d.refine(plate, "holes", ratio=0.25)),
+        "bracket": (bracket, uniform2d.minimum_size(
+            bracket, uniform2d.refine(bracket, "corners", ratio=0.2),
+            uniform2d.refine(bracket, "holes", ratio=0.3))),
+    }
+
+
+def min_angle(P, T):
+    a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+    out = []
+    for u, v, w in ((a, b, c), (b, c, a), (c, a, b)):
+        e1, e2 = v - u, w - u
+        cos = (e1 * e2).sum(1) / np.hypot(*e1.T) / np.hypot(*e2.T)
+        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return float(np.min(out))
+
+
+def timed(f, *a, **k):
+    t = time.perf_counter()
+    r = f(*a, **k)
+    return r, time.perf_counter() - t
+
+
+def uniformity(vertices: int) -> dict:
+    print(f"Relative uniformity at {vertices} vertices (q = edge length / h(midpoint))")
+    print(f"  {'case':15s}{'mesher':8s}{'vertices':>9s}{'max/min q':>11s}{'CV q':>8s}"
+          f"{'min angle':>11s}{'time s':>8s}")
+    meshes = {}
+    for name, (P, h) in cases().items():
+        n = vertices - len(P.vertices)
+        uniform2d.uniform_mesh(P, n, size=h)  # compiled kernels and caches warm
+        ours, t_ours = timed(uniform2d.uniform_mesh, P, n, size=h)
+        _, t_uni = timed(uniform2d.uniform_mesh, P, n)
+        g, t_g = timed(gmsh_peer.graded_mesh, P, h, len(ours.points))
+        meshes[name] = (P, h, ours)
+        for who, pts, tri, t in (("ours", ours.points, ours.triangles, t_ours),
+                                 ("gmsh", g.points, g.triangles, t_g)):
+            r = relative_measures(pts, tri, ours.size)
+            print(f"  {name:15s}{who:8s}{len(pts):9d}{r.q_ratio:11.3f}{r.q_cv:8.4f}"
+                  f"{min_angle(pts, tri):11.2f}{t:8.2f}")
+        exact = len(ours.points) == vertices
+        print(f"  {'':15s}exactly {vertices} vertices: {exact}; time ours / uniform_mesh "
+              f"same n: {t_ours:.2f} / {t_uni:.2f} s = {t_ours / t_uni:.2f}x")
+    print("  goals: max/min q <= 1.6, CV q <= 0.06, time <= 1.5x uniform")
+    return meshes
+
+
+# -- finite elements -----------------------------------------------------------------
+def lshape_error(P, T) -> float:
+    """P1 H1-seminorm error of the L-shape singular solution on the mesh (P, T)."""
+    from skfem import Basis, ElementTriP1, Functional, MeshTri, condense, solve
+    from skfem.models.poisson import laplace
+
+    m = MeshTri(np.ascontiguousarray(P.T), np.ascontiguousarray(T.T))
+    basis = Basis(m, ElementTriP1(), intorder=4)
+
+    def exact(x, y):
+        r = np.hypot(x, y)
+        th = np.mod(np.arctan2(y, x), 2 * np.pi)
+        return r ** (2 / 3) * np.sin(2 * th / 3)
+
+    A = laplace.assemble(basis)
+    u = np.zeros(basis.N)
+    D = m.boundary_nodes()
+    u[D] = exact(*m.p[:, D])
+    u = solve(*condense(A, np.zeros(basis.N), x=u, D=D))
+    uh = basis.interpolate(u)
+
+    @Functional
+    def err(w):
+        x, y = w.x
+        r2 = np.maximum(x**2 + y**2, 1e-300)
+        th = np.mod(np.arctan2(y, x), 2 * np.pi)
+        c = (2 / 3) * r2 ** (-1 / 6) / np.sqrt(r2)
+        ux = c * (np.sin(2 * th / 3) * x - np.cos(2 * th / 3) * y) / np.sqrt(r2) * np.sqrt(r2)
+        uy = c * (np.sin(2 * th / 3) * y + np.cos(2 * th / 3) * x) / np.sqrt(r2) * np.sqrt(r2)
+        return (w["uh"].grad[0] - ux) ** 2 + (w["uh"].grad[1] - uy) ** 2
+
+    return float(np.sqrt(err.assemble(basis, uh=uh)))
+
+
+def plate_energy(P, T, width=400.0) -> float:
+    """a(u_h, u_h) of P2 plane stress on the bolt plate: left edge clamped, unit
+    traction along x on the right edge (x = width)."""
+    from skfem import (
+        Basis,
+        ElementTriP2,
+        ElementVector,
+        FacetBasis,
+        LinearForm,
+        MeshTri,
+        condense,
+        solve,
+    )
+    from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+    m = MeshTri(np.ascontiguousarray(P.T), np.ascontiguousarray(T.T))
+    e = ElementVector(ElementTriP2())
+    basis = Basis(m, e, intorder=4)
+    lam, mu = lame_parameters(210000.0, 0.3)
+    lam = 2 * lam * mu / (lam + 2 * mu)  # plane stress
+    K = linear_elasticity(lam, mu).assemble(basis)
+    right = m.facets_satisfying(lambda x: np.isclose(x[0], width))
+    fb = FacetBasis(m, e, facets=right, intorder=4)
+
+    @LinearForm
+    def traction(v, w):
+        return v[0]
+
+    f = traction.assemble(fb)
+    left = basis.get_dofs(lambda x: np.isclose(x[0], 0.0)).all()
+    u = solve(*condense(K, f, D=left))
+    return float(u @ (K @ u))
+
+
+def fe(meshes, vertices_list) -> None:
+    try:
+        import skfem  # noqa: F401
+    except ImportError:
+        print("\nFE errors skipped: scikit-fem is not installed (pip install scikit-fem)")
+        return
+    P, h, ours = meshes["lshape-corner"]
+    n = len(ours.points) - len(P.vertices)
+    uni = uniform2d.uniform_mesh(P, n)
+    g = gmsh_peer.graded_mesh(P, h, len(ours.points))
+    print(f"\nL-shape r^(2/3) singularity, P1, H1-seminorm error (~{len(ours.points)} vertices)")
+    for who, pts, tri in (("ours graded", ours.points, ours.triangles),
+                          ("gmsh graded", g.points, g.triangles),
+                          ("ours uniform", uni.points, uni.triangles)):
+        print(f"  {who:14s}{len(pts):7d} vertices   error {lshape_error(pts, tri):.5f}")
+
+    P, h, _ = meshes["bolt-plate"]
+    ref_n = 12 * max(vertices_list)
+    ref = uniform2d.uniform_mesh(P, ref_n, size=h)
+    a_ref = plate_energy(ref.points, ref.triangles)
+    print(f"\nBolt plate, plane stress, P2, relative energy-norm error (reference: ours "
+          f"graded, {len(ref.points)} vertices)")
+    for N in vertices_list:
+        mo = uniform2d.uniform_mesh(P, N - len(P.vertices), size=h)
+        mg = gmsh_peer.graded_mesh(P, h, N)
+        row = []
+        for pts, tri in ((mo.points, mo.triangles), (mg.points, mg.triangles)):
+            a = plate_energy(pts, tri)
+            row.append((len(pts), math.sqrt(max(a_ref - a, 0.0) / a_ref)))
+        print(f"  {N:6d} vertices   ours {row[0][1]:.5f} ({row[0][0]})   gmsh {row[1][1]:.5f} "
+              f"({row[1][0]})   ours / gmsh {row[0][1] / row[1][1]:.3f}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--vertices", type=int, default=2000)
+    ap.add_argument("--fe-vertices", type=int, nargs="+", default=[2000, 8000])
+    ap.add_argument("--no-fe", action="store_true")
+    args = ap.parse_args()
+    meshes = uniformity(args.vertices)
+    if not args.no_fe:
+        fe(meshes, args.fe_vertices)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,195 @@
+"""Partitioned meshes (uniform_mesh(parts=K)): exact n, conforming across cuts
+(the independent checker on the stitched mesh), the same bytes whatever runs
+the parts, .pvtu pieces read back, a lost Dask worker."""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import json
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from support.lost_worker import kill_once
+
+from uniform2d import Polygon, uniform_mesh
+from uniform2d.cli.main import main
+from uniform2d.errors import InsufficientPointsError, InvalidArgumentError
+from uniform2d.io import write_polygon
+from uniform2d.partition import partition
+from uniform2d.partitioned import partitioned_mesh, write_pvtu
+from uniform2d.testing import check_mesh
+
+L_HOLE = Polygon([(0, 0), (4, 0), (4, 3), (2, 3), (2, 1.5), (0, 1.5)],
+                 [[(0.5, 0.5), (1, 0.5), (1, 1), (0.5, 1)]])
+PLATE = Polygon([(0, 0), (4, 0), (4, 3), (0, 3)], [[(2.5, 2), (3, 2), (3, 2.5), (2.5, 2.5)]],
+                segments=[[(0, 1), (4, 1.2)], [(1, 1.6), (1.5, 2.7), (3.5, 2.8)],
+                          [(2, 1.6), (2.3, 2.2)]],
+                points=[(0.7, 2.1), (3.2, 0.4)], regions=[(2, 0.5, "low"), (0.3, 2, "high")])
+
+
+def same(a, b) -> bool:
+    return (a.points.tobytes() == b.points.tobytes()
+            and a.triangles.tobytes() == b.triangles.tobytes())
+
+
+@pytest.mark.parametrize("polygon, n, K", [(L_HOLE, 1500, 4), (L_HOLE, 1200, 5), (PLATE, 1500, 3),
+                                           (PLATE, 2000, 6)])
+def test_exact_n_and_valid_across_the_cuts(polygon, n, K):
+    m = uniform_mesh(polygon, n, parts=K)
+    check_mesh(m.points, m.triangles, polygon, n_steiner=n)  # constrained Delaunay, cuts gone
+    assert m.n_steiner == n and len(m.points) == len(polygon.vertices) + n
+    assert m.info["parts"] == K and m.info["cut_points"] > 0
+    # every cut point is a vertex of the stitched mesh (shared, not duplicated)
+    part = partition(polygon, n, K)
+    assert len(part.parts) == K
+    assert len(np.unique(m.points, axis=0)) == len(m.points)
+
+
+def test_cut_points_are_shared_before_the_relaxation():
+    m = partitioned_mesh(L_HOLE, 1500, 4, relax=False)
+    check_mesh(m.points, m.triangles, L_HOLE, n_steiner=1500, delaunay=False)
+    part = partition(L_HOLE, 1500, 4)
+    cut = np.unique(np.concatenate(part.cuts))
+    np.testing.assert_array_equal(m.points[cut], part.points[cut])
+    # a cut piece is an edge of two triangles, one on either side
+    T = m.triangles
+    edges = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
+    key, count = np.unique(edges, axis=0, return_counts=True)
+    seen = {tuple(k): c for k, c in zip(key.tolist(), count.tolist())}
+    inner = [c for c in part.cuts if len(c) > 2]
+    for c in inner:
+        for a, b in itertools.pairwise(c):
+            assert seen[tuple(sorted((int(a), int(b))))] == 2
+
+
+def test_regions_and_constraints_are_kept():
+    m = uniform_mesh(PLATE, 1500, parts=4)
+    plain = uniform_mesh(PLATE, 1500)
+    assert m.region_labels == ("low", "high")
+    for r in range(2):
+        a = _area(m.points, m.triangles[m.regions == r])
+        assert a == pytest.approx(_area(plain.points, plain.triangles[plain.regions == r]), rel=1e-9)
+    assert len(m.segment_members[0]) > 0
+
+
+def _area(P, T) -> float:
+    p = P[T]
+    return float(0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                        - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])).sum())
+
+
+def test_same_bytes_with_one_and_two_workers():
+    a = uniform_mesh(L_HOLE, 1500, parts=4)
+    b = uniform_mesh(L_HOLE, 1500, parts=4, jobs=2)
+    assert same(a, b)
+
+
+def test_without_parts_the_mesh_is_the_unpartitioned_one():
+    a = uniform_mesh(L_HOLE, 300)
+    assert a.info["method"] == "uniform" and "parts" not in a.info
+
+
+def test_refusals():
+    with pytest.raises(InvalidArgumentError, match="parts must be a positive integer"):
+        uniform_mesh(L_HOLE, 300, parts=0)
+    with pytest.raises(InsufficientPointsError, match="fewer parts"):
+        uniform_mesh(L_HOLE, 10, parts=8)  # the cuts alone take more points
+    with pytest.raises(InsufficientPointsError, match="fewer parts"):
+        uniform_mesh(L_HOLE, 5, parts=16)  # parts narrower than the spacing
+
+
+def test_pvtu_pieces_read_back(tmp_path):
+    src = tmp_path / "plate.json"
+    write_polygon(src, L_HOLE)
+    out = tmp_path / "big.pvtu"
+    assert main(["mesh", str(src), "-n", "1500", "--parts", "4", "-o", str(out), "-q"]) == 0
+    import meshio
+
+    root = ET.parse(out).getroot()
+    assert root.get("type") == "PUnstructuredGrid"
+    sources = [p.get("Source") for p in root.iter("Piece")]
+    assert len(sources) == 4
+    ids, tris, points = [], 0, {}
+    for s in sources:
+        piece = meshio.read(out.parent / s)
+        g = piece.point_data["GlobalPointIds"]
+        ids.append(g)
+        tris += len(piece.cells_dict["triangle"])
+        for i, p in zip(g.tolist(), piece.points[:, :2]):
+            assert points.setdefault(i, tuple(p)) == tuple(p)  # a seam point is one point
+    glob = np.unique(np.concatenate(ids))
+    N = len(L_HOLE.vertices) + 1500
+    np.testing.assert_array_equal(glob, np.arange(N))
+    ref = partitioned_mesh(L_HOLE, 1500, 4, relax=False)
+    assert tris == len(ref.triangles)
+    np.testing.assert_array_equal(np.array([points[i] for i in range(N)]), ref.points)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big", "big.pvtu", "plate.json"]
+
+
+class _Interrupt:
+    def update(self, *a):
+        raise KeyboardInterrupt
+
+
+def test_an_interrupted_pvtu_leaves_nothing(tmp_path):
+    with pytest.raises(KeyboardInterrupt):
+        write_pvtu(L_HOLE, 800, 3, tmp_path / "m.pvtu", bar=_Interrupt())
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_pvtu_needs_parts(tmp_path, capsys):
+    src = tmp_path / "p.json"
+    write_polygon(src, L_HOLE)
+    code = main(["mesh", str(src), "-n", "300", "-o", str(tmp_path / "m.pvtu")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "add --parts K" in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.json"]
+
+
+def test_a_lost_worker_gives_the_same_mesh(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    ref = partitioned_mesh(L_HOLE, 800, 3)
+    marker = tmp_path / "killed"
+    with distributed.LocalCluster(processes=True, n_workers=2, threads_per_worker=1,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        m = partitioned_mesh(L_HOLE, 800, 3, scheduler=client,
+                             mesher=functools.partial(kill_once, str(marker)))
+    assert marker.exists()  # a worker did die
+    assert same(m, ref)
+
+
+def test_the_command_gathers_any_other_format(tmp_path, capsys):
+    from uniform2d import read_mesh
+
+    src = tmp_path / "p.json"
+    write_polygon(src, L_HOLE)
+    out = tmp_path / "m.vtu"
+    assert main(["mesh", str(src), "-n", "900", "--parts", "3", "-o", str(out), "-q"]) == 0
+    got = read_mesh(out)
+    ref = uniform_mesh(L_HOLE, 900, parts=3)
+    np.testing.assert_array_equal(got[0], ref.points)
+    np.testing.assert_array_equal(got[1], ref.triangles)
+    check_mesh(got[0], got[1], L_HOLE, n_steiner=900)
+    capsys.readouterr()
+    assert main(["mesh", str(src), "-n", "900", "--parts", "3", "-o", str(out), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["n_steiner"] == 900 and doc["info"]["parts"] == 3
+    assert doc["info"]["seams"]["near_edges"] > 0
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--method", "paper", "-o", "m.vtu"], "cannot be used with --method paper"),
+    (["-o", "m.pvtu", "--plot", "m.png"], "drop --plot"),
+])
+def test_the_command_refuses(tmp_path, capsys, extra, message):
+    src = tmp_path / "p.json"
+    write_polygon(src, L_HOLE)
+    argv = ["mesh", str(src), "-n", "300", "--parts", "2"]
+    argv += [str(tmp_path / a) if a.startswith("m.") else a for a in extra]
+    code = main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and message in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.json"]

@@ -1,0 +1,64 @@
+"""uniform2d.threads: the optimiser's starts on several threads, the same bytes on any count."""
+
+import hashlib
+
+import pytest
+from support.benchmarks import benchmark_polygons
+
+import uniform2d
+from uniform2d.errors import InvalidArgumentError
+from uniform2d.optimize.seed import variants
+from uniform2d.testing import check_mesh
+from uniform2d.threads import ENV, get_threads, set_threads, thread_map
+
+
+def _digest(m) -> str:
+    return hashlib.sha256(m.points.tobytes() + m.triangles.tobytes()).hexdigest()
+
+
+@pytest.fixture
+def restore_threads():
+    yield
+    set_threads(None)
+
+
+@pytest.mark.parametrize("name, n", [("star10", 300), ("square2holes", 1200)])
+def test_same_bytes_on_one_and_two_threads(name, n, restore_threads):
+    p = benchmark_polygons()[name]
+    assert len(variants(p, n)) > 1  # several starts: work the threads share
+    digests = []
+    for k in (1, 2, 1):
+        set_threads(k)
+        m = uniform2d.uniform_mesh(p, n)
+        check_mesh(m.points, m.triangles, p)
+        digests.append(_digest(m))
+    assert digests[0] == digests[1] == digests[2]
+
+
+def test_thread_map_keeps_the_order_and_raises(restore_threads):
+    set_threads(2)
+    assert thread_map(lambda x: -x, range(50)) == [-x for x in range(50)]
+
+    def bad(x):
+        if x == 3:
+            raise KeyError(x)
+        return x
+
+    with pytest.raises(KeyError):
+        thread_map(bad, range(6))
+
+
+def test_thread_count_from_the_call_the_environment_or_the_cores(monkeypatch, restore_threads):
+    monkeypatch.setenv(ENV, "3")
+    assert get_threads() == 3
+    set_threads(1)
+    assert get_threads() == 1
+    set_threads(None)
+    monkeypatch.delenv(ENV)
+    assert get_threads() >= 1
+    for bad in (0, -2, 1.5, True, "2"):
+        with pytest.raises(InvalidArgumentError, match="at least 1"):
+            set_threads(bad)
+    monkeypatch.setenv(ENV, "many")
+    with pytest.raises(InvalidArgumentError, match=ENV):
+        get_threads()

@@ -1,0 +1,345 @@
+"""One mesh made in K parts, here, in local processes or on a Dask cluster.
+
+:func:`partitioned_mesh` is ``uniform_mesh(polygon, n, parts=K)``:
+
+1. :func:`uniform2d.partition.partition` cuts P into K parts of near-equal
+   area and samples every ring, segment and cut once at the target spacing h;
+2. the points left, n minus those samples, are shared among the parts' faces
+   by area (:func:`uniform2d.parts.allocate`: exactly n in all);
+3. every part is meshed apart (:func:`uniform2d.parts.map_parts`,
+   :func:`mesh_face`): the optimiser's start for a large mesh moved by its
+   kernel, the cut points on its ring kept, so the parts meet on the cut
+   points they share;
+4. the parts are stitched (:func:`uniform2d.parts.stitch`) and the band within
+   :data:`BAND` h of the cuts is relaxed (:func:`relax_seams`): the cuts stop
+   being constraints, their points and their neighbours move and the mesh is
+   made constrained Delaunay again.
+
+The result does not depend on where the parts ran: the same K gives the same
+bytes with 1 process, 8 or a cluster.  Different K cut differently and give
+different, equally valid meshes.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import math
+import shutil
+import time
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ._parallel import ordered_map
+from .errors import InsufficientPointsError, InternalError
+from .geometry import polygon_edges, unique_edges
+from .mesh import Mesh
+from .optimize.moves import KernelMesh, improve_kept
+from .optimize.objective import objective_code
+from .optimize.schedule import SCHEDULE, schedule_for
+from .optimize.seed import start
+from .partition import Partition, partition
+from .parts import allocate, stitch
+from .polygon import Polygon
+from .triangulation import triangulate
+from .validity import ensure_valid
+
+__all__ = ["BAND", "mesh_face", "mesh_faces", "part_counts", "partitioned_mesh", "relax_seams",
+           "seam_uniformity", "write_part", "write_pvtu"]
+
+log = logging.getLogger(__name__)
+
+#: The band relaxed after stitching: points within BAND h of a cut move.
+BAND = 6.0
+
+_AREA_PER_VERTEX = math.sqrt(3.0) / 2.0  # of an equilateral mesh of unit edge
+
+
+def _boundary_pieces(poly: Polygon, h: float) -> np.ndarray:
+    """Pieces of every constraint edge of a face, as the optimiser's start splits
+    them (:func:`uniform2d.optimize.boundary.boundary_counts`, uncapped)."""
+    _, _, L = polygon_edges(poly, constraints=True)
+    return np.maximum(1, np.rint(L / h)).astype(np.int64)
+
+
+def part_counts(part: Partition, n: int) -> list:
+    """Steiner points of every face of every part: with the shared points, n in all.
+
+    A face places the points on its ring's own stretches (between the shared
+    points) as the optimiser's start does, and gets, of the rest, what an
+    equilateral mesh of spacing h would put inside it, ``area / (sqrt(3)/2 h^2)
+    - (perimeter / 2 + segments) / h`` (:func:`uniform2d.parts.allocate`: the
+    sum is exact).
+
+    Raises
+    ------
+    InsufficientPointsError
+        If the shared and ring points alone are more than n.
+    """
+    h = part.h
+    pairs = {(int(a), int(b)) for c in part.cuts for a, b in itertools.pairwise(c)}
+    ring, est = [], []
+    for faces, idx in zip(part.parts, part.index):
+        for f, ii in zip(faces, idx):
+            m = _boundary_pieces(f, h)
+            E = ii[f.constraint_edges]
+            if any(m[e] > 1 for e in range(len(E)) if (int(E[e, 0]), int(E[e, 1])) in pairs
+                   or (int(E[e, 1]), int(E[e, 0])) in pairs):
+                raise InternalError("a cut piece would get points of its own (a bug: please report it)")
+            ring.append(int((m - 1).sum()))
+            seg = polygon_edges(f, constraints=True)[2][len(f.edges):].sum()
+            est.append(max(f.area / (_AREA_PER_VERTEX * h * h) - (f.perimeter / 2 + seg) / h, 1e-9))
+    shared = len(part.points) - part.n_vertices
+    rest = n - shared - sum(ring)
+    if rest < 0:
+        raise InsufficientPointsError(
+            f"n = {n} is too small for {len(part.parts)} parts: their rings, segments and cuts "
+            f"alone take {shared + sum(ring)} points; ask for more points or fewer parts"
+        )
+    flat = np.asarray(ring) + allocate(est, rest)
+    out, k = [], 0
+    for faces in part.parts:
+        out.append([int(c) for c in flat[k:k + len(faces)]])
+        k += len(faces)
+    return out
+
+
+def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str = "balanced",
+              schedule: dict | None = None):
+    """One face's mesh: ``points`` (the polygon's vertices, then ``count``
+    Steiner points) and ``triangles`` (m, 3) int64.
+
+    The optimiser's start for a large mesh (the ring's own stretches split at
+    h, a first row, a lattice aligned as close to ``angle`` as the face allows),
+    moved by :func:`uniform2d.optimize.moves.improve_kept` with the deep lattice
+    frozen; the ring's shared points (on cuts) stay, its own ones slide.
+    ``schedule``: the fields of :class:`uniform2d.optimize.schedule.Schedule`
+    (default: the one for the face's own size)."""
+    K = len(poly.vertices)
+    if count == 0:
+        P, T = triangulate(poly)
+    else:
+        sites, edges, frozen, _ = start(poly, count, h, (1.0, _lattice_edge(poly, angle), True))
+        P, T, _ = improve_kept(poly, sites, objective=objective, href=h, frozen=frozen, edges=edges,
+                               **(schedule or {}))
+    if len(P) != K + count:
+        raise InternalError(f"a part has {len(P) - K} points, not {count} (a bug: please report it)")
+    return np.asarray(P), np.asarray(T, dtype=np.int64)
+
+
+def mesh_faces(item):
+    """Mesh one part: ``[(own points (c, 2), triangles (m, 3) local), ...]`` per face.
+
+    ``item`` is ``(faces, counts, h, angle, objective, schedule)`` (:func:`mesh_face`
+    for each face); a face's local points are its polygon's vertices, then its own.
+    A module-level function: local processes and Dask workers import it by name."""
+    faces, counts, h, angle, objective, schedule = item[:6]
+    out = []
+    for poly, count in zip(faces, counts):
+        P, T = mesh_face(poly, count, h, angle, objective, schedule)
+        out.append((np.ascontiguousarray(P[len(poly.vertices):]), T))
+    return out
+
+
+def write_part(item) -> tuple[int, int]:
+    """Mesh one part and write it as a piece: ``item`` is :func:`mesh_faces`'s, then
+    ``(index, first, path)``: per face the global number of each polygon vertex,
+    per face the global number of its first own point, and the piece's file.
+    Returns the piece's (points, triangles)."""
+    from .io.pvtu import write_piece
+
+    index, first, path = item[6:]
+    ids, pts, tris, base = [], [], [], 0
+    for poly, count, idx, f0, (own, T) in zip(item[0], item[1], index, first, mesh_faces(item)):
+        ensure_valid(np.concatenate([poly.vertices, own]), T, poly, count, "a part")
+        ids.append(np.concatenate([idx, f0 + np.arange(len(own), dtype=np.int64)]))
+        pts.append(np.concatenate([poly.vertices, own]))
+        tris.append(T + base)
+        base += len(ids[-1])
+    ids, pts, tris = np.concatenate(ids), np.concatenate(pts), np.concatenate(tris)
+    glob, first_at, local = np.unique(ids, return_index=True, return_inverse=True)
+    write_piece(path, pts[first_at], local[tris], glob)
+    return len(glob), len(tris)
+
+
+def _lattice_edge(poly: Polygon, angle: float) -> int:
+    """The face's edge nearest ``angle`` (modulo 60 degrees; the longest of those
+    within a degree): every part's lattice runs the same way, as one lattice
+    of the whole would, and along the cuts."""
+    _, d, L = polygon_edges(poly)
+    off = np.abs((np.arctan2(d[:, 1], d[:, 0]) - angle + math.pi / 6) % (math.pi / 3) - math.pi / 6)
+    near = off <= max(off.min(), math.radians(1.0))
+    return int(np.lexsort((np.arange(len(L)), -L, ~near))[0])
+
+
+def _within(sites, points, r: float) -> np.ndarray:
+    """(k,) bool: which ``points`` are within ``r`` of one of ``sites``; the tree
+    stops looking beyond r (at 1e7 points four times faster than a full query)."""
+    d, _ = cKDTree(np.asarray(sites)).query(points, distance_upper_bound=np.nextafter(r, np.inf))
+    return d <= r
+
+
+def seam_uniformity(points, triangles, seam_points, h: float) -> dict:
+    """Edge-length CV within ``2 h`` of the seams (edge midpoints) and away from them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    >>> d = seam_uniformity(P, np.array([[0, 1, 2], [1, 3, 2]]), P[:1], 0.1)
+    >>> d["near_edges"], round(d["cv_away"], 3)
+    (0, 0.153)
+    """
+    E = unique_edges(np.asarray(triangles))
+    P = np.asarray(points)
+    L = np.linalg.norm(P[E[:, 1]] - P[E[:, 0]], axis=1)
+    near = np.zeros(len(E), dtype=bool)
+    if len(seam_points):
+        near = _within(seam_points, 0.5 * (P[E[:, 0]] + P[E[:, 1]]), 2.0 * h)
+
+    def cv(x):
+        return float(x.std() / x.mean()) if len(x) else float("nan")
+
+    return {"cv_near_seams": cv(L[near]), "cv_away": cv(L[~near]), "near_edges": int(near.sum())}
+
+
+def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective: str = "balanced"):
+    """The stitched mesh with the band within :data:`BAND` h of the cuts relaxed.
+
+    The cut points are ordinary points now: they and their neighbours move (the
+    optimiser's moves, :mod:`uniform2d.optimize`, with everything else frozen
+    and the full schedule, on the band only; those on a ring slide along it).
+    The stitched mesh is loaded into the kernel as it is, made constrained
+    Delaunay there (across the cuts too), and the result is the kernel's own
+    exact constrained Delaunay triangulation of the moved points.  Vertices
+    and segment samples do not move.
+
+    Returns
+    -------
+    points : (N, 2) float64
+    triangles : (M, 3) int64
+    """
+    nV = len(polygon.vertices)
+    P = np.asarray(points, dtype=np.float64)
+    free = np.zeros(len(P), dtype=bool)
+    if part.cuts:
+        free = _within(part.points[np.concatenate(part.cuts)], P, BAND * part.h)
+    free[: len(part.points) - part.n_cut] = False  # vertices and segment samples stay
+    st = KernelMesh.from_mesh(polygon, P, triangles, href=part.h, frozen=~free[nV:])
+    run = st.advance(SCHEDULE, objective_code(objective))
+    pts, tri, _ = st.result(run)
+    return pts, np.asarray(tri, dtype=np.int64)
+
+
+def _plan(polygon: Polygon, n: int, parts: int, objective: str):
+    """The partition and every part's item for :func:`mesh_faces`."""
+    part = partition(polygon, n, parts)
+    counts = part_counts(part, n)
+    _, d, L = polygon_edges(polygon)
+    e = int(np.argmax(L))
+    angle = float(np.arctan2(d[e, 1], d[e, 0]))
+    # the whole mesh's schedule: a part is meshed as the whole would be there
+    sched = schedule_for(len(polygon.vertices) + n, False)._asdict()
+    return part, [(faces, c, part.h, angle, objective, sched) for faces, c in zip(part.parts, counts)]
+
+
+def write_pvtu(polygon: Polygon, n: int, parts: int, path, *, jobs: int = 1, scheduler=None,
+               objective: str = "balanced", bar=None) -> dict:
+    """Mesh in ``parts`` parts, each worker writing its part as a piece of ``path``.
+
+    The mesh is never gathered: this process holds the partition and the cut
+    points only.  The seams are not relaxed (that needs both sides of a cut in
+    one place): the pieces are the parts as meshed, conforming across the cuts,
+    each constrained Delaunay, the cuts still chains of edges.  Files as
+    :mod:`uniform2d.io.pvtu` says: nothing is left behind if a part fails or
+    the run is interrupted.  Returns ``{"parts", "points", "triangles", "h",
+    "cut_points"}``.
+    """
+    from .io.pvtu import commit, piece_dir, piece_name
+
+    part, items = _plan(polygon, n, parts, objective)
+    S = len(part.points)
+    own = np.cumsum([0] + [c for it in items for c in it[1]])
+    tmp = piece_dir(path)
+    names = [piece_name(path, k) for k in range(len(items))]
+    full, k = [], 0
+    for it, idx, name in zip(items, part.index, names):
+        full.append((*it, idx, [int(S + own[k + j]) for j in range(len(idx))], str(tmp / name)))
+        k += len(idx)
+    try:
+        done = list(ordered_map(write_part, full, jobs=jobs, scheduler=scheduler, bar=bar))
+        commit(path, tmp, names)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    return {"parts": int(parts), "points": len(polygon.vertices) + n,
+            "triangles": int(sum(t for _, t in done)), "h": part.h, "cut_points": part.n_cut}
+
+
+def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, scheduler=None,
+                     relax: bool = True, objective: str = "balanced", bar=None,
+                     mesher=None) -> Mesh:
+    """A mesh with exactly ``n`` Steiner points made in ``parts`` parts (see the module).
+
+    Parameters
+    ----------
+    polygon : Polygon
+    n : int
+    parts : int
+    jobs : int
+        Local processes (1: here).
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler's address or client; overrides ``jobs``.
+    relax : bool
+        Relax the seams after stitching (default).
+    objective : str
+        What the parts' and the seams' point moves lower
+        (:data:`uniform2d.optimize.OBJECTIVES`).
+    bar : tqdm, optional
+        Updated once per part meshed.
+    mesher : callable, optional
+        What runs one part (default :func:`mesh_faces`): a module-level wrapper
+        of it may instrument the parts (the tests kill a worker with one).
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.partitioned import partitioned_mesh
+    >>> m = partitioned_mesh(Polygon([(0, 0), (3, 0), (3, 1), (0, 1)]), 300, 3)
+    >>> m.n_steiner, m.info["parts"]
+    (300, 3)
+    """
+    nV = len(polygon.vertices)
+    clock, times = time.perf_counter(), {}
+
+    def lap(name):
+        nonlocal clock
+        now = time.perf_counter()
+        times[name] = now - clock
+        clock = now
+
+    part, items = _plan(polygon, n, parts, objective)
+    lap("partition")
+    done = list(ordered_map(mesher or mesh_faces, items, jobs=jobs, scheduler=scheduler, bar=bar))
+    lap("parts")
+    pieces = [(idx, own, T) for ii, res in zip(part.index, done) for idx, (own, T) in zip(ii, res)]
+    del done
+    P, T = stitch(part.points, pieces)
+    del pieces
+    if len(P) != nV + n:
+        raise InternalError(f"the stitched mesh has {len(P) - nV} Steiner points, not {n} (a bug)")
+    seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
+    before = seam_uniformity(P, T, seam, part.h)
+    lap("stitch")
+    if relax and part.cuts:
+        P, T = relax_seams(polygon, P, T, part, objective)
+    lap("relax")
+    ensure_valid(P, T, polygon, n, "uniform_mesh(parts=...)")
+    lap("check")
+    info = {"method": "partitioned", "parts": int(parts), "h": part.h,
+            "cut_points": part.n_cut, "shared_points": len(part.points) - nV,
+            "seams_before_relax": before, "seams": seam_uniformity(P, T, seam, part.h),
+            "times": times}
+    log.info("partitioned: %d parts, %d cut points, seams %s", parts, part.n_cut, info["seams"])
+    return Mesh(np.asarray(P), np.asarray(T, dtype=np.int64), polygon, n, info)
