@@ -68,7 +68,16 @@ SHELL = [(doc.name, cmd)
 PYTHON = [doc for doc in DOCS if _blocks(doc, "python")]
 
 
+#: Modules a documented example may use that are not dependencies of uniform2d.
+OPTIONAL = ("pyproj",)
+
+
 def _skip_reason(text: str) -> str | None:
+    import importlib.util
+
+    for mod in OPTIONAL:
+        if f"import {mod}" in text and importlib.util.find_spec(mod) is None:
+            return f"needs {mod}, which is not installed (not a dependency)"
     for key, why in NOT_HERE.items():
         if key in text:
             return why

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+import logging
 import math
 import numbers
 
@@ -11,11 +13,14 @@ from .graded import graded_mesh
 from .grading import as_field, count_for_field, field_integrals
 from .mesh import Mesh
 from .optimize import optimize_mesh
+from .outline import CORNER_ANGLE, resample_polygon, short_edge_warning
 from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
 
 __all__ = ["uniform_mesh", "steiner_count_for_size"]
+
+log = logging.getLogger(__name__)
 
 
 def steiner_count_for_size(polygon: Polygon, size: float) -> int:
@@ -41,6 +46,8 @@ def uniform_mesh(
     n: int | None = None,
     *,
     size=None,
+    resample: float | None = None,
+    corner_angle: float = CORNER_ANGLE,
     objective: str = "balanced",
     progress=None,
     parts: int | None = None,
@@ -80,6 +87,24 @@ def uniform_mesh(
     docs/partitioned.md): still exactly n points, the same bytes whatever ran
     the parts, but a different (equally valid) mesh for every K.
 
+    ``resample=tol`` (a fraction of the mesh spacing, e.g. 0.05 or 0.25) first
+    resamples the polygon's rings at the mesh spacing, every boundary point within
+    ``tol`` x spacing of the outline and the outline within that of the rings
+    (:func:`uniform2d.outline.resample_polygon`): corners turning by more than
+    ``corner_angle`` degrees, and ring vertices that segments or fixed points
+    touch, stay; the other input ring vertices go, and the boundary points that
+    replace them count in n.  So ``len(mesh.points)`` is n plus the kept vertices,
+    ``mesh.polygon`` is the resampled polygon (``mesh.n_steiner`` counts the points
+    beyond its vertices), and ``mesh.info["resample"]`` says the tolerance, the
+    deviation reached (a length, and as a fraction of the spacing), the kept
+    vertices and ``"n"``.  A polygon with no edge shorter than a third of the
+    spacing is meshed as given (``info["resample"]["resampled"]`` False).  With
+    a size field or ``parts`` it is refused (not supported yet).  Without it
+    (the default, the paper's mode) every vertex is kept; when that makes a
+    uniform mesh impossible (an edge shorter than a third of the spacing)
+    ``mesh.info["warning"]`` says so, and it is logged (a warning if the edge
+    ratio it forces is 10 or more, information otherwise).
+
     Examples
     --------
     >>> from uniform2d import Polygon, uniform_mesh
@@ -90,6 +115,9 @@ def uniform_mesh(
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     field = as_field(polygon, size)
+    if resample is not None and (field is not None or parts is not None):
+        raise InvalidArgumentError("resample= works with a uniform mesh in one part: a size "
+                                   "field (graded mesh) or parts= with it is not supported yet")
     if field is not None:
         if parts is not None:
             raise InvalidArgumentError("parts= makes a uniform mesh in parts; a size field "
@@ -97,6 +125,8 @@ def uniform_mesh(
         return _graded(polygon, n, field, objective, progress)
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
+    if resample is not None:
+        return _resampled_mesh(polygon, n, size, resample, corner_angle, objective, progress)
     what = f"n = {n}"
     if n is None:
         n = steiner_count_for_size(polygon, size)
@@ -114,7 +144,38 @@ def uniform_mesh(
         return partitioned_mesh(polygon, int(n), parts, jobs=jobs, scheduler=scheduler,
                                 objective=objective)
     # optimize_mesh checks the mesh it makes (ensure_valid); its fallback, T+, was checked
-    return optimize_mesh(polygon, n, objective=objective, progress=progress)
+    mesh = optimize_mesh(polygon, n, objective=objective, progress=progress)
+    warning = short_edge_warning(polygon, n)
+    if warning is not None:
+        log.log(warning[1], "%s", warning[0])
+        mesh.info["warning"] = warning[0]
+    return mesh
+
+
+def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress) -> Mesh:
+    """:func:`uniform_mesh` with ``resample=tol``: the rings resampled, then meshed."""
+    if size is not None:
+        steiner_count_for_size(polygon, size)  # the same checks of size
+    elif isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+        raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+    res, left = resample_polygon(polygon, n, size=size, tolerance=tol, corner_angle=corner_angle)
+    if not res.resampled:  # no edge too short for this spacing: the paper's mode, as given
+        res = dataclasses.replace(res, polygon=polygon)
+        left = n if size is None else steiner_count_for_size(polygon, size)
+    n_total = left + res.n_boundary
+    what = f"n = {n}" if size is None else f"size {size!r} (n = {n_total})"
+    if left < 1:
+        raise InsufficientPointsError(
+            f"{what} leaves no point inside once the boundary is resampled ({res.n_boundary} "
+            f"boundary points at spacing {res.spacing:.4g}); ask for more points (a larger n "
+            "or a smaller size)")
+    check_point_count(left + len(res.polygon.vertices), what)
+    log.info("resampled outline: %d vertices kept, %d boundary points, deviation %.3g "
+             "(%.3f of the spacing %.4g)", res.n_kept, res.n_boundary, res.deviation,
+             res.deviation / res.spacing, res.spacing)
+    mesh = optimize_mesh(res.polygon, left, objective=objective, progress=progress)
+    return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
+                {**mesh.info, "resample": {**res.info(), "n": n_total}})
 
 
 def _graded(polygon: Polygon, n, field, objective: str, progress) -> Mesh:

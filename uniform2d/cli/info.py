@@ -40,6 +40,16 @@ def smallest_sensible_n(polygon) -> int:
     return max(1, int((np.ceil(np.hypot(d[:, 0], d[:, 1]) / spacing) - 1).sum()))
 
 
+def units_note(polygon) -> str:
+    """What the lengths above are measured in: the coordinates as given, degrees
+    if they look like longitude/latitude."""
+    xmin, ymin, xmax, ymax = polygon.bounds
+    if -180 <= xmin and xmax <= 360 and -90 <= ymin and ymax <= 90:
+        return ("the coordinates as given; these look like longitude/latitude, so lengths "
+                "and areas are in degrees: project first for metres (docs/outlines.md)")
+    return "the coordinates as given (no unit conversion)"
+
+
 def _constraints(polygon) -> dict:
     segs = []
     for s in polygon.segments:
@@ -78,6 +88,7 @@ def describe(polygon, size=None) -> dict:
         "reflex_vertices": int((angles > math.pi).sum()),
         **_constraints(polygon),
         "smallest_sensible_n": smallest_sensible_n(polygon),
+        "units": units_note(polygon),
     }
     if size is not None:
         out["size"] = size
@@ -115,6 +126,7 @@ def run(args) -> int:
         f"{d['sharpest_corner_vertex']} ({g(d['sharpest_corner_at'][0])}, "
         f"{g(d['sharpest_corner_at'][1])})",
         f"  reflex vertices: {d['reflex_vertices']}",
+        f"  lengths:         in {d['units']}",
         *_constraint_lines(d, g),
         f"  smallest sensible n: {d['smallest_sensible_n']}  (T+ puts at least this many "
         "points on the rings and segments)",

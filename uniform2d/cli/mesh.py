@@ -83,6 +83,13 @@ def add_parser(subparsers):
                        help="target edge length; n is derived from the area and perimeter "
                        "(with --refine: the coarse size, n derived from the field)")
     add_size_options(p)
+    p.add_argument("--resample", type=positive_float, metavar="TOL",
+                   help="resample the outline at the mesh spacing, within TOL x spacing of it "
+                   "(e.g. 0.05 or 0.25): for dense outlines (coastlines, CAD curves); corners, "
+                   "segment ends and fixed points stay, the other boundary points count in n")
+    p.add_argument("--corner-angle", type=float, default=None, metavar="DEG",
+                   help="with --resample: input vertices turning by more than DEG degrees stay "
+                   "(default 30)")
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
@@ -289,7 +296,9 @@ def _mesh_one(polygon, args, progress=None):
     if field is not None:
         return uniform_mesh(polygon, n=n_arg, size=field, progress=progress)
     if args.method == "uniform":
-        return uniform_mesh(polygon, n=n_arg, size=args.size, progress=progress)
+        extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
+        return uniform_mesh(polygon, n=n_arg, size=args.size, resample=args.resample,
+                            progress=progress, **extra)
     return tplus(polygon, _count(polygon, args))
 
 
@@ -358,7 +367,7 @@ def _written(args, src: Path, dst: Path, fig, polygon, mesh) -> dict:
         "outputs": [str(d) for d in dst],
         "plot": str(fig) if fig is not None else None,
         "method": args.method,
-        "n_steiner": mesh.n_steiner,
+        "n_steiner": mesh.info["resample"]["n"] if "resample" in mesh.info else mesh.n_steiner,
         "n_points": len(mesh.points),
         "n_triangles": len(mesh.triangles),
         "info": mesh.info,
@@ -387,6 +396,10 @@ def _show(args, doc: dict, several: bool) -> None:
         if several:
             print(f"== {doc['input']} -> {', '.join(doc['outputs'])}")
         print(doc["summary"])
+        if "warning" in doc["info"]:
+            print("note: " + doc["info"]["warning"])
+        if "resample" in doc["info"]:
+            print(_resample_line(doc["info"]["resample"]))
         for k, r in enumerate(doc["regions"] or []):
             label = "" if r["label"] is None else f" ({r['label']})"
             print(f"  region {k}{label}: {r['triangles']} triangles, area {r['area']:.6g}")
@@ -395,13 +408,27 @@ def _show(args, doc: dict, several: bool) -> None:
     if not args.quiet and not args.json:
         print(f"wrote {', '.join(doc['outputs'])} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
               f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
+        if "resample" in doc["info"]:
+            print("  " + _resample_line(doc["info"]["resample"]))
     sys.stdout.flush()
+
+
+def _resample_line(r: dict) -> str:
+    return (f"outline resampled at spacing {r['spacing']:.6g}: deviation {r['deviation']:.4g} "
+            f"({r['deviation_fraction']:.3f} of the spacing, tolerance {r['tolerance']:g}), "
+            f"{r['kept_vertices']} input vertices kept, {r['boundary_points']} boundary points")
 
 
 def _check_count(args) -> None:
     """-n, --vertices, --size and the field options: what may go together (argparse
     keeps the first three apart)."""
     counted = args.n is not None or getattr(args, "vertices", None) is not None
+    if args.resample is not None and (args.method != "uniform" or has_field(args)
+                                      or getattr(args, "parts", None) is not None):
+        raise ValueError("--resample works with --method uniform (the default) in one part, "
+                         "without a size field (--refine, --size-field, --parts)")
+    if args.corner_angle is not None and args.resample is None:
+        raise ValueError("--corner-angle works with --resample only")
     if has_field(args):
         if args.method != "uniform":
             raise ValueError("--refine and --size-field need --method uniform (the paper's T+ "

@@ -1,0 +1,185 @@
+"""Benchmark: real outlines (data/outlines), both modes of uniform_mesh against Gmsh.
+
+Usage::
+
+    python benchmarks/bench_real.py [--n 2000] [--tol 0.25] [--only NAME ...] [--no-gmsh]
+                                    [--growth] [--profile]
+
+For every outline of ``data/outlines/*.json`` (country outlines, NYC borough
+shorelines, Triangle's example PSLGs; see data/outlines/README.md) at ``n``
+Steiner points, it meshes
+
+* ``paper``: ``uniform_mesh(p, n)``, every input vertex kept (the default);
+* ``resample``: ``uniform_mesh(p, n, resample=tol)``, the outline resampled at the
+  mesh spacing within ``tol`` x spacing;
+* ``gmsh``: Gmsh (Frontal-Delaunay, size bisected to |V| + n vertices) on the input;
+* ``gmsh-rs``: Gmsh on the resampled polygon, tuned to the resampled mesh's count,
+
+and prints the vertex count, edge ratio, edge CV, smallest angle, the Hausdorff
+distance between the mesh's boundary and the input outline (shapely, segments
+densified to quarters) as a fraction of the spacing, and the wall time.  The
+goals of issue 35 (resample: ratio <= 2, CV <= 0.08, deviation <= tol, time <=
+3 s) are checked per outline and counted.  ``--growth`` adds the time against
+the number of outline vertices: the densest outline simplified (shapely,
+topology kept) to a series of vertex counts, each meshed in both modes (and
+by Gmsh up to 6000 vertices).
+``--profile`` profiles the slowest resample run and prints where its time goes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import io
+import math
+import pstats
+import time
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+import uniform2d as u
+from uniform2d.peers import gmsh_peer
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def outlines(only=None) -> dict:
+    files = sorted((ROOT / "data" / "outlines").glob("*.json"))
+    return {f.stem: u.read_polygon(f) for f in files if not only or f.stem in only}
+
+
+def hausdorff(a: u.Polygon, b: u.Polygon) -> float:
+    """Hausdorff distance between the rings of two polygons (ring by ring)."""
+    return max(shapely.hausdorff_distance(shapely.LinearRing(ra), shapely.LinearRing(rb),
+                                          densify=0.25)
+               for ra, rb in zip(a.rings, b.rings))
+
+
+def measures(points, triangles, seconds) -> dict:
+    q = u.quality(points, triangles)
+    return {"N": len(points), "ratio": q.edge_ratio, "cv": q.cv_edge,
+            "min_angle": q.min_angle, "time": seconds}
+
+
+def run_one(name, p, n, tol, gmsh: bool) -> list[dict]:
+    rows = []
+    t = time.perf_counter()
+    m = u.uniform_mesh(p, n)
+    rows.append({"mode": "paper", **measures(m.points, m.triangles, time.perf_counter() - t),
+                 "dev": 0.0})
+    t = time.perf_counter()
+    r = u.uniform_mesh(p, n, resample=tol)
+    dt = time.perf_counter() - t
+    info = r.info["resample"]
+    h = info["spacing"]
+    assert len(r.points) == info["kept_vertices"] + n
+    rows.append({"mode": "resample", **measures(r.points, r.triangles, dt),
+                 "dev": hausdorff(p, r.polygon) / h, "h": h})
+    if gmsh:
+        for mode, poly, count in (("gmsh", p, len(p.vertices) + n),
+                                  ("gmsh-rs", r.polygon, len(r.points))):
+            t = time.perf_counter()
+            g = gmsh_peer.mesh(poly, count)
+            rows.append({"mode": mode, **measures(g.points, g.triangles, time.perf_counter() - t),
+                         "dev": (hausdorff(p, poly) / h) if mode == "gmsh-rs" else 0.0})
+    for row in rows:
+        row["outline"], row["V"] = name, len(p.vertices)
+    return rows
+
+
+def show(rows, tol) -> None:
+    print(f"{'outline':30s} {'|V|':>6s} {'mode':9s} {'N':>6s} {'ratio':>9s} {'CV':>6s} "
+          f"{'minang':>6s} {'dev/h':>6s} {'time s':>7s}  goals")
+    for r in rows:
+        goals = ""
+        if r["mode"] == "resample":
+            bad = [k for k, ok in (("ratio", r["ratio"] <= 2.0), ("CV", r["cv"] <= 0.08),
+                                   ("dev", r["dev"] <= tol * (1 + 1e-9)), ("time", r["time"] <= 3))
+                   if not ok]
+            goals = "met" if not bad else "NOT " + ",".join(bad)
+        print(f"{r['outline']:30s} {r['V']:6d} {r['mode']:9s} {r['N']:6d} {r['ratio']:9.3g} "
+              f"{r['cv']:6.3f} {r['min_angle']:6.1f} {r['dev']:6.3f} {r['time']:7.2f}  {goals}")
+
+
+def summary(rows, tol) -> None:
+    print()
+    for mode in ("paper", "resample", "gmsh", "gmsh-rs"):
+        rs = [r for r in rows if r["mode"] == mode]
+        if not rs:
+            continue
+        gm = math.exp(np.mean([math.log(r["ratio"]) for r in rs]))
+        print(f"{mode:9s} ratio: geo-mean {gm:.3g}, worst {max(r['ratio'] for r in rs):.3g}; "
+              f"CV worst {max(r['cv'] for r in rs):.3f}; time worst {max(r['time'] for r in rs):.2f} s"
+              f", total {sum(r['time'] for r in rs):.1f} s")
+    rs = [r for r in rows if r["mode"] == "resample"]
+    for key, lim in (("ratio", 2.0), ("cv", 0.08), ("dev", tol * (1 + 1e-9)), ("time", 3.0)):
+        ok = sum(r[key] <= lim for r in rs)
+        print(f"goal {key} <= {lim:.3g}: met on {ok} of {len(rs)} outlines")
+
+
+#: Gmsh's tuning (a dozen meshes) takes minutes beyond this many vertices (see the table).
+GROWTH_GMSH_MAX = 6000
+
+
+def growth(polys, n, tol, gmsh) -> None:
+    """Time against the number of outline vertices: the densest outline simplified."""
+    name, p = max(polys.items(), key=lambda kv: len(kv[1].vertices))
+    g = p.to_shapely()
+    print(f"\ntime growth with |V| ({name} simplified, topology kept; n = {n})")
+    print(f"{'|V|':>6s} {'paper s':>8s} {'resample s':>10s} {'gmsh s':>7s}")
+    for eps in (0.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0):
+        q = u.Polygon.from_shapely(g.simplify(eps, preserve_topology=True)) if eps else p
+        times = []
+        for rs in (None, tol):
+            t = time.perf_counter()
+            u.uniform_mesh(q, n, resample=rs)
+            times.append(time.perf_counter() - t)
+        gm = "-"
+        if gmsh and len(q.vertices) <= GROWTH_GMSH_MAX:
+            t = time.perf_counter()
+            gmsh_peer.mesh(q, len(q.vertices) + n)
+            gm = f"{time.perf_counter() - t:.2f}"
+        print(f"{len(q.vertices):6d} {times[0]:8.2f} {times[1]:10.2f} {gm:>7s}")
+
+
+def profile(name, p, n, tol) -> None:
+    pr = cProfile.Profile()
+    pr.enable()
+    u.uniform_mesh(p, n, resample=tol)
+    pr.disable()
+    s = io.StringIO()
+    pstats.Stats(pr, stream=s).sort_stats("cumulative").print_stats(25)
+    print(f"\nprofile of the slowest resample run ({name}):")
+    print("\n".join(s.getvalue().splitlines()[:45]))
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=2000)
+    ap.add_argument("--tol", type=float, default=0.25)
+    ap.add_argument("--only", nargs="*")
+    ap.add_argument("--no-gmsh", action="store_true")
+    ap.add_argument("--growth", action="store_true")
+    ap.add_argument("--profile", action="store_true")
+    args = ap.parse_args(argv)
+    polys = outlines(args.only)
+    u.uniform_mesh(u.Polygon([(0, 0), (1, 0), (0, 1)]), 20)  # kernels loaded before the clock
+    gmsh = not args.no_gmsh and gmsh_peer.available()
+    rows = []
+    for name, p in polys.items():
+        rows += run_one(name, p, args.n, args.tol, gmsh)
+        show(rows[-(4 if gmsh else 2):], args.tol)
+    print("\nall outlines, n =", args.n, "tolerance", args.tol)
+    show(rows, args.tol)
+    summary(rows, args.tol)
+    if args.profile:
+        worst = max((r for r in rows if r["mode"] == "resample"), key=lambda r: r["time"])
+        profile(worst["outline"], polys[worst["outline"]], args.n, args.tol)
+    if args.growth:
+        growth(polys, args.n, args.tol, gmsh)
+
+
+if __name__ == "__main__":
+    main()

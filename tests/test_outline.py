@@ -1,0 +1,259 @@
+"""Resampled outlines (uniform_mesh(..., resample=tol), uniform2d.outline): the
+tolerance held (Hausdorff distance measured independently by shapely), corners,
+fixed points and segment ends kept, exactly n points, valid meshes, and the
+warning that suggests resampling in the paper's mode."""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+import uniform2d as u
+from uniform2d.cli.main import main
+from uniform2d.errors import InvalidArgumentError
+from uniform2d.outline import resample_polygon
+from uniform2d.testing import check_mesh
+
+ROOT = Path(__file__).resolve().parents[1]
+OUTLINES = ROOT / "data" / "outlines"
+
+
+def hausdorff(a: u.Polygon, b: u.Polygon) -> float:
+    """Ring by ring, segments densified (shapely's discrete Hausdorff distance)."""
+    return max(shapely.hausdorff_distance(shapely.LinearRing(ra), shapely.LinearRing(rb),
+                                          densify=0.1)
+               for ra, rb in zip(a.rings, b.rings))
+
+
+def wiggly_disk(k=3000, amp=0.0005, seed=0):
+    """A dense circle of radius 1 with digitising noise of ``amp``, and a square hole."""
+    t = np.linspace(0, 2 * np.pi, k, endpoint=False)
+    r = 1 + amp * np.random.default_rng(seed).standard_normal(k)
+    hole = [(-0.2, -0.2), (-0.2, 0.2), (0.2, 0.2), (0.2, -0.2)]
+    return u.Polygon(np.c_[r * np.cos(t), r * np.sin(t)], [hole])
+
+
+def dense_rectangle(step=0.01):
+    """A 4 x 1 rectangle with a vertex every ``step`` along its sides."""
+    s = np.arange(0, 4, step)
+    e = np.arange(0, 1, step)
+    ring = np.concatenate([np.c_[s, 0 * s], np.c_[4 + 0 * e, e], np.c_[4 - s, 1 + 0 * s],
+                           np.c_[0 * e, 1 - e]])
+    return ring
+
+
+def _is_input_vertex(points, polygon):
+    V = polygon.vertices
+    return np.isin(points[:, 0] + 1j * points[:, 1], V[:, 0] + 1j * V[:, 1])
+
+
+@pytest.mark.parametrize("name, tol", [("canada", 0.05), ("antarctica", 0.25), ("usa", 0.05),
+                                       ("nyc_manhattan", 0.25), ("nyc_staten_island", 0.5)])
+def test_corpus_outlines_within_tolerance(name, tol):
+    p = u.read_polygon(OUTLINES / f"{name}.json")
+    r, left = resample_polygon(p, 2000, tolerance=tol)
+    assert r.resampled
+    d = hausdorff(p, r.polygon)
+    assert d <= tol * r.spacing * (1 + 1e-9), (d / r.spacing, tol)
+    assert d <= r.deviation * (1 + 1e-9) + 1e-12 * r.spacing  # the bound it reports holds
+    assert left + r.n_boundary == 2000
+    assert r.n_kept + r.n_boundary == len(r.polygon.vertices)
+    # kept vertices are input vertices, unmoved
+    assert _is_input_vertex(r.polygon.vertices[r.kept], p).all()
+
+
+def test_every_boundary_point_lies_on_the_outline():
+    p = wiggly_disk()
+    r, _ = resample_polygon(p, 1500, tolerance=0.1)
+    pts = shapely.points(r.polygon.vertices)
+    dist = shapely.distance(shapely.LinearRing(p.outer), pts[: len(r.polygon.outer)])
+    assert dist.max() <= 1e-12
+
+
+def test_resampled_mesh_has_exactly_n_and_is_valid():
+    p = wiggly_disk()
+    n = 800
+    m = u.uniform_mesh(p, n, resample=0.1)
+    info = m.info["resample"]
+    assert info["n"] == n and info["resampled"]
+    assert len(m.points) == info["kept_vertices"] + n
+    check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
+    assert hausdorff(p, m.polygon) <= 0.1 * info["spacing"] * (1 + 1e-9)
+    assert info["deviation"] <= 0.1 * info["spacing"] * (1 + 1e-9)
+    # the point of it: edges as even as on a plain disk (the input's are 200 times shorter)
+    assert m.quality().edge_ratio < 2.5
+    assert u.uniform_mesh(p, n, resample=0.1).points.tobytes() == m.points.tobytes()
+
+
+def test_size_with_resample():
+    p = wiggly_disk()
+    m = u.uniform_mesh(p, size=0.08, resample=0.1)
+    info = m.info["resample"]
+    assert info["spacing"] == 0.08
+    assert len(m.points) == info["kept_vertices"] + info["n"]
+    check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
+    # n as steiner_count_for_size gives it for the resampled polygon
+    q = m.polygon
+    N = u.geometry.vertex_count(q.area, q.perimeter, 0.08, q.n_holes)
+    assert info["n"] == round(N) - info["kept_vertices"]
+
+
+def test_corners_kept_collinear_points_dropped():
+    ring = dense_rectangle()
+    p = u.Polygon(ring)
+    r, _ = resample_polygon(p, 400, tolerance=0.05)
+    corners = np.array([(0, 0), (4, 0), (4, 1), (0, 1)], dtype=float)
+    V = r.polygon.vertices
+    for c in corners:
+        i = np.flatnonzero((V == c).all(axis=1))
+        assert len(i) == 1 and r.kept[i[0]]
+    assert r.n_kept == 4 and r.n_corners == 4
+    # the sides are split evenly at the spacing, not at the input's 0.01 step
+    E = np.hypot(*(np.roll(V, -1, axis=0) - V).T)
+    assert E.min() > 0.8 * r.spacing and E.max() < 1.25 * r.spacing
+
+
+def test_corner_angle_parameter():
+    ring = dense_rectangle()
+    p = u.Polygon(ring)
+    r60, _ = resample_polygon(p, 400, tolerance=0.05, corner_angle=100)
+    assert r60.n_corners == 0  # 90-degree corners are not sharper than 100
+    assert hausdorff(p, r60.polygon) <= 0.05 * r60.spacing * (1 + 1e-9)
+
+
+def test_fixed_points_and_segment_ends_on_the_ring_kept():
+    ring = dense_rectangle()
+    seg = [(1.005, 0.0), (1.005, 0.7)]  # ends on the bottom side, between two input vertices
+    fixed = [(2.5, 1.0), (3.0, 0.5)]  # one on the top side (an input vertex), one inside
+    p = u.Polygon(ring, segments=[seg], points=fixed)
+    r, _ = resample_polygon(p, 400, tolerance=0.05)
+    V = r.polygon.vertices
+    for q in [seg[0], seg[1], fixed[0], fixed[1]]:
+        i = np.flatnonzero((V == np.array(q)).all(axis=1))
+        assert len(i) == 1 and r.kept[i[0]], q
+    m = u.uniform_mesh(p, 400, resample=0.05)
+    check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
+    assert len(m.points) == m.info["resample"]["kept_vertices"] + 400
+    assert len(m.polygon.segments) == 1 and np.array_equal(m.polygon.points, p.points)
+
+
+def test_narrow_slot_stays_valid():
+    # a dense outline with a slot narrower than the tolerance: the rings must not cross
+    p = u.Polygon(_slot_outline())
+    for tol in (0.05, 0.5):
+        r, _ = resample_polygon(p, 300, tolerance=tol)
+        assert r.polygon.to_shapely().is_valid
+        assert hausdorff(p, r.polygon) <= tol * r.spacing * (1 + 1e-9)
+    m = u.uniform_mesh(p, 300, resample=0.5)
+    check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
+
+
+def _slot_outline():
+    """A 4 x 1 rectangle (vertex every 0.005) with a slot 0.004 wide, 0.8 deep."""
+    def line(a, b, step=0.005):
+        k = max(1, round(np.hypot(b[0] - a[0], b[1] - a[1]) / step))
+        t = np.arange(k) / k
+        return np.c_[a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+
+    corners = [(0, 0), (2.0, 0), (2.0, 0.8), (2.004, 0.8), (2.004, 0), (4, 0), (4, 1), (0, 1)]
+    return np.concatenate([line(a, b) for a, b in zip(corners, corners[1:] + corners[:1])])
+
+
+def test_polygon_that_needs_no_resampling_is_meshed_as_given():
+    p = u.read_polygon(ROOT / "data" / "truss_panel.json")
+    m0 = u.uniform_mesh(p, 150)
+    m1 = u.uniform_mesh(p, 150, resample=0.05)
+    assert m1.info["resample"]["resampled"] is False and m1.polygon == p
+    assert m1.points.tobytes() == m0.points.tobytes()
+    assert m1.triangles.tobytes() == m0.triangles.tobytes()
+
+
+@pytest.mark.parametrize("bad", [0, -0.1, float("nan"), "0.1", True])
+def test_bad_tolerance_refused(bad):
+    with pytest.raises(InvalidArgumentError, match="resample"):
+        u.uniform_mesh(wiggly_disk(), 100, resample=bad)
+
+
+def test_bad_arguments_of_resample_polygon_refused():
+    p = wiggly_disk()
+    for kwargs in ({}, {"n": 10, "size": 0.1}, {"n": 0}, {"n": 2.5}, {"size": -1.0},
+                   {"n": 10, "corner_angle": 200}):
+        with pytest.raises(InvalidArgumentError):
+            resample_polygon(p, tolerance=0.1, **kwargs)
+
+
+def test_resample_with_parts_or_a_size_field_refused(tmp_path, capsys):
+    p = wiggly_disk()
+    with pytest.raises(InvalidArgumentError, match="resample"):
+        u.uniform_mesh(p, 200, resample=0.1, parts=2)
+    with pytest.raises(InvalidArgumentError, match="resample"):
+        u.uniform_mesh(p, 200, resample=0.1, size=lambda xy: 0.1 + 0 * xy[:, 0])
+    src = OUTLINES / "iceland.json"
+    code, _, err = _cli(capsys, "mesh", src, "-n", "100", "--resample", "0.25", "--parts", "2",
+                        "-o", tmp_path / "a.vtu")
+    assert code == 2 and "--resample" in err and not (tmp_path / "a.vtu").exists()
+
+
+def test_short_edges_warn_and_suggest_resampling(caplog):
+    p = wiggly_disk()
+    with caplog.at_level(logging.WARNING, logger="uniform2d"):
+        m = u.uniform_mesh(p, 300)
+    assert "resample" in m.info["warning"]
+    assert any("resample" in rec.getMessage() for rec in caplog.records)
+    caplog.clear()
+    with caplog.at_level(logging.WARNING, logger="uniform2d"):
+        m = u.uniform_mesh(u.Polygon([(0, 0), (2, 0), (2, 1), (0, 1)]), 300)
+    assert "warning" not in m.info and not caplog.records
+    # a bolt hole's chords at a coarse n: said in info (and logged as information), no warning
+    with caplog.at_level(logging.INFO, logger="uniform2d"):
+        m = u.uniform_mesh(u.read_polygon(ROOT / "data" / "l_bracket.json"), 40)
+    assert "resample" in m.info["warning"]
+    said = [rec for rec in caplog.records if "resample the outline" in rec.getMessage()]
+    assert len(said) == 1 and said[0].levelno == logging.INFO
+
+
+def _cli(capsys, *args):
+    """The command in process; (exit code, stdout, stderr)."""
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_cli_resample_and_warning(tmp_path, capsys):
+    src = OUTLINES / "nyc_manhattan.json"
+    code, out, err = _cli(capsys, "mesh", src, "-n", "300", "-o", tmp_path / "a.vtu")
+    assert code == 0, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "--resample" in lines[0] and lines[0].startswith("uniform2d: ")
+    code, out, err = _cli(capsys, "mesh", src, "-n", "300", "--resample", "0.25",
+                          "-o", tmp_path / "b.vtu")
+    assert code == 0, err
+    assert "n = 300" in out and "outline resampled" in out
+    assert "--resample" not in err
+    import meshio
+
+    m = meshio.read(tmp_path / "b.vtu")
+    kept = int(out.split(" input vertices kept")[0].rsplit(" ", 1)[1])
+    assert len(m.points) == kept + 300
+    code, out, err = _cli(capsys, "mesh", src, "-n", "300", "--resample", "0.25",
+                          "--corner-angle", "60", "-o", tmp_path / "d.vtu")
+    assert code == 0, err
+    assert int(out.split(" input vertices kept")[0].rsplit(" ", 1)[1]) < kept
+    code, out, err = _cli(capsys, "mesh", src, "-n", "300", "--corner-angle", "60",
+                          "-o", tmp_path / "e.vtu")
+    assert code == 2 and "--corner-angle" in err and not (tmp_path / "e.vtu").exists()
+    code, out, err = _cli(capsys, "mesh", src, "-n", "300", "--resample", "0.25",
+                          "--method", "paper", "-o", tmp_path / "c.vtu")
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--resample" in err
+    assert not (tmp_path / "c.vtu").exists()
+
+
+def test_info_says_lengths_are_in_the_given_coordinates(capsys):
+    code, out, _ = _cli(capsys, "info", OUTLINES / "norway_lonlat.json")
+    assert code == 0 and "degrees" in out and "project" in out
+    code, out, _ = _cli(capsys, "info", OUTLINES / "norway.json")
+    assert code == 0 and "degrees" not in out

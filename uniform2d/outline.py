@@ -1,0 +1,492 @@
+"""A polygon's boundary rings resampled at the mesh spacing, within a tolerance of the outline.
+
+The paper keeps every polygon vertex, so a dense outline (a digitised coastline,
+a CAD curve exported as thousands of short chords) has its shortest mesh edge
+set by its own digitising step.  :func:`resample_polygon` replaces each ring by
+points about one spacing ``h`` apart that stay within ``tol * h`` of the
+outline, as the surface layer does for its domains (the same dynamic programme,
+:mod:`uniform2d.chord_sampling`):
+
+- **kept vertices** are the input vertices that stay: *corners*, whose turning
+  angle exceeds ``corner_angle`` both at the vertex (between its two edges) and
+  at the scale of the mesh (between the chords to the outline points half a
+  spacing before and after it), at most one in any arc of length ``h``
+  (the sharpest, of those closer than ``h``); and every ring vertex a segment or fixed point touches.
+  Segments' interior vertices and fixed points inside stay as they are;
+- a run between kept vertices that is a single input edge is left whole: the
+  mesher splits it at the spacing it chooses, its points counting in n too;
+- the other **runs** between kept vertices (a whole ring if it has none) are sampled
+  evenly in a *straightened* arc length (that of the run simplified by
+  Douglas-Peucker at ``tol * h``, so a zigzag finer than the tolerance does not
+  count as length), ``round(L / h)`` pieces; where that leaves the outline
+  farther than ``tol * h`` from a ring edge, the dynamic programme moves the
+  samples (edges 0.8 to 1.25 of the run's spacing, then down to 0.5 and 0.25
+  of it, if that is what the tolerance takes), and a run it still cannot fit is
+  split at its farthest input vertex;
+- every sample lies on the outline, and every input vertex lies within the
+  tolerance of the ring edge that spans it, so the Hausdorff distance between
+  the rings and the outline (both ways) is at most :attr:`Resampled.deviation`;
+- a polygon whose constraint edges are all at least :data:`SHORT_EDGE` of the
+  spacing needs no resampling: it is returned as given;
+- if the resampled rings cross (two parts of the outline closer than the
+  tolerance), the crossing edges are split at the input vertex nearest their
+  middle (a boundary point, counted in n) and their runs sampled again, for a
+  few rounds; if that does not make them valid the polygon is kept as given:
+  the polygon returned is always valid.
+
+Lengths are measured in the coordinates as given: a longitude/latitude outline
+is resampled in degrees (project it first, see ``docs/outlines.md``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import logging
+import math
+import numbers
+
+import numpy as np
+import shapely
+
+from .chord_sampling import plain_run, run_counts, sample_run
+from .errors import InvalidArgumentError, InvalidPolygonError
+from .geometry import point_segment_distance, size_for_count, vertex_count
+from .polygon import Polygon
+
+__all__ = ["CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled", "resample_polygon", "short_edge_warning"]
+
+log = logging.getLogger(__name__)
+
+#: Default corner threshold, in degrees of turning angle (the surface layer's).
+CORNER_ANGLE = 30.0
+#: A polygon edge shorter than this fraction of the mesh spacing makes a uniform
+#: mesh impossible: the mesh keeps it, so its edge ratio is at least about 1 / SHORT_EDGE.
+SHORT_EDGE = 1 / 3
+#: The edge ratio the polygon's own edges force from which that is a warning (below,
+#: information kept in ``Mesh.info``).
+SEVERE = 10.0
+#: The edge-length bounds (fractions of a run's spacing) tried in turn where the
+#: tolerance is not met.
+_BOUNDS = ((0.8, 1.25), (0.5, 1.25), (0.25, 1.25))
+#: Candidate positions per spacing in the dynamic programme (the surface layer's 16
+#: costs 4 times the time for little: planar tolerances are fractions of a spacing).
+_GRID = 8
+#: Rounds of splitting the sampled edges that cross, before the polygon is kept as given.
+_ROUNDS = 8
+#: Spacing iterations (the boundary count changes the spacing a mesh of n points has).
+_ITERATIONS = 8
+
+
+@dataclasses.dataclass(frozen=True)
+class Resampled:
+    """A polygon with resampled rings.
+
+    Attributes
+    ----------
+    polygon : Polygon
+        The resampled polygon (segments, fixed points and region labels as given).
+    kept : (K,) bool
+        For every vertex of ``polygon``: an input vertex kept as such (V); the
+        others are boundary points placed by the resampling (they count in n).
+    spacing : float
+        The spacing h the rings were sampled at.
+    tolerance : float
+        The tolerance asked for, a fraction of ``spacing``.
+    deviation : float
+        A bound on the Hausdorff distance between the rings and the input
+        outline (a length): the largest distance of an input vertex from the
+        ring edge spanning it.
+    n_corners : int
+        Kept corners.
+    resampled : bool
+        False if the polygon is as given: no constraint edge is shorter than
+        :data:`SHORT_EDGE` of the spacing (it needs no resampling), or no
+        resampling gave valid rings.
+    """
+
+    polygon: Polygon
+    kept: np.ndarray
+    spacing: float
+    tolerance: float
+    deviation: float
+    n_corners: int
+    resampled: bool = True
+
+    @property
+    def n_kept(self) -> int:
+        return int(self.kept.sum())
+
+    @property
+    def n_boundary(self) -> int:
+        """Boundary points placed by the resampling (they count in n)."""
+        return int(len(self.kept) - self.kept.sum())
+
+    def info(self) -> dict:
+        """A JSON-able summary, for ``Mesh.info["resample"]``."""
+        return {
+            "tolerance": self.tolerance,
+            "spacing": self.spacing,
+            "deviation": self.deviation,
+            "deviation_fraction": self.deviation / self.spacing,
+            "kept_vertices": self.n_kept,
+            "corners": self.n_corners,
+            "boundary_points": self.n_boundary,
+            "resampled": self.resampled,
+        }
+
+
+def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | None = None,
+                     tolerance: float, corner_angle: float = CORNER_ANGLE) -> tuple[Resampled, int]:
+    """Resample ``polygon``'s rings for a mesh of ``n`` Steiner points (or edge ``size``).
+
+    The spacing h is that of an equilateral mesh of the resampled polygon with
+    its kept vertices plus n points (:func:`uniform2d.geometry.size_for_count`),
+    found by iterating (the resampled perimeter depends on h); with ``size``, h
+    is ``size`` and n follows as in :func:`uniform2d.steiner_count_for_size`.
+
+    Returns
+    -------
+    Resampled
+    int
+        The Steiner points left for the mesher: n minus the resampled boundary points.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    >>> disk = Polygon(np.c_[np.cos(t), np.sin(t)])
+    >>> r, n_left = resample_polygon(disk, 300, tolerance=0.05)
+    >>> r.n_kept, r.n_boundary + n_left, r.deviation <= 0.05 * r.spacing
+    (0, 300, True)
+    """
+    _check(tolerance, corner_angle)
+    if (n is None) == (size is None):
+        raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
+    if size is None and (isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1):
+        raise InvalidArgumentError(f"n must be a positive integer, got {n!r}")
+    if size is not None and not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
+        raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
+    extra = len(polygon.vertices) - polygon.n_ring_vertices
+    if size is not None:
+        r = _resample_at(polygon, float(size), tolerance, corner_angle)
+        q = r.polygon
+        N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
+        return r, max(0, round(N) - r.n_kept) - r.n_boundary
+    h = size_for_count(polygon.area, polygon.perimeter, n + extra, polygon.n_holes)
+    # a first guess nearer the fixed point: the perimeter without the wiggles the
+    # tolerance removes (a dense outline's own perimeter can be many times longer)
+    simple = shapely.simplify(polygon.to_shapely(), tolerance * h, preserve_topology=False)
+    if simple.geom_type == "Polygon" and not simple.is_empty:
+        h = max(h, size_for_count(polygon.area, simple.length, n + extra, polygon.n_holes))
+    forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
+    for _ in range(_ITERATIONS):
+        r = _resample_at(polygon, h, tolerance, corner_angle, forced)
+        q = r.polygon
+        h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
+        if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
+            break
+        h = h_next
+    return r, n - r.n_boundary
+
+
+def short_edge_warning(polygon: Polygon, n: int) -> tuple[str, int] | None:
+    """Why ``polygon``'s own edges make a uniform mesh of n points impossible, or None.
+
+    The criterion: a constraint edge (ring or segment piece) shorter than
+    :data:`SHORT_EDGE` of the spacing h of an equilateral mesh with |V| + n
+    vertices; the mesh keeps that edge, so its edge ratio is at least about h
+    over it.  Returns the message and its logging level: ``WARNING`` when that
+    ratio is at least :data:`SEVERE` (a digitised outline far finer than the
+    mesh), ``INFO`` below (a small hole's chords at a coarse n, say).
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> print(short_edge_warning(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 100))
+    None
+    """
+    h = size_for_count(polygon.area, polygon.perimeter, n + len(polygon.vertices), polygon.n_holes)
+    E = polygon.constraint_edges
+    V = polygon.vertices
+    L = np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T)
+    short = int((L < SHORT_EDGE * h).sum())
+    if not short:
+        return None
+    ratio = h / L.min()
+    message = (f"{short} of the polygon's {len(L)} edges are shorter than a third of the mesh "
+               f"spacing {h:.4g} (the shortest {L.min():.3g}, spacing / {ratio:.3g}): the mesh "
+               f"keeps every polygon vertex, so its edge ratio is at least about {ratio:.3g}; "
+               "resample the outline (resample=0.25, or --resample 0.25 on the command line)")
+    return message, logging.WARNING if ratio >= SEVERE else logging.INFO
+
+
+def _check(tolerance, corner_angle) -> None:
+    ok = isinstance(tolerance, numbers.Real) and not isinstance(tolerance, bool)
+    if not (ok and math.isfinite(tolerance) and tolerance > 0):
+        raise InvalidArgumentError(
+            f"resample must be a tolerance > 0 (a fraction of the mesh spacing, e.g. 0.05), "
+            f"got {tolerance!r}")
+    if isinstance(corner_angle, bool) or not (
+            isinstance(corner_angle, numbers.Real) and 0 <= corner_angle <= 180):
+        raise InvalidArgumentError(f"corner_angle must be in [0, 180] degrees, got {corner_angle!r}")
+
+
+def _must_keep(polygon: Polygon) -> np.ndarray:
+    """(ring vertices,) bool: ring vertices a segment or a fixed point touches."""
+    keep = np.zeros(polygon.n_ring_vertices, dtype=bool)
+    idx = np.concatenate([polygon.segment_edges.ravel(), polygon.fixed])
+    idx = idx[idx < polygon.n_ring_vertices]
+    keep[idx] = True
+    return keep
+
+
+def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
+    return Resampled(polygon, np.ones(len(polygon.vertices), dtype=bool), h, float(tol), 0.0, 0,
+                     resampled=False)
+
+
+def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
+                 forced=None) -> Resampled:
+    """The rings resampled at spacing ``h``, made valid (see the module notes); the
+    polygon as given if no constraint edge is shorter than ``SHORT_EDGE * h``.
+    ``forced`` (per ring, (k,) bool, updated): input vertices where runs must be
+    split (found by an earlier call at another spacing)."""
+    V, E = polygon.vertices, polygon.constraint_edges
+    if np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min() >= SHORT_EDGE * h:
+        return _as_given(polygon, h, tol)
+    keep = _must_keep(polygon)
+    off = polygon.ring_offsets
+    thr = math.radians(corner_angle)
+    corners = [_corners(ring, h, thr) for ring in polygon.rings]
+    forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings] if forced is None else forced
+    caches = [{} for _ in polygon.rings]
+    for _ in range(_ROUNDS):
+        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r])
+                 for r, ring in enumerate(polygon.rings)]
+        samples = [g.sample(h, tol) for g in rings]
+        try:
+            poly = _rebuild(polygon, [s[0] for s in samples])
+        except InvalidPolygonError as exc:
+            log.info("resampled rings invalid at spacing %.6g (%s); splitting there", h, exc)
+            crossing = _crossing_edges(polygon, samples)
+            added = 0
+            for r, edges in crossing.items():
+                at = rings[r].split_points(samples[r][3], edges)
+                added += int((~forced[r][at]).sum())
+                forced[r][at] = True
+            if not added:
+                break
+            continue
+        kept = np.concatenate([np.concatenate([s[1] for s in samples]),
+                               np.ones(len(poly.vertices) - poly.n_ring_vertices, dtype=bool)])
+        dev = max(s[2] for s in samples)
+        return Resampled(poly, kept, h, float(tol), float(dev), sum(g.n_corners for g in rings))
+    log.warning("the outline could not be resampled at spacing %.4g without its rings crossing; "
+                "every input vertex kept", h)
+    return _as_given(polygon, h, tol)
+
+
+def _rebuild(polygon: Polygon, rings) -> Polygon:
+    return Polygon(rings[0], rings[1:], segments=polygon.split_segments(), points=polygon.points,
+                   regions=polygon.region_seeds)
+
+
+def _crossing_edges(polygon: Polygon, samples) -> dict:
+    """Per ring, the sampled edges (index of their first point) that cross or
+    touch another edge of the rings or segments (not their neighbours)."""
+    segs, owner = [], []
+    for r, (pts, _, _, _) in enumerate(samples):
+        segs.append(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
+        owner += [(r, i, len(pts)) for i in range(len(pts))]
+    V = polygon.vertices
+    E = polygon.segment_edges
+    segs.append(np.stack([V[E[:, 0]], V[E[:, 1]]], axis=1).reshape(-1, 2, 2))
+    owner += [(-1, i, 0) for i in range(len(E))]
+    lines_xy = np.concatenate(segs)
+    lines = shapely.linestrings(lines_xy)
+    a, b = shapely.STRtree(lines).query(lines, predicate="intersects")
+    out: dict = {}
+    for i, j in zip(a.tolist(), b.tolist()):
+        ri, pi, ni = owner[i]
+        rj, pj, _ = owner[j]
+        if i == j or ri < 0 or (ri == rj and (pj - pi) % ni in (1, ni - 1)):
+            continue
+        if rj < 0 and _share_end(lines_xy[i], lines_xy[j]):  # a segment's junction
+            continue
+        out.setdefault(ri, set()).add(pi)
+    return {r: np.array(sorted(k)) for r, k in out.items()}
+
+
+def _share_end(p, q) -> bool:
+    return any(np.array_equal(a, b) for a in p for b in q)
+
+
+def scale_turning(ring: np.ndarray, s: float) -> np.ndarray:
+    """Turning angle (k,) radians at every vertex of a closed ring (k, 2), measured
+    between the chords from the ring point an arc ``s`` before it and to the one
+    an arc ``s`` after it (at most a quarter of the ring)."""
+    seg = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    s = min(s, cum[-1] / 4)
+
+    def at(t):
+        t = np.mod(t, cum[-1])
+        i = np.clip(np.searchsorted(cum, t, side="right") - 1, 0, len(ring) - 1)
+        f = (t - cum[i]) / seg[i]
+        return ring[i] + f[:, None] * (ring[(i + 1) % len(ring)] - ring[i])
+
+    a = ring - at(cum[:-1] - s)
+    b = at(cum[:-1] + s) - ring
+    return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
+
+
+def _corners(ring: np.ndarray, h: float, thr: float) -> np.ndarray:
+    """(k,) bool: the corners (see the module notes), the sharpest first when two
+    are closer than ``h``."""
+    a = np.roll(ring, 1, axis=0) - ring
+    b = np.roll(ring, -1, axis=0) - ring
+    own = np.pi - np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
+    wide = scale_turning(ring, h / 2)
+    cand = np.flatnonzero((own > thr) & (wide > thr))
+    out = np.zeros(len(ring), dtype=bool)
+    if not len(cand):
+        return out
+    taken = np.empty((0, 2))
+    for i in cand[np.lexsort((cand, -np.minimum(own, wide)[cand]))]:
+        if not len(taken) or np.hypot(*(taken - ring[i]).T).min() >= h:
+            taken = np.vstack([taken, ring[i]])
+            out[i] = True
+    return out
+
+
+class _Ring:
+    """One ring's runs between kept vertices and its straightened arc measure."""
+
+    def __init__(self, ring, keep, corners, forced, h, tol, cache):
+        self.ring = ring
+        self.cache = cache  # (start, edges[, pieces]) -> a run's measure or sampling
+        self.kept = keep | corners
+        self.n_corners = int((corners & ~keep).sum())
+        starts = np.flatnonzero(self.kept | forced)  # forced: run ends that count in n
+        self.closed = not len(starts)
+        self.starts = starts if len(starts) else np.array([0])
+        k = len(ring)
+        self.nvs = (np.roll(self.starts, -1) - self.starts) % k if len(self.starts) > 1 else np.array([k])
+        seg = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
+        meas = seg.copy()
+        for a, nv in zip(self.starts, self.nvs):
+            idx = (a + np.arange(nv + 1)) % k
+            key = (int(a), int(nv))
+            if key not in cache:
+                cache[key] = _straightened(ring[idx], seg[idx[:-1]], tol * h)
+            meas[idx[:-1]] = cache[key]
+        cum = np.concatenate([[0.0], np.cumsum(meas)])
+        self.cum = cum
+        self.ext = np.concatenate([cum[:-1], cum[-1] + cum])  # twice round
+
+    def sample(self, h, tol):
+        """(points (r, 2), kept (r,), deviation, measure position of each point (r,))
+        at spacing ``h``, within ``tol`` of the spacing."""
+        lp = np.arange(len(self.ring))
+        m = run_counts(self.ext[self.starts + self.nvs] - self.ext[self.starts], h, self.closed)
+        S, vert = [], []
+        for a, nv, mk in zip(self.starts, self.nvs, m):
+            key = (int(a), int(nv), int(mk))
+            if key not in self.cache:  # a run's sampling depends on its own measure only
+                self.cache[key] = self._run(lp, int(a), int(nv), int(mk), h, tol * h)
+            for a2, u, v in self.cache[key]:
+                S.append(self.ext[a2] + u)
+                vert.append(v)
+        S, vert = np.concatenate(S), np.concatenate(vert)
+        pts = self._points(S, vert)
+        kept = np.zeros(len(S), dtype=bool)
+        kept[vert >= 0] = self.kept[vert[vert >= 0] % len(self.ring)]
+        return pts, kept, float(self._deviation(S, pts).max()), S
+
+    def split_points(self, S, edges):
+        """The input vertices (indices) nearest the middle of the sampled edges
+        ``edges`` (first points' indices), strictly inside their span."""
+        total = self.cum[-1]
+        k = len(self.ring)
+        a = S[edges]
+        b = np.where(edges + 1 < len(S), S[(edges + 1) % len(S)], S[0] + total)
+        out = []
+        for lo, hi in zip(a, b):
+            i = np.searchsorted(self.ext, [lo, hi], side="right")
+            inside = np.arange(i[0], i[1])
+            inside = inside[(self.ext[inside] > lo) & (self.ext[inside] < hi)]
+            if len(inside):
+                mid = inside[np.argmin(np.abs(self.ext[inside] - 0.5 * (lo + hi)))]
+                out.append(int(mid) % k)
+        return np.array(out, dtype=np.int64)
+
+    def _run(self, lp, a, nv, m, h, tol):
+        """[(start, offsets, vertex or -1)] sampling run (a, nv), split if need be.
+        A run that is one input edge is left whole: the mesher splits it at the
+        spacing it chooses (its points count in n like these)."""
+        if nv == 1:
+            return [(a, np.zeros(1), np.array([a]))]
+        u, height = plain_run(self.ring, lp, self.ext, a, nv, m)
+        vert = np.full(m, -1)
+        vert[0] = a
+        for bounds in _BOUNDS:
+            if height <= tol:
+                return [(a, u, vert)]
+            u, vert, height = sample_run(self.ring, lp, self.ext, a, nv, m, tol, bounds, _GRID)
+        if height <= tol:
+            return [(a, u, vert)]
+        # split at the input vertex farthest from the sampling, and sample both parts
+        S = self.ext[a] + np.append(u, self.ext[a + nv] - self.ext[a])
+        idx = a + np.arange(1, nv)
+        d = self._deviation(S, self._points(S, np.append(vert, a + nv)), idx)
+        s = int(np.argmax(d)) + 1
+        L1, L2 = self.ext[a + s] - self.ext[a], self.ext[a + nv] - self.ext[a + s]
+        return (self._run(lp, a, s, max(1, round(L1 / h)), h, tol)
+                + self._run(lp, a + s, nv - s, max(1, round(L2 / h)), h, tol))
+
+    def _points(self, S, vert):
+        """Points at measure positions S (on the input edges), exact on input vertices."""
+        k = len(self.ring)
+        s = np.mod(S, self.cum[-1])
+        i = np.clip(np.searchsorted(self.cum, s, side="right") - 1, 0, k - 1)
+        t = np.clip((s - self.cum[i]) / (self.cum[i + 1] - self.cum[i]), 0.0, 1.0)
+        P = self.ring[i] + t[:, None] * (self.ring[(i + 1) % k] - self.ring[i])
+        on = vert >= 0
+        P[on] = self.ring[vert[on] % k]
+        return P
+
+    def _deviation(self, S, P, idx=None):
+        """Distance of input vertices ``idx`` (default all) from the sampled edge
+        spanning each (samples at measure positions S, points P, in order)."""
+        k = len(self.ring)
+        idx = np.arange(k) if idx is None else idx
+        pos = self.ext[idx]
+        r = len(S)
+        g = np.searchsorted(S, pos, side="right") - 1
+        pos2 = np.where(g < 0, pos + self.cum[-1], pos)  # before the first sample: wrap
+        g = np.searchsorted(S, pos2, side="right") - 1
+        g = np.where(g < 0, r - 1, g)
+        return point_segment_distance(self.ring[idx % k], P[g % r], P[(g + 1) % r])
+
+
+def _straightened(pts, seg, eps):
+    """Per edge of the polyline ``pts`` (k + 1, 2): its length scaled so that each
+    stretch between the vertices Douglas-Peucker keeps at ``eps`` measures its chord."""
+    simple = shapely.get_coordinates(shapely.simplify(shapely.LineString(pts), eps, preserve_topology=False))
+    marks = np.zeros(len(pts), dtype=bool)
+    j = 0
+    for i in range(len(pts)):  # the kept vertices, in order (a closed run repeats its start)
+        if j < len(simple) and pts[i, 0] == simple[j, 0] and pts[i, 1] == simple[j, 1]:
+            marks[i] = True
+            j += 1
+    marks[0] = marks[-1] = True
+    at = np.flatnonzero(marks)
+    out = seg.copy()
+    for p, q in itertools.pairwise(at):
+        arc = seg[p:q].sum()
+        chord = float(np.hypot(*(pts[q] - pts[p])))
+        if arc > 0 and chord > 0:
+            out[p:q] = seg[p:q] * (chord / arc)
+    return out
