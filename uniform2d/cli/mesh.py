@@ -408,7 +408,7 @@ def _show(args, doc: dict, several: bool) -> None:
     if not args.quiet and not args.json:
         print(f"wrote {', '.join(doc['outputs'])} ({doc['n_points']} points, {doc['n_triangles']} triangles, "
               f"n = {doc['n_steiner']})" + (f", figure {doc['plot']}" if doc["plot"] else ""))
-        if "resample" in doc["info"]:
+        if "resample" in doc["info"] and not args.stats:  # else shown with the stats
             print("  " + _resample_line(doc["info"]["resample"]))
     sys.stdout.flush()
 
