@@ -12,6 +12,7 @@ import numpy as np
 from uniform2d import insert
 from uniform2d.errors import InternalError
 from uniform2d.optimize import improve, lattice_seed
+from uniform2d.optimize.lloyd import weighted_lloyd
 
 from .patch import Patch
 from .sizing import compensation_field, size_variation, vertex_scale
@@ -25,8 +26,18 @@ __all__ = ["mesh_domain", "size_field", "UNIFORM_SIZE"]
 #: curved ones (spherical caps) by orders of magnitude more.
 UNIFORM_SIZE = 1e-3
 
+#: Weighted Lloyd iterations (and over-relaxation) between INSERT and the moves
+#: for a graded size, as :mod:`uniform2d.graded` does: a lattice does not
+#: redistribute its density towards the size's, INSERT's points do.
+LLOYD_ITERATIONS = 30
+LLOYD_OMEGA = 1.5
 
-def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
+#: Grid nodes along the longer side of a chart for a graded size's field: a
+#: caller's size varies faster than the smoothed compensation does.
+GRADED_RESOLUTION = 129
+
+
+def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True, graded_start=False):
     """Mesh a polygon with exactly ``len(polygon.vertices) + n_interior`` points.
 
     The one 2-D meshing step.  Default: a hexagonal lattice
@@ -45,6 +56,10 @@ def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
     size_field : uniform2d.SizeField or None
     optimize : bool
         Move the points (default) or keep INSERT's.
+    graded_start : bool
+        For a graded size (:mod:`surface.size3d`): start the moves from INSERT's
+        points (graded by the field) after weighted Lloyd iterations instead of
+        from the uniform lattice, whose density the moves cannot redistribute.
 
     Returns
     -------
@@ -56,7 +71,13 @@ def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
         What produced the mesh (goes into the report).
     """
     graded = "" if size_field is None else " with size field"
-    if optimize and n_interior:
+    if graded_start and optimize and n_interior:
+        res = insert(polygon, n_interior, size=size_field)
+        seed = weighted_lloyd(polygon, res.points, res.on_boundary, size_field,
+                              iterations=LLOYD_ITERATIONS, omega=LLOYD_OMEGA)
+        P, T, _ = improve(polygon, seed, size=size_field)
+        desc = "INSERT + weighted Lloyd + uniform2d.optimize.improve" + graded
+    elif optimize and n_interior:
         P, T, _ = improve(polygon, lattice_seed(polygon, n_interior), size=size_field)
         desc = "lattice + uniform2d.optimize.improve" + graded
     else:
@@ -73,9 +94,16 @@ def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True):
     return P, T, desc
 
 
-def size_field(P: Patch, prm, h: float):
-    """The compensation field, or None where the size it asks for is constant."""
+def size_field(P: Patch, prm, h: float, size3d=None):
+    """The compensation field, or None where the size it asks for is constant.
+
+    With ``size3d`` (a graded 3-D size, :class:`surface.size3d.Size3D`) the
+    field is that size composed with the compensation, always a field, sampled
+    on a finer grid (:data:`GRADED_RESOLUTION`)."""
     sv = vertex_scale(P.vertices, P.faces, prm.area_scale)
+    if size3d is not None:
+        return compensation_field(P.vertices, P.faces, prm.uv, prm.area_scale, h, scale=sv,
+                                  size3d=size3d, resolution=GRADED_RESOLUTION)
     if not size_variation(sv) > UNIFORM_SIZE:  # a constant size: no field
         return None
     return compensation_field(P.vertices, P.faces, prm.uv, prm.area_scale, h, scale=sv)
