@@ -122,7 +122,7 @@ def remesh_atlas(M: Model, N: int, h, *, feature_angle, features, corner_angle, 
                           "area_scale_max": max(ratios), "area_scale_ratio": max(ratios)},
         size_trend=float("nan"), fidelity=fidelity, timings=times,
         mesher=("atlas: lattice + uniform2d.optimize.improve per chart, 3-D seam relaxation"
-                if graded is None else "atlas: INSERT + weighted Lloyd + uniform2d.optimize.improve "
+                if graded is None else "atlas: rows + INSERT + weighted Lloyd + uniform2d.optimize.improve "
                 "with a graded size per chart, 3-D seam relaxation"),
         compensate=bool(compensate), atlas=info,
     )

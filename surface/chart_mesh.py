@@ -13,6 +13,7 @@ from uniform2d import insert
 from uniform2d.errors import InternalError
 from uniform2d.optimize import improve, lattice_seed
 from uniform2d.optimize.lloyd import weighted_lloyd
+from uniform2d.optimize.packing import rows_start
 
 from .patch import Patch
 from .sizing import compensation_field, size_variation, vertex_scale
@@ -26,10 +27,9 @@ __all__ = ["mesh_domain", "size_field", "UNIFORM_SIZE"]
 #: curved ones (spherical caps) by orders of magnitude more.
 UNIFORM_SIZE = 1e-3
 
-#: Weighted Lloyd iterations (and over-relaxation) between INSERT and the moves
-#: for a graded size, as :mod:`uniform2d.graded` does: a lattice does not
-#: redistribute its density towards the size's, INSERT's points do.
-LLOYD_ITERATIONS = 30
+#: Weighted Lloyd iterations (and over-relaxation) between the graded start and
+#: the moves for a graded size, as :mod:`uniform2d.graded` does.
+LLOYD_ITERATIONS = 10
 LLOYD_OMEGA = 1.5
 
 #: Grid nodes along the longer side of a chart for a graded size's field: a
@@ -57,9 +57,11 @@ def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True, graded_s
     optimize : bool
         Move the points (default) or keep INSERT's.
     graded_start : bool
-        For a graded size (:mod:`surface.size3d`): start the moves from INSERT's
-        points (graded by the field) after weighted Lloyd iterations instead of
-        from the uniform lattice, whose density the moves cannot redistribute.
+        For a graded size (:mod:`surface.size3d`): start the moves from rows
+        packed from the ring following the field, topped up by INSERT
+        (:func:`uniform2d.optimize.packing.rows_start`), after a few weighted
+        Lloyd iterations, instead of from the uniform lattice, whose density the
+        moves cannot redistribute.
 
     Returns
     -------
@@ -72,11 +74,11 @@ def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True, graded_s
     """
     graded = "" if size_field is None else " with size field"
     if graded_start and optimize and n_interior:
-        res = insert(polygon, n_interior, size=size_field)
-        seed = weighted_lloyd(polygon, res.points, res.on_boundary, size_field,
-                              iterations=LLOYD_ITERATIONS, omega=LLOYD_OMEGA)
+        seed, fixed = rows_start(polygon, n_interior, size_field, 1.0)
+        seed = weighted_lloyd(polygon, seed, fixed, size_field, iterations=LLOYD_ITERATIONS,
+                              omega=LLOYD_OMEGA)
         P, T, _ = improve(polygon, seed, size=size_field)
-        desc = "INSERT + weighted Lloyd + uniform2d.optimize.improve" + graded
+        desc = "rows + INSERT + weighted Lloyd + uniform2d.optimize.improve" + graded
     elif optimize and n_interior:
         P, T, _ = improve(polygon, lattice_seed(polygon, n_interior), size=size_field)
         desc = "lattice + uniform2d.optimize.improve" + graded

@@ -258,7 +258,8 @@ def relax(X, F, free_seeds, fixed, V0, F0, size=None):
     """Relax the band around ``free_seeds`` (free seam points); ``fixed`` (n,) bool
     vertices never move and edges between two of them never flip.  ``size``: a
     graded 3-D size (:class:`surface.size3d.Size3D`) the springs measure edges
-    against (the valence flips still compare lengths with the mean).
+    against; with it only the Delaunay flips are made (the valence flips
+    compare lengths with one mean length).
 
     Returns new ``(X, F)`` (the inputs are not changed) and the number of flips.
     """
@@ -278,7 +279,8 @@ def relax(X, F, free_seeds, fixed, V0, F0, size=None):
         X0, F_0 = X.copy(), F.copy()
         Xl = X.tolist()
         flips += _flip_pass(X, F, move, locked, "delaunay", Xl)
-        flips += _flip_pass(X, F, move, locked, "valence", Xl)
+        if size is None:  # valence flips compare lengths with one mean: not for a graded size
+            flips += _flip_pass(X, F, move, locked, "valence", Xl)
         X = _smooth(X, F, move, tree, N0, SMOOTH_STEPS, size)
         if _folded(X, F, tree, N0):
             log.info("seam relaxation stopped: a round would fold a triangle")
