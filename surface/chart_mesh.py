@@ -8,6 +8,8 @@ into the planar core that meshes a polygon with an exact count.
 from __future__ import annotations
 
 import numpy as np
+import shapely
+from scipy.spatial import cKDTree
 
 from uniform2d import insert
 from uniform2d.errors import InternalError
@@ -75,6 +77,8 @@ def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True, graded_s
     graded = "" if size_field is None else " with size field"
     if graded_start and optimize and n_interior:
         seed, fixed = rows_start(polygon, n_interior, size_field, 1.0)
+        if fixed.any():  # INSERT put points on the ring, which is the chart's seam
+            seed, fixed = _pull_inside(polygon, seed, fixed)
         seed = weighted_lloyd(polygon, seed, fixed, size_field, iterations=LLOYD_ITERATIONS,
                               omega=LLOYD_OMEGA)
         P, T, _ = improve(polygon, seed, size=size_field)
@@ -94,6 +98,23 @@ def mesh_domain(polygon, n_interior: int, size_field, *, optimize=True, graded_s
             "(a bug in uniform2d: please report it with the patch)"
         )
     return P, T, desc
+
+
+def _pull_inside(polygon, seed, fixed):
+    """The seed with its points on the ring moved halfway to their nearest interior
+    point (a chart's ring is its seam samples: the mesher may add none on it), or
+    the lattice where that is not strictly inside."""
+    inner = np.flatnonzero(~fixed)
+    off = polygon.ring_offsets
+    rings = [polygon.vertices[off[r]:off[r + 1]] for r in range(len(polygon.rings))]
+    shape = shapely.Polygon(rings[0], rings[1:])
+    out = seed.copy()
+    if len(inner):
+        _, j = cKDTree(seed[inner]).query(seed[fixed])
+        out[fixed] = 0.5 * (seed[fixed] + seed[inner[j]])
+    if not len(inner) or not shapely.contains_xy(shape, out[fixed, 0], out[fixed, 1]).all():
+        return lattice_seed(polygon, len(seed)), np.zeros(len(seed), dtype=bool)
+    return out, np.zeros(len(seed), dtype=bool)
 
 
 def size_field(P: Patch, prm, h: float, size3d=None):

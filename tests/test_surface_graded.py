@@ -135,3 +135,21 @@ def test_graded_refusals():
         surface.remesh(path, 300, size=h, fixed=[0], check=False, hausdorff=False)
     with pytest.raises(InvalidArgumentError, match="callable"):
         surface.remesh(path, size="fine", check=False, hausdorff=False)
+
+
+def test_points_on_a_chart_ring_are_pulled_inside():
+    from surface.chart_mesh import _pull_inside
+    from uniform2d import Polygon
+
+    sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    seed = np.array([[0.5, 0.0], [0.5, 0.4], [0.2, 0.7]])
+    out, fixed = _pull_inside(sq, seed, np.array([True, False, False]))
+    assert out.tolist() == [[0.5, 0.2], [0.5, 0.4], [0.2, 0.7]] and not fixed.any()
+    # halfway across the notch of an L is outside: the lattice instead, strictly inside
+    ell = Polygon([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)])
+    seed = np.array([[1.0, 1.5], [1.9, 0.9], [0.2, 0.2]])
+    out, fixed = _pull_inside(ell, seed, np.array([True, False, False]))
+    assert out.shape == (3, 2) and not fixed.any()
+    assert not np.array_equal(out[1:], seed[1:])
+    import shapely
+    assert shapely.contains_xy(shapely.Polygon(ell.vertices), out[:, 0], out[:, 1]).all()
