@@ -153,3 +153,16 @@ def test_points_on_a_chart_ring_are_pulled_inside():
     assert not np.array_equal(out[1:], seed[1:])
     import shapely
     assert shapely.contains_xy(shapely.Polygon(ell.vertices), out[:, 0], out[:, 1]).all()
+
+
+def torus_size(p):
+    """A module-level size (processes import it by name)."""
+    return 0.4 + np.abs(p[:, 2]) + 0.1 * p[:, 0]
+
+
+def test_atlas_in_processes_same_bytes():
+    path = DATA / "models" / "torus.obj"
+    a = surface.remesh(path, 900, size=torus_size, check=False, hausdorff=False)
+    b = surface.remesh(path, 900, size=torus_size, check=False, hausdorff=False, jobs=2)
+    assert len(a.vertices) == 900
+    assert a.vertices.tobytes() == b.vertices.tobytes() and a.faces.tobytes() == b.faces.tobytes()
