@@ -207,12 +207,18 @@ def _equal_chords(X, cum, m):
 
 
 def _weighted_pieces(V, c, spacing, size3d, closed) -> tuple[int, np.ndarray]:
-    """Pieces of a chain for a graded size: ``round(∫ ds / size3d / spacing)``, and
-    the chain's cumulative ``∫ ds / size3d`` (the measure its samples are even in)."""
+    """Pieces of a chain for a graded size: ``round(∫ ds / size3d / spacing)`` measured
+    along the chords of its samples (a chain zigzagging along the input's edges is
+    not sampled more densely), and the chain's cumulative ``∫ ds / size3d`` along
+    its edges (the measure its samples are even in)."""
     X = V[c]
     seg = np.linalg.norm(np.diff(X, axis=0), axis=1) / size3d(0.5 * (X[1:] + X[:-1]))
     cum = np.concatenate([[0.0], np.cumsum(seg)])
     m = max(1, round(float(cum[-1]) / spacing))
+    for _ in range(2):  # straighten, as _pieces does: the chords of m pieces, then m again
+        P = _positions(V, c, m, cum=cum)[0]
+        m = max(1, round(float(np.sum(np.linalg.norm(np.diff(P, axis=0), axis=1)
+                                      / size3d(0.5 * (P[1:] + P[:-1])))) / spacing))
     return (max(m, 3) if closed else m), cum
 
 

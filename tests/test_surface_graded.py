@@ -61,6 +61,13 @@ def test_patch_exact_n_and_follows_h(name, n):
     assert qu.std() / qu.mean() > 2.5 * cv
     assert on_input(res, path) < 1e-3
     assert "q ratio" in res.report.summary()
+    # the boundary is spaced by equal ∫ ds / h: its edges have about the mesh's q
+    m = trimesh.Trimesh(res.vertices, res.faces, process=False)
+    be = m.edges[trimesh.grouping.group_rows(m.edges_sorted, require_count=1)]
+    a, b = res.vertices[be[:, 0]], res.vertices[be[:, 1]]
+    qb = np.linalg.norm(b - a, axis=1) / h(0.5 * (a + b))
+    assert qb.std() / qb.mean() < 0.1
+    assert 0.85 < qb.mean() / q.mean() < 1.15
 
 
 def test_closed_model_atlas_exact_n():
@@ -75,6 +82,13 @@ def test_closed_model_atlas_exact_n():
     assert q.std() / q.mean() < 0.12
     assert res.atlas is not None and "graded" in res.report.mesher
     assert on_input(res, path) < 1e-3
+    # the seams are sampled by equal ∫ ds / h: their pieces (relaxed, in the output)
+    # have about the mesh's q
+    X = res.vertices
+    qs = np.concatenate([np.linalg.norm(np.diff(X[c], axis=0), axis=1)
+                         / h(0.5 * (X[c[1:]] + X[c[:-1]])) for c in res.atlas.seams.chains])
+    assert qs.std() / qs.mean() < 0.12
+    assert 0.85 < qs.mean() / q.mean() < 1.15
 
 
 def test_absolute_size_gives_its_count():
