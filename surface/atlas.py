@@ -38,6 +38,7 @@ from .charts import CREASE_ANGLE, MAX_AREA_SCALE_RATIO, Chart, segment
 from .lift import lift
 from .model import Model
 from .seams import Seams, build_seams
+from .size3d import Size3D, integrals
 
 __all__ = ["Atlas", "build_atlas", "mesh_atlas", "crease_edges"]
 
@@ -98,8 +99,11 @@ def crease_edges(model: Model, feature_angle, features=()) -> np.ndarray:
 
 
 def build_atlas(model: Model, spacing: float, *, feature_angle=None, features=(),
-                corner_angle: float = 30.0, bound: float = MAX_AREA_SCALE_RATIO) -> Atlas:
-    """Cut ``model`` into charts and sample its seams at ``spacing``.
+                corner_angle: float = 30.0, bound: float = MAX_AREA_SCALE_RATIO,
+                size3d=None) -> Atlas:
+    """Cut ``model`` into charts and sample its seams at ``spacing`` (with
+    ``size3d``, a graded size's shape, in ``∫ ds / size3d``: see
+    :func:`surface.seams.build_seams`).
 
     Raises
     ------
@@ -114,7 +118,7 @@ def build_atlas(model: Model, spacing: float, *, feature_angle=None, features=()
     refine: dict = {}
     for _ in range(MAX_REFINE + 1):
         seams = build_seams(V, F, model.boundary_loops, charts, creases, spacing=spacing,
-                            corner_angle=corner_angle, refine=refine)
+                            corner_angle=corner_angle, refine=refine, size3d=size3d)
         polygons, index, bad = [], [], []
         for i, chart in enumerate(charts):
             try:
@@ -164,7 +168,7 @@ def _chart_polygon(chart: Chart, rings, seams: Seams):
     return poly, idx
 
 
-def chart_counts(atlas: Atlas, n_vertices: int, spacing: float) -> np.ndarray:
+def chart_counts(atlas: Atlas, n_vertices: int, spacing) -> np.ndarray:
     """Interior points of every chart, summing to ``n_vertices`` minus the seam points.
 
     Each chart's share is what an equilateral mesh of the spacing would put inside
@@ -179,6 +183,12 @@ def chart_counts(atlas: Atlas, n_vertices: int, spacing: float) -> np.ndarray:
     xyz = atlas.seams.xyz
     est = []
     for c, rings in zip(atlas.charts, atlas.seams.rings):
+        if isinstance(spacing, Size3D):  # the same with ∫ dA / h², ∮ ds / h
+            ia, _ = integrals(c.patch.vertices, c.patch.faces, [], spacing)
+            per = sum(float(np.sum(np.linalg.norm(xyz[np.roll(r, -1)] - xyz[r], axis=1)
+                                   / spacing(0.5 * (xyz[np.roll(r, -1)] + xyz[r])))) for r in rings)
+            est.append(max(ia - per / 2.0, 1e-9))
+            continue
         per = sum(np.linalg.norm(xyz[np.roll(r, -1)] - xyz[r], axis=1).sum() for r in rings)
         est.append(max(c.patch.area / (_AREA_PER_VERTEX * spacing**2) - per / (2.0 * spacing), 1e-9))
     return allocate(est, rest)
@@ -187,8 +197,12 @@ def chart_counts(atlas: Atlas, n_vertices: int, spacing: float) -> np.ndarray:
 def _mesh_chart(item):
     """Mesh one chart (a module-level function: batch workers import it by name)."""
     chart, polygon, count, spacing, compensate = item
-    field = size_field(chart.patch, chart.param, spacing) if compensate else None
-    P, T, _ = mesh_domain(polygon, int(count), field)
+    graded = isinstance(spacing, Size3D)
+    if graded:
+        field = size_field(chart.patch, chart.param, spacing.scale, spacing)
+    else:
+        field = size_field(chart.patch, chart.param, spacing) if compensate else None
+    P, T, _ = mesh_domain(polygon, int(count), field, graded_start=graded)
     K = len(polygon.vertices)
     if (boundary_edges(T, len(P)) >= K).any():
         raise InternalError("the planar mesher put a point on a chart's ring (a bug: please report it)")

@@ -226,6 +226,7 @@ def boundary_domain(
     max_refine: int = 4,
     chord_tol: float | str | None = "auto",
     keep=(),
+    size3d=None,
 ) -> Domain:
     """Resample the UV boundary loops of ``patch`` into a polygon.
 
@@ -254,6 +255,11 @@ def boundary_domain(
     keep : sequence of int
         Input boundary vertices kept as corners whatever their angle (where a
         feature line meets the boundary, see :mod:`surface.features`).
+    size3d : callable, optional
+        A graded 3-D size (:class:`surface.size3d.Size3D`, shape only): the arc
+        length is then ``∫ ds / size3d`` (3-D ``ds``), ``spacing`` is in that
+        unitless measure (the scale of the size) and the chord tolerance is a
+        fraction of ``spacing`` times the median size at the boundary vertices.
 
     Returns
     -------
@@ -268,14 +274,16 @@ def boundary_domain(
     V = patch.vertices
     uv = np.asarray(uv, dtype=np.float64)
     X = V if measure == "3d" else uv
-    arcs = _loop_arcs(patch, X)
+    arcs = _loop_arcs(patch, X, size3d)
     runs = _loop_runs(patch, arcs, np.radians(corner_angle), keep)
     h = float(spacing)
+    # the 3-D length per unit of spacing that the chord tolerance refers to
+    unit = 1.0 if size3d is None else float(np.median(size3d(V[np.concatenate(patch.boundary_loops)])))
     for attempt in range(max_refine + 1):
         # the plain even sampling of every run, and its chord heights
         plain = [_plain_loop(V, lp, runs[li], h) for li, lp in enumerate(patch.boundary_loops)]
         worst = max(p[2] for loop_runs in plain for p in loop_runs)
-        tol = _tolerance(chord_tol, worst, h, patch, uv)
+        tol = _tolerance(chord_tol, worst, h if size3d is None else h * unit, patch, uv)
         rings, heights = [], []
         for li, lp in enumerate(patch.boundary_loops):
             ring, hk = _ring(V, uv, lp, li, arcs[li][0], runs[li], plain[li], tol, h)
@@ -312,11 +320,15 @@ def _check_arguments(measure, chord_tol, spacing) -> None:
         raise InvalidArgumentError(f"spacing must be positive, got {spacing}")
 
 
-def _loop_arcs(patch: Patch, X) -> list:
-    """Per boundary loop: (cumulative arc length in the measure X, loop vertices)."""
+def _loop_arcs(patch: Patch, X, size3d=None) -> list:
+    """Per boundary loop: (cumulative arc length in the measure X, divided by
+    ``size3d`` at each edge's midpoint if given, loop vertices)."""
     arcs = []
     for lp in patch.boundary_loops:
         seg = np.linalg.norm(X[np.roll(lp, -1)] - X[lp], axis=1)
+        if size3d is not None:
+            V = patch.vertices
+            seg = seg / size3d(0.5 * (V[lp] + V[np.roll(lp, -1)]))
         arcs.append((np.concatenate([[0.0], np.cumsum(seg)]), lp))
     return arcs
 

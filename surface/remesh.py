@@ -38,6 +38,7 @@ from .patch import Patch
 from .quality_gate import check_quality
 from .result import RemeshResult
 from .report import Report, size_trend
+from .size3d import Size3D, count_for_size, integrals, q_stats, scale_for_count
 from .sizing import (
     target_size, vertex_count
 )
@@ -91,9 +92,18 @@ def remesh(
     n_vertices : int, optional
         Exact number of vertices of the output.  Default: the input's vertex count
         (unless ``size`` is given).
-    size : float, optional
+    size : float or callable, optional
         Target 3-D edge length instead of a count (give one or the other); the
-        count is then derived from the area and boundary length.
+        count is then derived from the area and boundary length.  A callable
+        ``h(points (k, 3)) -> (k,)`` is a graded size on the surface (see
+        :mod:`surface.size3d`): the edges follow ``h``, composed with the
+        compensation field, and the boundary and seams are spaced by equal
+        ``∫ ds / h``.  With ``n_vertices``, ``h``'s shape is kept and its scale
+        chosen for exactly ``n_vertices``; without, ``h`` is absolute.  The
+        report's ``edges`` then has ``q_min``, ``q_max``, ``q_ratio``, ``q_cv``
+        of ``q = length / h(midpoint)`` (at the chosen scale).  Graded sizes need
+        ``compensate=True`` and no feature lines or fixed vertices on a single
+        patch; ``jobs > 1`` needs a callable that pickles.
     param : {"lscm", "arap", "harmonic"}
         Parameterisation to try first (see :mod:`surface.parameterize`).
     compensate : bool
@@ -158,7 +168,12 @@ def remesh(
     t0 = time.perf_counter()
     M: Model = as_model(patch)
     times["check"] = time.perf_counter() - t0
-    N, h = _count_and_size(M, n_vertices, size)
+    if callable(size) and not isinstance(size, numbers.Real):
+        N, h = _graded_count(M, n_vertices, size)
+        if not compensate:
+            raise InvalidArgumentError("a graded size (a callable) needs compensate=True: it is a 3-D size")
+    else:
+        N, h = _count_and_size(M, n_vertices, size)
     t = time.perf_counter()
     P, prm = _one_chart(M, param)
     times["parameterize"] = time.perf_counter() - t
@@ -213,11 +228,20 @@ def _remesh_patch(P: Patch, prm, N, h, *, size, compensate, corner_angle, chord_
     t = time.perf_counter()
     measure = "3d" if compensate else "uv"
     chains, fixed = find_chains(P, feature_angle, features, fixed, corner_angle)
+    graded = h if isinstance(h, Size3D) else None
+    if graded is not None and (chains or len(fixed)):
+        raise InvalidArgumentError(
+            "feature lines and fixed vertices are not supported with a graded size (a callable) "
+            "on a patch that flattens in one piece; give a constant size or leave them out"
+        )
     on_boundary = set(np.concatenate(P.boundary_loops).tolist())
     keep = sorted({int(v) for c in chains for v in (c[0], c[-1]) if v in on_boundary}
                   | (set(fixed.tolist()) & on_boundary))  # fmt: skip
 
     def domain_at(hm):
+        if graded is not None:
+            return boundary_domain(P, prm.uv, hm, measure=measure, corner_angle=corner_angle,
+                                   chord_tol=chord_tol, size3d=graded.shape()), None
         d = boundary_domain(
             P, prm.uv, hm, measure=measure, corner_angle=corner_angle, chord_tol=chord_tol,
             keep=keep,
@@ -226,19 +250,20 @@ def _remesh_patch(P: Patch, prm, N, h, *, size, compensate, corner_angle, chord_
             return d, None
         return constrain(P, prm.uv, d, chains, fixed, hm, measure)
 
-    domain, lines = domain_at(h)
+    domain, lines = domain_at(h if graded is None else graded.scale)
     times["domain"] = time.perf_counter() - t
     K = len(domain.polygon.vertices)
     if N < K:
-        raise _too_few(P, N, size, K, domain.n_corners, domain_at)
+        raise _too_few(P, N, h if graded is not None else size, K, domain.n_corners, domain_at)
 
     t = time.perf_counter()
-    field = size_field(P, prm, h)
+    field = size_field(P, prm, h) if graded is None else size_field(P, prm, graded.scale, graded)
     times["size_field"] = time.perf_counter() - t
 
     t = time.perf_counter()
     pts, tris, mesher = mesh_domain(
-        domain.polygon, N - K, field if compensate else None, optimize=optimize
+        domain.polygon, N - K, field if compensate else None, optimize=optimize,
+        graded_start=graded is not None,
     )
     times["mesh_2d"] = time.perf_counter() - t
 
@@ -255,12 +280,19 @@ def _remesh_patch(P: Patch, prm, N, h, *, size, compensate, corner_angle, chord_
 
     dist = prm.distortion(P.face_areas)
     dist["attempts"] = [list(a) for a in prm.attempts]
+    edges = {k: v for k, v in stats.items() if not k.startswith("face_")}
+    target = h
+    if graded is not None:
+        E = unique_edges(tris)
+        q = graded.edge_q(xyz, E)
+        edges.update(q_stats(q))
+        target = float(np.mean(np.linalg.norm(xyz[E[:, 1]] - xyz[E[:, 0]], axis=1) / q))
     report = Report(
         n_vertices=len(pts), n_faces=len(tris), n_boundary=int(bmask.sum()),
-        n_corners=domain.n_corners, target_size=h, diagonal=P.diagonal,
-        edges={k: v for k, v in stats.items() if not k.startswith("face_")},
+        n_corners=domain.n_corners, target_size=target, diagonal=P.diagonal,
+        edges=edges,
         edges_uv={k: v for k, v in edge_stats(pts, tris).items() if not k.startswith("face_")},
-        meshlab=meshlab, parameterization=dist, size_trend=_size_trend(pts, tris, xyz, field, h),
+        meshlab=meshlab, parameterization=dist, size_trend=_size_trend(pts, tris, xyz, field, h if graded is None else graded),
         fidelity=fidelity, timings=times, mesher=mesher, compensate=bool(compensate),
     )
     for arr in (xyz, tris, pts, bmask):
@@ -274,7 +306,13 @@ def _count_and_size(P: Patch, n_vertices, size) -> tuple[int, float]:
     if n_vertices is not None and size is not None:
         raise InvalidArgumentError("give n_vertices or size, not both")
     if size is not None:
-        h = float(size)
+        try:
+            h = float(size)
+        except (TypeError, ValueError):
+            raise InvalidArgumentError(
+                f"size must be a positive length or a callable h(points (k, 3)) -> (k,) sizes, "
+                f"got {size!r}"
+            ) from None
         if not (np.isfinite(h) and h > 0):
             raise InvalidArgumentError(f"size must be a positive length, got {size!r}")
         N = vertex_count(A, Bl, h, chi)
@@ -286,12 +324,29 @@ def _count_and_size(P: Patch, n_vertices, size) -> tuple[int, float]:
     return N, h
 
 
+def _graded_count(M: Model, n_vertices, size) -> tuple[int, Size3D]:
+    """The vertex count N and the graded size at its scale (see :mod:`surface.size3d`)."""
+    g = size if isinstance(size, Size3D) else Size3D(size)
+    chi = M.euler_characteristic
+    ia, ib = integrals(M.vertices, M.faces, M.boundary_loops, g)
+    g = Size3D(g.h, 1.0, (ia, ib, chi))
+    if n_vertices is None:
+        N = count_for_size(chi, ia, ib)
+        if N < 3:
+            raise InvalidArgumentError("the size callable is larger than the surface; use smaller sizes")
+        return N, g
+    N = _as_count(n_vertices)
+    return N, g.scaled(scale_for_count(N, chi, ia, ib))
+
+
 def _too_few(P: Patch, N: int, size, K: int, n_corners: int, domain_at):
     """The error for a count below the boundary's own K points, with the smallest
     count m that works (the least m whose domain has at most m points)."""
     A, Bl, chi = P.area, P.boundary_length, P.euler_characteristic
 
     def boundary_count(m):
+        if isinstance(size, Size3D):
+            return len(domain_at(size.spacing_for(m))[0].polygon.vertices)
         return len(domain_at(target_size(A, Bl, m, chi))[0].polygon.vertices)
 
     lo, hi = N, max(2 * N, 16)
@@ -300,7 +355,7 @@ def _too_few(P: Patch, N: int, size, K: int, n_corners: int, domain_at):
     while hi - lo > 1:  # smallest m with boundary_count(m) <= m
         mid = (lo + hi) // 2
         lo, hi = (lo, mid) if boundary_count(mid) <= mid else (mid, hi)
-    what = f"n_vertices={N}" if size is None else f"size={size} (about {N} vertices)"
+    what = f"n_vertices={N}" if size is None or isinstance(size, Size3D) else f"size={size} (about {N} vertices)"
     return InsufficientPointsError(
         f"{what} is too small: the boundary and feature lines alone need {K} points at that size "
         f"({n_corners} corners kept); the smallest vertex count that works "
@@ -352,6 +407,9 @@ def _size_trend(pts, tris, xyz, field, h):
     E = unique_edges(tris)
     mid = 0.5 * (pts[E[:, 0]] + pts[E[:, 1]])
     L = np.linalg.norm(xyz[E[:, 1]] - xyz[E[:, 0]], axis=1)
+    if isinstance(h, Size3D):  # q against the compensation alone
+        hq = h(0.5 * (xyz[E[:, 0]] + xyz[E[:, 1]]))
+        return size_trend(L / hq, (field(mid) / hq) ** 2)
     scale_mid = np.ones(len(mid)) if field is None else (field(mid) / h) ** 2
     return size_trend(L, scale_mid)
 

@@ -118,7 +118,9 @@ class Report:
         Target 3-D edge length used.
     edges : dict
         3-D edge statistics: ``min``, ``max``, ``mean``, ``ratio``, ``cv``,
-        ``angle_min``, ``angle_max`` (degrees), ``n_edges``.
+        ``angle_min``, ``angle_max`` (degrees), ``n_edges``; with a graded size
+        also ``q_min``, ``q_max``, ``q_mean``, ``q_ratio``, ``q_cv`` of
+        ``q = length / size(midpoint)`` (:func:`surface.size3d.q_stats`).
     edges_uv : dict
         The same of the planar mesh (in UV).
     meshlab : dict or None
@@ -180,6 +182,9 @@ class Report:
             f"fidelity: vertices off surface {f['surface_distance_max_rel']:.2e}, boundary "
             f"{f['boundary_distance_max_rel']:.2e} of the diagonal",
         ]
+        if "q_cv" in e:
+            lines.insert(2, f"relative to the size: q ratio {e['q_ratio']:.3f}, cv {e['q_cv']:.4f}, "
+                            f"mean {e['q_mean']:.4f}")
         if f.get("hausdorff_out_in"):
             lines.append(
                 f"Hausdorff (pymeshlab): out->in {f['hausdorff_out_in']['max'] / self.diagonal:.2e}, "

@@ -97,18 +97,27 @@ def _folded(X, F, tree, N0) -> bool:
     return bool((np.einsum("ij,ij->i", _normals(X, F), nin) < np.cos(np.radians(FOLD_ANGLE))).any())
 
 
-def _smooth(X, F, move, tree, N0, steps: int):
-    """Spring steps of the ``move`` vertices towards edges of the mean length,
-    within the input's tangent plane, projected back onto the input."""
+def _smooth(X, F, move, tree, N0, steps: int, size=None):
+    """Spring steps of the ``move`` vertices towards edges of the mean length
+    (with ``size``, a graded size: of the mean length / size times the size at
+    the edge's midpoint), within the input's tangent plane, projected back onto
+    the input."""
     E = unique_edges(F)
     n = len(X)
     idx = np.flatnonzero(move)
     for _ in range(steps):
         d = X[E[:, 1]] - X[E[:, 0]]
         L = np.linalg.norm(d, axis=1)
-        dev = L / L.mean() - 1.0
-        w = 1.0 + (dev / EXTREME) ** 4  # the far-off edges pull hardest
-        pull = (w * dev * L.mean() / L)[:, None] * d
+        if size is None:
+            dev = L / L.mean() - 1.0
+            w = 1.0 + (dev / EXTREME) ** 4  # the far-off edges pull hardest
+            pull = (w * dev * L.mean() / L)[:, None] * d
+        else:
+            hm = size(0.5 * (X[E[:, 0]] + X[E[:, 1]]))
+            q = L / hm
+            dev = q / q.mean() - 1.0
+            w = 1.0 + (dev / EXTREME) ** 4
+            pull = (w * dev * q.mean() * hm / L)[:, None] * d
         s = np.zeros_like(X)
         np.add.at(s, E[:, 0], pull)
         np.add.at(s, E[:, 1], -pull)
@@ -245,9 +254,12 @@ def _flip_ok(X, old, new, strict=False) -> bool:
     return a_new > a_old if strict else a_new >= min(a_old, FLIP_MIN_ANGLE)
 
 
-def relax(X, F, free_seeds, fixed, V0, F0):
+def relax(X, F, free_seeds, fixed, V0, F0, size=None):
     """Relax the band around ``free_seeds`` (free seam points); ``fixed`` (n,) bool
-    vertices never move and edges between two of them never flip.
+    vertices never move and edges between two of them never flip.  ``size``: a
+    graded 3-D size (:class:`surface.size3d.Size3D`) the springs measure edges
+    against; with it only the Delaunay flips are made (the valence flips
+    compare lengths with one mean length).
 
     Returns new ``(X, F)`` (the inputs are not changed) and the number of flips.
     """
@@ -267,8 +279,9 @@ def relax(X, F, free_seeds, fixed, V0, F0):
         X0, F_0 = X.copy(), F.copy()
         Xl = X.tolist()
         flips += _flip_pass(X, F, move, locked, "delaunay", Xl)
-        flips += _flip_pass(X, F, move, locked, "valence", Xl)
-        X = _smooth(X, F, move, tree, N0, SMOOTH_STEPS)
+        if size is None:  # valence flips compare lengths with one mean: not for a graded size
+            flips += _flip_pass(X, F, move, locked, "valence", Xl)
+        X = _smooth(X, F, move, tree, N0, SMOOTH_STEPS, size)
         if _folded(X, F, tree, N0):
             log.info("seam relaxation stopped: a round would fold a triangle")
             return X0, F_0, flips

@@ -206,7 +206,23 @@ def _equal_chords(X, cum, m):
     return best
 
 
-def _positions(V, c, m, equal_chords=False, chord_tol=None):
+def _weighted_pieces(V, c, spacing, size3d, closed) -> tuple[int, np.ndarray]:
+    """Pieces of a chain for a graded size: ``round(∫ ds / size3d / spacing)`` measured
+    along the chords of its samples (a chain zigzagging along the input's edges is
+    not sampled more densely), and the chain's cumulative ``∫ ds / size3d`` along
+    its edges (the measure its samples are even in)."""
+    X = V[c]
+    seg = np.linalg.norm(np.diff(X, axis=0), axis=1) / size3d(0.5 * (X[1:] + X[:-1]))
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    m = max(1, round(float(cum[-1]) / spacing))
+    for _ in range(2):  # straighten, as _pieces does: the chords of m pieces, then m again
+        P = _positions(V, c, m, cum=cum)[0]
+        m = max(1, round(float(np.sum(np.linalg.norm(np.diff(P, axis=0), axis=1)
+                                      / size3d(0.5 * (P[1:] + P[:-1])))) / spacing))
+    return (max(m, 3) if closed else m), cum
+
+
+def _positions(V, c, m, equal_chords=False, chord_tol=None, cum=None):
     """Points along chain ``c``, ends included: (xyz, edge index, t).  m pieces evenly
     spaced in arc length, or, with ``equal_chords``, with equal straight distances
     between neighbours, so a seam that zigzags along the input's edges is not
@@ -215,9 +231,11 @@ def _positions(V, c, m, equal_chords=False, chord_tol=None):
     input vertex farther than that from the chord spanning it, the pieces are
     placed by the single patch's boundary resampling instead
     (:func:`surface.resample.sample_run`: lengths within 0.8-1.25 of the spacing,
-    onto the input's vertices where it turns)."""
+    onto the input's vertices where it turns).  ``cum``: the chain's cumulative
+    arc length in another measure (a graded size's), with ``equal_chords`` False."""
     X = V[c]
-    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(X, axis=0), axis=1))])
+    if cum is None:
+        cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(X, axis=0), axis=1))])
     s = cum[-1] * np.arange(m + 1) / m
     if chord_tol is not None and m > 1 and plain_run(V, c, cum, 0, len(c) - 1, m)[1] > chord_tol:
         u, _, _ = sample_run(V, c, cum, 0, len(c) - 1, m, chord_tol)
@@ -232,7 +250,8 @@ def _positions(V, c, m, equal_chords=False, chord_tol=None):
     return P, i, t
 
 
-def build_seams(V, F, loops, charts, crease_edges, *, spacing, corner_angle=30.0, refine=None) -> Seams:
+def build_seams(V, F, loops, charts, crease_edges, *, spacing, corner_angle=30.0, refine=None,
+                size3d=None) -> Seams:
     """Sample the seams of ``charts`` at ``spacing``.
 
     Parameters
@@ -250,6 +269,11 @@ def build_seams(V, F, loops, charts, crease_edges, *, spacing, corner_angle=30.0
     refine : dict, optional
         Chain index -> factor multiplying its number of pieces (used when a
         chart's ring is not simple at the plain sampling).
+    size3d : callable, optional
+        A graded 3-D size's shape (:class:`surface.size3d.Size3D` at scale 1):
+        chains are then sampled evenly in ``∫ ds / size3d`` with ``spacing`` in
+        that measure (the size's scale), and the chord tolerance is
+        :data:`CHORD_TOL` of the size at the chain's start times the spacing.
 
     Returns
     -------
@@ -279,10 +303,17 @@ def build_seams(V, F, loops, charts, crease_edges, *, spacing, corner_angle=30.0
     refine = refine or {}
     for k, chain in enumerate(chains):
         c = np.asarray(chain, dtype=np.int64)
-        m = max(1, int(np.ceil(_pieces(V, chain, spacing) * refine.get(k, 1.0))))
         kept = (min(chain[0], chain[1]), max(chain[0], chain[1])) in fkey
-        P, i, tt = _positions(V, c, m, equal_chords=True,
-                              chord_tol=CHORD_TOL * spacing if kept and chain[0] != chain[-1] else None)
+        if size3d is None:
+            m = max(1, int(np.ceil(_pieces(V, chain, spacing) * refine.get(k, 1.0))))
+            P, i, tt = _positions(V, c, m, equal_chords=True,
+                                  chord_tol=CHORD_TOL * spacing if kept and chain[0] != chain[-1] else None)
+        else:
+            m, cum = _weighted_pieces(V, c, spacing, size3d, chain[0] == chain[-1])
+            m = max(1, int(np.ceil(m * refine.get(k, 1.0))))
+            tol = CHORD_TOL * spacing * float(size3d(V[c[:1]])[0])
+            P, i, tt = _positions(V, c, m, chord_tol=tol if kept and chain[0] != chain[-1] else None,
+                                  cum=cum)
         m = len(P) - 1
         ids = [node_id[chain[0]]] + list(range(count, count + m - 1)) + [node_id[chain[-1]]]
         for j in range(1, m):

@@ -127,7 +127,7 @@ def size_variation(scale) -> float:
 
 
 def compensation_field(
-    V, F, uv, area_scale, h: float, *, resolution: int = 64, scale=None
+    V, F, uv, area_scale, h: float, *, resolution: int = 64, scale=None, size3d=None
 ) -> SizeField:
     """The UV size field ``h * sqrt(s)`` of a parameterisation.
 
@@ -146,6 +146,10 @@ def compensation_field(
     scale : (N,) float64, optional
         The per-vertex scale if already computed (:func:`vertex_scale` of
         ``area_scale``).
+    size3d : callable, optional
+        A graded 3-D size (:class:`surface.size3d.Size3D`) in place of the constant
+        ``h``: the field is then ``size3d(x) * sqrt(s)``, ``x`` the point of the
+        surface the node maps to.
 
     Returns
     -------
@@ -170,5 +174,10 @@ def compensation_field(
     _, face, c = _igl.closest_faces(P, uv, F)
     bary = barycentric(c, uv[F[face, 0]], uv[F[face, 1]], uv[F[face, 2]])
     ls = (bary * np.log(sv[F[face]])).sum(axis=1)
-    values = h * np.sqrt(np.exp(ls)).reshape(ny, nx)
+    if size3d is None:
+        values = h * np.sqrt(np.exp(ls)).reshape(ny, nx)
+    else:
+        V = np.asarray(V, dtype=np.float64)
+        xyz = np.einsum("ki,kij->kj", bary, V[F[face]])
+        values = (size3d(xyz) * np.sqrt(np.exp(ls))).reshape(ny, nx)
     return SizeField(gx, gy, values)

@@ -5,14 +5,16 @@
    rings and segments gets ``round(∫ ds / (s h))`` pieces, their ends spaced so
    that each piece has the same ``∫ ds / h``, with s the field's scale at n (see
    4.).  The moves slide boundary points along their own edge only, so these
-   counts fix how the boundary follows h.  Then Algorithm INSERT
-   (:func:`uniform2d.insert`) with the field places the other points: each
-   where the visible distance to the sites already placed, divided by h
-   there, is largest (a factor on h changes no comparison).
-2. **Lloyd.**  Weighted Lloyd iterations for the density 1 / h²
-   (:func:`uniform2d.optimize.lloyd.weighted_lloyd`) move the interior points
-   towards a centroidal Voronoi tessellation, whose regular neighbourhoods the
-   moves cannot make from INSERT's; boundary and segment points stay.
+   counts fix how the boundary follows h.  Then rows packed front by front
+   from the boundary, each point at the apex of an equilateral triangle of
+   side s h on the front (:func:`uniform2d.optimize.packing.rows_start`), and
+   Algorithm INSERT (:func:`uniform2d.insert`) with the field where the fronts
+   leave gaps (or the most crowded row points dropped): exactly n.  The rows
+   have far fewer irregular vertices than INSERT alone leaves (the CV of q
+   falls from 0.09-0.12 to 0.07-0.08 on the benchmark cases).
+2. **Lloyd.**  A few weighted Lloyd iterations for the density 1 / h²
+   (:func:`uniform2d.optimize.lloyd.weighted_lloyd`) even out where the fronts
+   met; boundary and segment points stay.
 3. **Moves.**  :func:`uniform2d.optimize.improve` with the field: the same moves
    as for a uniform mesh (springs, descent on the p-norm energy of the
    objective, spread sweeps), every edge measured against the mean of its
@@ -38,11 +40,11 @@ import numpy as np
 from .errors import PLEASE_REPORT, InternalError
 from .geometry import polygon_edges
 from .grading import check_range, field_integrals, scale_for_count
-from .insert import insert_on_edges
 from .mesh import Mesh
 from .optimize.lloyd import weighted_lloyd
 from .optimize.moves import improve_kept
 from .optimize.objective import objective_code
+from .optimize.packing import rows_start
 from .polygon import Polygon
 from .sizefield import SizeField
 from .validity import ensure_valid
@@ -51,9 +53,9 @@ __all__ = ["PHASES", "boundary_sites", "graded_mesh"]
 
 log = logging.getLogger(__name__)
 
-#: Weighted Lloyd iterations before the moves, and their over-relaxation: past
-#: about 30 the CV of q falls little more, at the cost of a triangulation each.
-LLOYD_ITERATIONS = 30
+#: Weighted Lloyd iterations before the moves, and their over-relaxation: from
+#: the rows, 10 gave a lower CV of q than 5, 15 or 30 (which undo the rows).
+LLOYD_ITERATIONS = 10
 LLOYD_OMEGA = 1.5
 
 #: Samples of the field along each boundary edge (:func:`boundary_sites`).
@@ -105,11 +107,9 @@ def graded_mesh(polygon: Polygon, n: int, field: SizeField, *, objective: str = 
 
     report("insert", 0, 1)
     bsites, bedges = boundary_sites(polygon, field, s, n)
-    start = insert_on_edges(polygon, n - len(bsites), bsites, bedges, field)
+    sites, fixed = rows_start(polygon, n, field, s, bsites, bedges)
     report("insert", 1, 1)
     report("relaxation", 0, 1)
-    sites = np.concatenate([bsites, start.points])
-    fixed = np.concatenate([np.ones(len(bsites), bool), start.on_boundary])
     sites = weighted_lloyd(polygon, sites, fixed, field, iterations=LLOYD_ITERATIONS,
                            omega=LLOYD_OMEGA)
     pts, tri, run = improve_kept(polygon, sites, size=field, objective=objective)

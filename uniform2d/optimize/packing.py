@@ -1,0 +1,175 @@
+"""A graded start in rows: points packed front by front from the boundary, following h.
+
+:func:`frontal_seed` is the graded counterpart of the uniform path's boundary rows
+(:mod:`uniform2d.optimize.rows`): starting from the boundary points, each round
+puts a point at the apex of the equilateral triangle of side h (the size at the
+edge's midpoint) on every edge of the front, the edges between the triangles
+already small enough for h and the rest of the domain, and keeps those at least
+:data:`SPACING` times h from every point and from the boundary, in order.  The
+result is rows parallel to the boundary that thin out where h grows, with far
+fewer irregular vertices than farthest-point insertion leaves.  The rows are
+not an exact count: :func:`rows_start` tops them up with Algorithm INSERT or
+drops the most crowded, for exactly n points.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from scipy.spatial import Delaunay, cKDTree
+
+from ..geometry import polygon_edges
+from ..insert import insert_on_edges
+from ..polygon import Polygon
+
+__all__ = ["FILLED", "SPACING", "frontal_seed", "rows_start"]
+
+#: A new point keeps at least this many h from every point and from the boundary.
+SPACING = 0.8
+#: A triangle whose circumradius is at most this many h is filled (an
+#: equilateral triangle of side h has 1 / sqrt(3) = 0.577).
+FILLED = 0.75
+#: Rounds at most (a front advances about 0.87 h a round).
+MAX_ROUNDS = 2000
+
+
+def _shape(polygon: Polygon):
+    off = polygon.ring_offsets
+    rings = [polygon.vertices[off[r]:off[r + 1]] for r in range(len(polygon.rings))]
+    a, d, _ = polygon_edges(polygon, constraints=True)
+    lines = shapely.multilinestrings([np.stack([a, a + d], axis=1)][0])
+    return shapely.Polygon(rings[0], rings[1:]), lines
+
+
+def _front(P, tri, size, shape):
+    """Apexes on the front edges of the Delaunay triangulation ``tri`` of ``P``:
+    (candidates (k, 2), their h)."""
+    S = tri.simplices
+    A, B, C = P[S[:, 0]], P[S[:, 1]], P[S[:, 2]]
+    cen = (A + B + C) / 3.0
+    inside = shapely.contains_xy(shape, cen[:, 0], cen[:, 1])
+    a, b, c = np.linalg.norm(B - C, axis=1), np.linalg.norm(C - A, axis=1), np.linalg.norm(A - B, axis=1)
+    area2 = np.abs((B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0]))
+    R = a * b * c / np.maximum(2.0 * area2, 1e-300)
+    filled = inside & (R <= FILLED * size(cen))
+    open_ = inside & ~filled
+    out = []
+    for k in range(3):  # edge opposite vertex k
+        nb = tri.neighbors[:, k]
+        edge_side = open_ & ((nb < 0) | ~inside[np.maximum(nb, 0)] | filled[np.maximum(nb, 0)])
+        t = np.flatnonzero(edge_side)
+        p, q = P[S[t, (k + 1) % 3]], P[S[t, (k + 2) % 3]]
+        m = 0.5 * (p + q)
+        d = q - p
+        L = np.linalg.norm(d, axis=1)
+        nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(L, 1e-300)[:, None]
+        side = np.sign(np.einsum("ij,ij->i", P[S[t, k]] - m, nrm))
+        hm = size(m)
+        height = np.sqrt(np.maximum(hm * hm - 0.25 * L * L, 0.25 * hm * hm))
+        out.append(m + (side * height)[:, None] * nrm)
+    cand = np.concatenate(out)
+    return cand, size(cand)
+
+
+def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
+    """Interior points packed in rows from the boundary and the ``sites``.
+
+    Parameters
+    ----------
+    polygon : Polygon
+    size : callable
+        ``size(points (m, 2)) -> (m,)``, the absolute size (the field at its scale).
+    sites : (k, 2) float64
+        Points already placed (on the boundary and segments).
+
+    Returns
+    -------
+    (m, 2) float64
+        The new points, strictly inside, in the order they were placed.
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon, SizeField
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> f = SizeField.constant(sq.bounds, 0.25)
+    >>> from uniform2d.graded import boundary_sites
+    >>> b, _ = boundary_sites(sq, f, 1.0, 100)
+    >>> len(b), len(frontal_seed(sq, f, b))
+    (12, 6)
+    """
+    shape, lines = _shape(polygon)
+    P = np.concatenate([polygon.vertices, np.asarray(sites, dtype=np.float64).reshape(-1, 2)])
+    n0 = len(P)
+    for _ in range(MAX_ROUNDS):
+        cand, hc = _front(P, Delaunay(P), size, shape)
+        ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
+        ok[ok] = shapely.distance(lines, shapely.points(cand[ok])) >= SPACING * hc[ok]
+        d, _ = cKDTree(P).query(cand)
+        ok &= d >= SPACING * hc
+        idx = np.flatnonzero(ok)
+        if not len(idx):
+            break
+        tree = cKDTree(cand[idx])
+        blocked = np.zeros(len(idx), dtype=bool)
+        keep = []
+        for j in range(len(idx)):
+            if blocked[j]:
+                continue
+            keep.append(idx[j])
+            blocked[tree.query_ball_point(cand[idx[j]], SPACING * hc[idx[j]])] = True
+        P = np.concatenate([P, cand[keep]])
+    return P[n0:]
+
+
+def rows_start(polygon: Polygon, n: int, field, scale: float, sites=None, edges=None):
+    """Exactly ``n`` Steiner points for a graded mesh: the ``sites`` (on the boundary
+    and segments), the rows of :func:`frontal_seed` for ``scale * field``, and
+    INSERT's points with the field (:func:`uniform2d.insert`, its sites those
+    before) where the rows leave room, or without the rows' most crowded points
+    (smallest distance to a neighbour over h) where they are too many.
+
+    Parameters
+    ----------
+    polygon : Polygon
+    n : int
+        Steiner points in all (sites included).
+    field : SizeField
+    scale : float
+        The field's scale at which the rows are packed.
+    sites : (k, 2) float64, optional
+    edges : (k,) int64, optional
+        The constraint edge of every site (``polygon.constraint_edges`` order), or -1.
+
+    Returns
+    -------
+    points : (n, 2) float64
+    fixed : (n,) bool
+        The points on the boundary or on segments (the sites and any INSERT put there).
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon, SizeField
+    >>> from uniform2d.graded import boundary_sites
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> f = SizeField.constant(sq.bounds, 1.0)
+    >>> b, e = boundary_sites(sq, f, 0.25, 100)
+    >>> pts, fixed = rows_start(sq, 30, f, 0.25, b, e)
+    >>> pts.shape, int(fixed.sum())
+    ((30, 2), 12)
+    """
+    sites = np.zeros((0, 2)) if sites is None else np.asarray(sites, dtype=np.float64).reshape(-1, 2)
+    edges = np.zeros(0, np.int64) if edges is None else np.asarray(edges, dtype=np.int64)
+    h = field.scaled(scale)
+    rows = frontal_seed(polygon, h, sites)
+    k = n - len(sites)
+    if len(rows) > k:
+        d, _ = cKDTree(np.concatenate([polygon.vertices, sites, rows])).query(rows, k=2)
+        crowd = d[:, 1] / h(rows)
+        rows = rows[np.sort(np.argsort(crowd, kind="stable")[len(rows) - k:])]
+    pre = np.concatenate([sites, rows])
+    fixed = np.concatenate([np.ones(len(sites), bool), np.zeros(len(rows), bool)])
+    if len(rows) == k:
+        return pre, fixed
+    pre_e = np.concatenate([edges, np.full(len(rows), -1, np.int64)])
+    start = insert_on_edges(polygon, k - len(rows), pre, pre_e, field)
+    return np.concatenate([pre, start.points]), np.concatenate([fixed, start.on_boundary])
