@@ -15,7 +15,13 @@ import shapely
 import uniform2d as u
 from uniform2d.cli.main import main
 from uniform2d.errors import InvalidArgumentError
-from uniform2d.outline import resample_polygon
+from uniform2d.outline import (
+    COARSE_EDGE,
+    COARSE_SPACING,
+    SHORT_EDGE,
+    is_coarse,
+    resample_polygon,
+)
 from uniform2d.testing import check_mesh
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -257,3 +263,41 @@ def test_info_says_lengths_are_in_the_given_coordinates(capsys):
     assert code == 0 and "degrees" in out and "project" in out
     code, out, _ = _cli(capsys, "info", OUTLINES / "norway.json")
     assert code == 0 and "degrees" not in out
+
+
+def test_coarse_outline_is_resampled_and_keeps_its_corners():
+    """An outline whose shortest edges are a third to 0.6 of the spacing (not dense):
+    the mesh as given keeps them (edge ratio at least the spacing over them); the
+    resampled one replaces the runs between corners by points about a spacing
+    apart, within the tolerance, with n exact, and is more uniform."""
+    p = u.read_polygon(ROOT / "data" / "outlines" / "india.json")
+    n, tol = 2000, 0.25
+    r, _ = resample_polygon(p, n, tolerance=tol)
+    assert r.resampled and is_coarse(p, r.spacing)
+    m = u.uniform_mesh(p, n, resample=tol)
+    check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
+    info = m.info["resample"]
+    assert info["resampled"] and info["boundary_spacing"] == COARSE_SPACING
+    assert len(m.points) == info["kept_vertices"] + n
+    assert info["deviation"] <= tol * info["spacing"]
+    assert shapely.hausdorff_distance(shapely.LinearRing(p.outer), shapely.LinearRing(m.polygon.outer),
+                                      densify=0.25) <= tol * info["spacing"] * (1 + 1e-9)
+    # the kept vertices (the corners among them) are input vertices
+    r2, _ = resample_polygon(p, n, tolerance=tol, boundary_spacing=COARSE_SPACING)
+    assert r2.polygon == m.polygon and r2.n_corners > 0
+    given = {tuple(v) for v in p.vertices}
+    assert all(tuple(v) in given for v in r2.polygon.vertices[r2.kept])
+    plain = u.uniform_mesh(p, n)
+    assert u.quality(m.points, m.triangles).edge_ratio < u.quality(plain.points, plain.triangles).edge_ratio
+
+
+def test_is_coarse_bounds():
+    square = u.Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    assert is_coarse(square, 1 / SHORT_EDGE) and not is_coarse(square, 1 / COARSE_EDGE)
+    assert not is_coarse(square, 3.01) and is_coarse(square, 1.7)
+
+
+def test_bad_boundary_spacing_refused():
+    for bad in (0.1, 3, True, float("nan")):
+        with pytest.raises(InvalidArgumentError, match="boundary_spacing"):
+            resample_polygon(wiggly_disk(), 100, tolerance=0.1, boundary_spacing=bad)

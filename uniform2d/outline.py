@@ -26,8 +26,10 @@ outline, as the surface layer does for its domains (the same dynamic programme,
 - every sample lies on the outline, and every input vertex lies within the
   tolerance of the ring edge that spans it, so the Hausdorff distance between
   the rings and the outline (both ways) is at most :attr:`Resampled.deviation`;
-- a polygon whose constraint edges are all at least :data:`SHORT_EDGE` of the
-  spacing needs no resampling: it is returned as given;
+- a polygon whose constraint edges are all at least :data:`COARSE_EDGE` of the
+  spacing needs no resampling: it is returned as given.  A *coarse* one
+  (:func:`is_coarse`) is resampled like the others, by
+  :func:`uniform2d.uniform_mesh` at :data:`COARSE_SPACING` times h;
 - if the resampled rings cross (two parts of the outline closer than the
   tolerance), the crossing edges are split at the input vertex nearest their
   middle (a boundary point, counted in n) and their runs sampled again, for a
@@ -53,8 +55,10 @@ from .chord_sampling import plain_run, run_counts, sample_run
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
 from .polygon import Polygon
+from .ring_corners import ring_corners
 
-__all__ = ["CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled", "resample_polygon", "short_edge_warning"]
+__all__ = ["COARSE_EDGE", "COARSE_SPACING", "CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled",
+           "is_coarse", "resample_polygon", "short_edge_warning"]
 
 log = logging.getLogger(__name__)
 
@@ -63,6 +67,13 @@ CORNER_ANGLE = 30.0
 #: A polygon edge shorter than this fraction of the mesh spacing makes a uniform
 #: mesh impossible: the mesh keeps it, so its edge ratio is at least about 1 / SHORT_EDGE.
 SHORT_EDGE = 1 / 3
+#: A polygon with no constraint edge shorter than this fraction of the spacing is
+#: not resampled (its shortest edges cost the mesh an edge ratio below about 2).
+COARSE_EDGE = 0.6
+#: The boundary spacing (a multiple of h) a coarse outline (:func:`is_coarse`) is
+#: resampled at by :func:`uniform2d.uniform_mesh` (one of the optimiser's own
+#: boundary spacings, ``optimize.schedule.SPACINGS``).
+COARSE_SPACING = 1.05
 #: The edge ratio the polygon's own edges force from which that is a warning (below,
 #: information kept in ``Mesh.info``).
 SEVERE = 10.0
@@ -101,8 +112,10 @@ class Resampled:
         Kept corners.
     resampled : bool
         False if the polygon is as given: no constraint edge is shorter than
-        :data:`SHORT_EDGE` of the spacing (it needs no resampling), or no
+        :data:`COARSE_EDGE` of the spacing (it needs no resampling), or no
         resampling gave valid rings.
+    boundary_spacing : float
+        The rings were sampled at this multiple of ``spacing``.
     """
 
     polygon: Polygon
@@ -112,6 +125,7 @@ class Resampled:
     deviation: float
     n_corners: int
     resampled: bool = True
+    boundary_spacing: float = 1.0
 
     @property
     def n_kept(self) -> int:
@@ -133,17 +147,21 @@ class Resampled:
             "corners": self.n_corners,
             "boundary_points": self.n_boundary,
             "resampled": self.resampled,
+            "boundary_spacing": self.boundary_spacing,
         }
 
 
 def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | None = None,
-                     tolerance: float, corner_angle: float = CORNER_ANGLE) -> tuple[Resampled, int]:
+                     tolerance: float, corner_angle: float = CORNER_ANGLE,
+                     boundary_spacing: float = 1.0) -> tuple[Resampled, int]:
     """Resample ``polygon``'s rings for a mesh of ``n`` Steiner points (or edge ``size``).
 
     The spacing h is that of an equilateral mesh of the resampled polygon with
     its kept vertices plus n points (:func:`uniform2d.geometry.size_for_count`),
     found by iterating (the resampled perimeter depends on h); with ``size``, h
     is ``size`` and n follows as in :func:`uniform2d.steiner_count_for_size`.
+    The rings are sampled at ``boundary_spacing`` times h (n stays exact: the
+    boundary points count in it).
 
     Returns
     -------
@@ -162,6 +180,11 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     (0, 300, True)
     """
     _check(tolerance, corner_angle)
+    if isinstance(boundary_spacing, bool) or not (
+            isinstance(boundary_spacing, numbers.Real) and 0.5 <= boundary_spacing <= 2):
+        raise InvalidArgumentError(
+            f"boundary_spacing must be a multiple of the spacing in [0.5, 2], got {boundary_spacing!r}")
+    c = float(boundary_spacing)
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     if size is None and (isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1):
@@ -170,7 +193,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     extra = len(polygon.vertices) - polygon.n_ring_vertices
     if size is not None:
-        r = _resample_at(polygon, float(size), tolerance, corner_angle)
+        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c)
         q = r.polygon
         N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
         return r, max(0, round(N) - r.n_kept) - r.n_boundary
@@ -182,7 +205,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         h = max(h, size_for_count(polygon.area, simple.length, n + extra, polygon.n_holes))
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
     for _ in range(_ITERATIONS):
-        r = _resample_at(polygon, h, tolerance, corner_angle, forced)
+        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c)
         q = r.polygon
         h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
         if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
@@ -222,6 +245,27 @@ def short_edge_warning(polygon: Polygon, n: int) -> tuple[str, int] | None:
     return message, logging.WARNING if ratio >= SEVERE else logging.INFO
 
 
+def is_coarse(polygon: Polygon, spacing: float) -> bool:
+    """True if ``polygon``'s shortest constraint edge is between :data:`SHORT_EDGE`
+    and :data:`COARSE_EDGE` of ``spacing``: not dense, but too short for a mesh
+    that keeps it to have an edge ratio near 2.
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> square = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> is_coarse(square, 2.0), is_coarse(square, 1.0)
+    (True, False)
+    """
+    shortest = _shortest_edge(polygon)
+    return SHORT_EDGE * spacing <= shortest < COARSE_EDGE * spacing
+
+
+def _shortest_edge(polygon: Polygon) -> float:
+    V, E = polygon.vertices, polygon.constraint_edges
+    return float(np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min())
+
+
 def _check(tolerance, corner_angle) -> None:
     ok = isinstance(tolerance, numbers.Real) and not isinstance(tolerance, bool)
     if not (ok and math.isfinite(tolerance) and tolerance > 0):
@@ -248,18 +292,19 @@ def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
 
 
 def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
-                 forced=None) -> Resampled:
-    """The rings resampled at spacing ``h``, made valid (see the module notes); the
-    polygon as given if no constraint edge is shorter than ``SHORT_EDGE * h``.
-    ``forced`` (per ring, (k,) bool, updated): input vertices where runs must be
-    split (found by an earlier call at another spacing)."""
-    V, E = polygon.vertices, polygon.constraint_edges
-    if np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min() >= SHORT_EDGE * h:
+                 forced=None, c: float = 1.0) -> Resampled:
+    """The rings resampled at spacing ``c * h`` within ``tol * h``, made valid (see
+    the module notes); the polygon as given if no constraint edge is shorter than
+    ``COARSE_EDGE * h``.  ``forced`` (per ring, (k,) bool, updated): input vertices
+    where runs must be split (found by an earlier call at another spacing)."""
+    if _shortest_edge(polygon) >= COARSE_EDGE * h:
         return _as_given(polygon, h, tol)
+    h0, tol0 = h, tol  # reported: the mesh spacing and the tolerance asked, a fraction of it
+    h, tol = c * h, tol / c  # below: the sampling spacing, the tolerance a fraction of it
     keep = _must_keep(polygon)
     off = polygon.ring_offsets
     thr = math.radians(corner_angle)
-    corners = [_corners(ring, h, thr) for ring in polygon.rings]
+    corners = [ring_corners(ring, h, thr) for ring in polygon.rings]
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings] if forced is None else forced
     caches = [{} for _ in polygon.rings]
     for _ in range(_ROUNDS):
@@ -282,10 +327,11 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
         kept = np.concatenate([np.concatenate([s[1] for s in samples]),
                                np.ones(len(poly.vertices) - poly.n_ring_vertices, dtype=bool)])
         dev = max(s[2] for s in samples)
-        return Resampled(poly, kept, h, float(tol), float(dev), sum(g.n_corners for g in rings))
+        return Resampled(poly, kept, h0, float(tol0), float(dev), sum(g.n_corners for g in rings),
+                         boundary_spacing=c)
     log.warning("the outline could not be resampled at spacing %.4g without its rings crossing; "
                 "every input vertex kept", h)
-    return _as_given(polygon, h, tol)
+    return _as_given(polygon, h0, tol0)
 
 
 def _rebuild(polygon: Polygon, rings) -> Polygon:
@@ -321,44 +367,6 @@ def _crossing_edges(polygon: Polygon, samples) -> dict:
 
 def _share_end(p, q) -> bool:
     return any(np.array_equal(a, b) for a in p for b in q)
-
-
-def scale_turning(ring: np.ndarray, s: float) -> np.ndarray:
-    """Turning angle (k,) radians at every vertex of a closed ring (k, 2), measured
-    between the chords from the ring point an arc ``s`` before it and to the one
-    an arc ``s`` after it (at most a quarter of the ring)."""
-    seg = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
-    s = min(s, cum[-1] / 4)
-
-    def at(t):
-        t = np.mod(t, cum[-1])
-        i = np.clip(np.searchsorted(cum, t, side="right") - 1, 0, len(ring) - 1)
-        f = (t - cum[i]) / seg[i]
-        return ring[i] + f[:, None] * (ring[(i + 1) % len(ring)] - ring[i])
-
-    a = ring - at(cum[:-1] - s)
-    b = at(cum[:-1] + s) - ring
-    return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
-
-
-def _corners(ring: np.ndarray, h: float, thr: float) -> np.ndarray:
-    """(k,) bool: the corners (see the module notes), the sharpest first when two
-    are closer than ``h``."""
-    a = np.roll(ring, 1, axis=0) - ring
-    b = np.roll(ring, -1, axis=0) - ring
-    own = np.pi - np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
-    wide = scale_turning(ring, h / 2)
-    cand = np.flatnonzero((own > thr) & (wide > thr))
-    out = np.zeros(len(ring), dtype=bool)
-    if not len(cand):
-        return out
-    taken = np.empty((0, 2))
-    for i in cand[np.lexsort((cand, -np.minimum(own, wide)[cand]))]:
-        if not len(taken) or np.hypot(*(taken - ring[i]).T).min() >= h:
-            taken = np.vstack([taken, ring[i]])
-            out[i] = True
-    return out
 
 
 class _Ring:

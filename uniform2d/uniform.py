@@ -13,7 +13,13 @@ from .graded import graded_mesh
 from .grading import as_field, count_for_field, field_integrals
 from .mesh import Mesh
 from .optimize import optimize_mesh
-from .outline import CORNER_ANGLE, resample_polygon, short_edge_warning
+from .outline import (
+    COARSE_SPACING,
+    CORNER_ANGLE,
+    is_coarse,
+    resample_polygon,
+    short_edge_warning,
+)
 from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
@@ -97,8 +103,11 @@ def uniform_mesh(
     ``mesh.polygon`` is the resampled polygon (``mesh.n_steiner`` counts the points
     beyond its vertices), and ``mesh.info["resample"]`` says the tolerance, the
     deviation reached (a length, and as a fraction of the spacing), the kept
-    vertices and ``"n"``.  A polygon with no edge shorter than a third of the
-    spacing is meshed as given (``info["resample"]["resampled"]`` False).  With
+    vertices and ``"n"``.  A polygon with no edge shorter than 0.6 of the
+    spacing is meshed as given (``info["resample"]["resampled"]`` False); a
+    coarse one (edges of a third to 0.6 of it, none shorter) is resampled with
+    its boundary points at 1.05 spacings (``info["resample"]["boundary_spacing"]``,
+    :func:`uniform2d.outline.is_coarse`).  With
     a size field or ``parts`` it is refused (not supported yet).  Without it
     (the default, the paper's mode) every vertex is kept; when that makes a
     uniform mesh impossible (an edge shorter than a third of the spacing)
@@ -159,6 +168,14 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress) ->
     elif isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
         raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
     res, left = resample_polygon(polygon, n, size=size, tolerance=tol, corner_angle=corner_angle)
+    if res.resampled and is_coarse(polygon, res.spacing):  # see uniform2d.outline.COARSE_SPACING
+        res, left = resample_polygon(polygon, n, size=size, tolerance=tol, corner_angle=corner_angle,
+                                     boundary_spacing=COARSE_SPACING)
+    return _mesh_resampled(polygon, n, size, objective, progress, res, left)
+
+
+def _mesh_resampled(polygon, n, size, objective, progress, res, left) -> Mesh:
+    """The mesh of a resampled polygon (``res``, ``left`` Steiner points inside)."""
     if not res.resampled:  # no edge too short for this spacing: the paper's mode, as given
         res = dataclasses.replace(res, polygon=polygon)
         left = n if size is None else steiner_count_for_size(polygon, size)
