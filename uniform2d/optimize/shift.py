@@ -26,7 +26,7 @@ from . import schedule as S
 from .angles import MIN_GAIN, min_angles, raise_worst_angle
 from .moves import improve_kept
 
-__all__ = ["SHIFT_BELOW", "SHIFT_MAX", "SHIFT_ROUNDS", "SLACK", "shift_worst"]
+__all__ = ["SHIFT_BELOW", "SHIFT_MAX", "SHIFT_MIN", "SHIFT_ROUNDS", "SLACK", "shift_worst"]
 
 #: Meshes whose worst angle is SHIFT_BELOW degrees or more are left as they
 #: are: Gmsh's worst angles on the benchmark polygons at n = 300 are 40.6 to
@@ -35,6 +35,11 @@ SHIFT_BELOW = 44.0
 #: Meshes of up to SHIFT_MAX points get the moves (each try builds the whole
 #: mesh again, as a relocation does).
 SHIFT_MAX = S.RELOCATE_MAX
+#: Meshes of fewer than SHIFT_MIN sites are left as they are: the points a
+#: shift re-relaxes (within ``schedule.RELOCATE_RADIUS`` sizes) are then the
+#: whole mesh, no local change of structure (the guide's 3-point square gained
+#: 0.15 degree).
+SHIFT_MIN = 50
 #: Rounds (each the tries around the worst triangle of the round), at most: at
 #: n = 300 a second round found no try within SLACK that gains on star10 and
 #: heptagon_short, and lifted square2holes (already above Gmsh) further, for
@@ -85,8 +90,9 @@ def shift_worst(polygon: Polygon, pts, tri, frozen, objective: str, h: float, op
 
     Arguments as :func:`~uniform2d.optimize.relocate.relocate`'s: ``frozen`` the
     sites that stay put, ``edges`` the polygon edge of each site (-1 inside).
-    Meshes whose worst angle is ``SHIFT_BELOW`` or more, or of more than
-    ``SHIFT_MAX`` points, are returned as they are.  The tries of a round run
+    Meshes whose worst angle is ``SHIFT_BELOW`` or more, of more than
+    ``SHIFT_MAX`` points or of fewer than ``SHIFT_MIN`` sites are returned as
+    they are.  The tries of a round run
     on :func:`uniform2d.threads.thread_map` threads and the best is taken in
     their order: the same mesh on any number of threads.  Inputs are not
     modified.
@@ -106,8 +112,10 @@ def shift_worst(polygon: Polygon, pts, tri, frozen, objective: str, h: float, op
     nV = len(polygon.vertices)
     edges = np.asarray(edges)
     fixed = np.asarray(frozen, dtype=bool)
+    if len(pts) > SHIFT_MAX or len(pts) - nV < SHIFT_MIN:
+        return pts, tri, 0, edges
     q0 = quality(pts, tri)
-    if q0.min_angle >= SHIFT_BELOW or len(pts) > SHIFT_MAX:
+    if q0.min_angle >= SHIFT_BELOW:
         return pts, tri, 0, edges
     limit = {k: getattr(q0, k) * (1.0 + SLACK) for k in _HELD}
     angle, kept = q0.min_angle, 0
