@@ -23,6 +23,7 @@ from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
 from .seed import start, variants
+from .shift import shift_worst
 
 __all__ = ["optimize_mesh"]
 
@@ -76,6 +77,10 @@ def _finished(polygon: Polygon, n: int, h: float, objective: str, options, repor
     raised = 0
     if n + nV <= ANGLES_MAX:
         pts, tri, raised = raise_worst_angle(polygon, pts, tri, edges)
+        pts, tri, shifted, edges = shift_worst(polygon, pts, tri, frozen, objective, h, options,
+                                               edges)
+        if shifted:
+            log.info("uniform: %d shift(s) for the worst angle", shifted)
     # the kernel's own triangles (moves.finish_kept), checked here once
     ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
     return pts, tri, run, k, variant, moved, raised
