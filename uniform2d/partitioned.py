@@ -39,7 +39,7 @@ from .geometry import is_vertex, polygon_edges, unique_edges
 from .mesh import Mesh
 from .optimize.boundary import boundary_counts, boundary_points
 from .optimize.fill import fill_band_gaps
-from .optimize.lattice import Candidates, Fit, closest_count, hex_lattice
+from .optimize.lattice import Candidates, hex_lattice
 from .optimize.moves import KernelMesh, improve_kept
 from .optimize.objective import objective_code
 from .optimize.rows import boundary_rows, keep_clear
@@ -66,7 +66,10 @@ RESEED = 10.0
 
 #: The band along the rings relaxed again after stitching (in h; the
 #: optimiser's own, :data:`uniform2d.optimize.schedule.BAND`).
-RING_BAND = 8.0
+RING_BAND = 12.0
+
+#: Secant steps of :func:`global_lattice`'s search on the spacing.
+_SPACING_STEPS = 6
 
 #: Points this close to a ring, segment or fixed point (in h) are not reseeded.
 RING_KEEP = 1.5
@@ -231,23 +234,23 @@ def global_lattice(polygon: Polygon, n: int, h: float) -> tuple:
 
     Anchored as an unpartitioned mesh's (a row h sqrt(3)/2 inside the longest
     edge, along it), its spacing such that the whole polygon, with its
-    boundary points and first rows, holds about n points as its own would
-    (:func:`uniform2d.optimize.lattice.closest_count`, a few too few: the
-    seams add them along the rings as the unpartitioned mesh's start does)."""
+    boundary points and first rows, holds n points as near as a few secant
+    steps find (the count goes about as 1/spacing**2): the points the seams
+    must add or leave out after the parts are few (added after the parts'
+    relaxation, many would crowd the rings' first layer)."""
     a, d, L = polygon_edges(polygon, constraints=True)
     m = boundary_counts(L, h, n)
     bpts = boundary_points(a, d, m)[0]
     bpts = bpts[~is_vertex(polygon, bpts)] if polygon.has_constraints else bpts
     rows = boundary_rows(polygon, m, h)
     cand = Candidates(polygon, h, None, rows)
-    tried = {}
-
-    def lattice(sp):
-        got = cand(sp)
-        tried[id(got[0])] = sp
-        return got
-
-    sp = tried[id(closest_count(lattice, n - len(bpts) - len(rows), h, Fit.BELOW)[0])]
+    want = n - len(bpts) - len(rows)
+    sp = h
+    for _ in range(_SPACING_STEPS):
+        got = len(cand(sp)[0])
+        if got == want:
+            break
+        sp *= math.sqrt(got / want)
     return (cand.origin, float(cand.angle), float(sp), True)
 
 
