@@ -80,6 +80,46 @@ def _area(P, T) -> float:
                         - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])).sum())
 
 
+def test_the_parts_share_one_lattice_across_the_cuts():
+    """Beyond the rings' bands every point is a point of the one shared lattice
+    (:func:`global_lattice`), on both sides of every cut and on it: no seam is
+    left; with each part's own lattice (the ``.pvtu`` path's seeds) it is not."""
+    from scipy.spatial import cKDTree
+
+    from uniform2d._kernel.distance import to_segments
+    from uniform2d.optimize.lattice import hex_lattice
+    from uniform2d.optimize.rows import keep_clear
+    from uniform2d.partitioned import RING_BAND, global_lattice, seam_uniformity
+
+    square = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    n, K = 30000, 4
+    m = uniform_mesh(square, n, parts=K)
+    check_mesh(m.points, m.triangles, square, n_steiner=n)
+    h = m.info["h"]
+    origin, angle, spacing, _ = global_lattice(square, n, h)
+    lattice = cKDTree(hex_lattice(square.bounds, spacing, angle, origin))
+    part = partition(square, n, K)
+    cut = part.points[np.concatenate(part.cuts)]
+
+    def off_lattice(points):
+        """How far from the shared lattice (in h) the points beyond the rings'
+        bands and within 3 h of a cut are, at the median and 90th percentile."""
+        far = to_segments(points, *keep_clear(square), np.inf) > (RING_BAND + 2) * h
+        near = cKDTree(cut).query(points)[0] < 3 * h
+        d = lattice.query(points[far & near])[0] / h
+        assert len(d) > 100
+        return np.quantile(d, [0.5, 0.9])
+
+    median, q90 = off_lattice(m.points)
+    assert median < 0.01 and q90 < 0.1
+    # the parts' own lattices (no shared one): out of phase across the cuts
+    own = partitioned_mesh(square, n, K, relax=False)
+    assert off_lattice(own.points)[0] > 0.1
+    seams = m.info["seams"]
+    assert seams["cv_near_seams"] <= seams["cv_away"]
+    assert seam_uniformity(own.points, own.triangles, cut, h)["cv_near_seams"] > seams["cv_near_seams"]
+
+
 def test_same_bytes_with_one_and_two_workers():
     a = uniform_mesh(L_HOLE, 1500, parts=4)
     b = uniform_mesh(L_HOLE, 1500, parts=4, jobs=2)

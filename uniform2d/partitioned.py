@@ -29,14 +29,20 @@ import shutil
 import time
 
 import numpy as np
+import shapely
 from scipy.spatial import cKDTree
 
+from ._kernel.distance import to_segments
 from ._parallel import ordered_map
 from .errors import InsufficientPointsError, InternalError
-from .geometry import polygon_edges, unique_edges
+from .geometry import is_vertex, polygon_edges, unique_edges
 from .mesh import Mesh
+from .optimize.boundary import boundary_counts, boundary_points
+from .optimize.fill import fill_band_gaps
+from .optimize.lattice import Candidates, hex_lattice
 from .optimize.moves import KernelMesh, improve_kept
 from .optimize.objective import objective_code
+from .optimize.rows import boundary_rows, keep_clear
 from .optimize.schedule import SCHEDULE, schedule_for
 from .optimize.seed import start
 from .partition import Partition, partition
@@ -45,13 +51,28 @@ from .polygon import Polygon
 from .triangulation import triangulate
 from .validity import ensure_valid
 
-__all__ = ["BAND", "mesh_face", "mesh_faces", "part_counts", "partitioned_mesh", "relax_seams",
-           "seam_uniformity", "write_part", "write_pvtu"]
+__all__ = ["BAND", "RESEED", "RING_KEEP", "global_lattice", "mesh_face", "mesh_faces", "part_counts",
+           "partitioned_mesh", "relax_seams", "seam_uniformity", "write_part", "write_pvtu"]
 
 log = logging.getLogger(__name__)
 
 #: The band relaxed after stitching: points within BAND h of a cut move.
 BAND = 6.0
+
+#: The band made the shared lattice again after stitching (wider than the
+#: optimiser's own band, :data:`uniform2d.optimize.schedule.BAND`, in which a
+#: part's points leave its lattice).
+RESEED = 10.0
+
+#: The band along the rings relaxed again after stitching (in h; the
+#: optimiser's own, :data:`uniform2d.optimize.schedule.BAND`).
+RING_BAND = 12.0
+
+#: Secant steps of :func:`global_lattice`'s search on the spacing.
+_SPACING_STEPS = 6
+
+#: Points this close to a ring, segment or fixed point (in h) are not reseeded.
+RING_KEEP = 1.5
 
 _AREA_PER_VERTEX = math.sqrt(3.0) / 2.0  # of an equilateral mesh of unit edge
 
@@ -106,7 +127,7 @@ def part_counts(part: Partition, n: int) -> list:
 
 
 def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str = "balanced",
-              schedule: dict | None = None):
+              schedule: dict | None = None, lattice=None):
     """One face's mesh: ``points`` (the polygon's vertices, then ``count``
     Steiner points) and ``triangles`` (m, 3) int64.
 
@@ -115,15 +136,18 @@ def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str 
     moved by :func:`uniform2d.optimize.moves.improve_kept` with the deep lattice
     frozen; the ring's shared points (on cuts) stay, its own ones slide.
     ``schedule``: the fields of :class:`uniform2d.optimize.schedule.Schedule`
-    (default: the one for the face's own size)."""
+    (default: the one for the face's own size).  ``lattice``: ``(origin,
+    angle, spacing)`` of the whole mesh's lattice (:func:`global_lattice`):
+    the parts' deep lattices are then one lattice, in phase across the cuts."""
     K = len(poly.vertices)
     if count == 0:
         P, T = triangulate(poly)
     else:
-        sites, edges, frozen, _ = start(poly, count, h, (1.0, _lattice_edge(poly, angle), True))
+        sites, edges, frozen, _ = start(poly, count, h, (1.0, _lattice_edge(poly, angle), True),
+                                        lattice=lattice)
         P, T, _ = improve_kept(poly, sites, objective=objective, href=h, frozen=frozen, edges=edges,
                                **(schedule or {}))
-    if len(P) != K + count:
+    if len(P) != K + count and not (lattice and lattice[3]):
         raise InternalError(f"a part has {len(P) - K} points, not {count} (a bug: please report it)")
     return np.asarray(P), np.asarray(T, dtype=np.int64)
 
@@ -131,13 +155,13 @@ def mesh_face(poly: Polygon, count: int, h: float, angle: float, objective: str 
 def mesh_faces(item):
     """Mesh one part: ``[(own points (c, 2), triangles (m, 3) local), ...]`` per face.
 
-    ``item`` is ``(faces, counts, h, angle, objective, schedule)`` (:func:`mesh_face`
-    for each face); a face's local points are its polygon's vertices, then its own.
+    ``item`` is ``(faces, counts, h, angle, objective, schedule, lattice)``
+    (:func:`mesh_face` for each face); a face's local points are its polygon's vertices, then its own.
     A module-level function: local processes and Dask workers import it by name."""
-    faces, counts, h, angle, objective, schedule = item[:6]
+    faces, counts, h, angle, objective, schedule, lattice = item[:7]
     out = []
     for poly, count in zip(faces, counts):
-        P, T = mesh_face(poly, count, h, angle, objective, schedule)
+        P, T = mesh_face(poly, count, h, angle, objective, schedule, lattice)
         out.append((np.ascontiguousarray(P[len(poly.vertices):]), T))
     return out
 
@@ -149,7 +173,7 @@ def write_part(item) -> tuple[int, int]:
     Returns the piece's (points, triangles)."""
     from .io.pvtu import write_piece
 
-    index, first, path = item[6:]
+    index, first, path = item[7:]
     ids, pts, tris, base = [], [], [], 0
     for poly, count, idx, f0, (own, T) in zip(item[0], item[1], index, first, mesh_faces(item)):
         ensure_valid(np.concatenate([poly.vertices, own]), T, poly, count, "a part")
@@ -204,7 +228,67 @@ def seam_uniformity(points, triangles, seam_points, h: float) -> dict:
     return {"cv_near_seams": cv(L[near]), "cv_away": cv(L[~near]), "near_edges": int(near.sum())}
 
 
-def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective: str = "balanced"):
+def global_lattice(polygon: Polygon, n: int, h: float) -> tuple:
+    """``(origin, angle, spacing, True)``: the lattice every part and the seams
+    share (:func:`uniform2d.optimize.lattice.seed_interior`'s ``lattice``).
+
+    Anchored as an unpartitioned mesh's (a row h sqrt(3)/2 inside the longest
+    edge, along it), its spacing such that the whole polygon, with its
+    boundary points and first rows, holds n points as near as a few secant
+    steps find (the count goes about as 1/spacing**2): the points the seams
+    must add or leave out after the parts are few (added after the parts'
+    relaxation, many would crowd the rings' first layer)."""
+    a, d, L = polygon_edges(polygon, constraints=True)
+    m = boundary_counts(L, h, n)
+    bpts = boundary_points(a, d, m)[0]
+    bpts = bpts[~is_vertex(polygon, bpts)] if polygon.has_constraints else bpts
+    rows = boundary_rows(polygon, m, h)
+    cand = Candidates(polygon, h, None, rows)
+    want = n - len(bpts) - len(rows)
+    sp = h
+    for _ in range(_SPACING_STEPS):
+        got = len(cand(sp)[0])
+        if got == want:
+            break
+        sp *= math.sqrt(got / want)
+    return (cand.origin, float(cand.angle), float(sp), True)
+
+
+def _reseed(polygon: Polygon, P: np.ndarray, part: Partition, lattice, n: int) -> np.ndarray:
+    """The Steiner points with the band within :data:`RESEED` h of the cuts (and
+    :data:`RING_KEEP` h or more from the rings, segments and fixed points)
+    replaced by the shared lattice's points there: the parts' lattices are that
+    lattice deeper inside, so the band joins them without a seam.  n Steiner
+    points in the end: lattice points nearest the rings are left out, or points
+    added in the largest triangles along the rings
+    (:func:`uniform2d.optimize.fill.fill_band_gaps`)."""
+    h, nV = part.h, len(polygon.vertices)
+    cutp = part.points[np.concatenate(part.cuts)]
+    sa, sb = keep_clear(polygon)
+    far = RING_KEEP * h
+    band = _within(cutp, P, RESEED * h) & (to_segments(P, sa, sb, far) >= far)
+    band[: len(part.points) - part.n_cut] = False  # vertices and segment samples stay
+    lo, hi = cutp.min(axis=0) - RESEED * h, cutp.max(axis=0) + RESEED * h
+    box = np.maximum(lo, polygon.bounds[:2]).tolist() + np.minimum(hi, polygon.bounds[2:]).tolist()
+    Q = hex_lattice(box, lattice[2], lattice[1], lattice[0])
+    Q = Q[_within(cutp, Q, RESEED * h)]
+    Q = Q[shapely.contains_xy(polygon.to_shapely(), Q[:, 0], Q[:, 1])]
+    dq = to_segments(Q, sa, sb, far)
+    Q, dq = Q[dq >= far], dq[dq >= far]
+    gone = np.flatnonzero(band)
+    extra = len(gone) + n - (len(P) - nV) - len(Q)
+    if extra < 0:  # too many lattice points: those nearest the rings go
+        order = np.lexsort((np.arange(len(Q)), dq))
+        Q = Q[np.sort(order[-extra:])]
+    log.info("seams: %d band points replaced by %d of the shared lattice (%d to place)", int(band.sum()), len(Q), extra)
+    sites = np.concatenate([P[nV:][~band[nV:]], Q])
+    if extra > 0:  # too few: added where the mesh is sparsest along the rings
+        sites = fill_band_gaps(polygon, np.zeros((0, 2)), sites, len(sites) + extra, h, sa, sb)
+    return sites
+
+
+def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective: str = "balanced",
+                lattice=None, n: int | None = None):
     """The stitched mesh with the band within :data:`BAND` h of the cuts relaxed.
 
     The cut points are ordinary points now: they and their neighbours move (the
@@ -213,7 +297,11 @@ def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective:
     The stitched mesh is loaded into the kernel as it is, made constrained
     Delaunay there (across the cuts too), and the result is the kernel's own
     exact constrained Delaunay triangulation of the moved points.  Vertices
-    and segment samples do not move.
+    and segment samples do not move.  With ``lattice`` (the parts' shared
+    lattice, :func:`global_lattice`) the band within :data:`RESEED` h of the
+    cuts is first made that lattice again (the mesh is triangulated anew, with
+    ``n`` Steiner points: the parts may have taken their lattice's natural
+    count) and the band relaxed is :data:`RESEED` + 1 h wide.
 
     Returns
     -------
@@ -222,18 +310,28 @@ def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective:
     """
     nV = len(polygon.vertices)
     P = np.asarray(points, dtype=np.float64)
-    free = np.zeros(len(P), dtype=bool)
-    if part.cuts:
-        free = _within(part.points[np.concatenate(part.cuts)], P, BAND * part.h)
-    free[: len(part.points) - part.n_cut] = False  # vertices and segment samples stay
+    fixed = len(part.points) - part.n_cut
+    width = BAND
+    if lattice is not None:
+        sites = _reseed(polygon, P, part, lattice, len(P) - nV if n is None else n)
+        P, triangles = triangulate(polygon, sites)
+        width = RESEED + 1.0
+    free = _within(part.points[np.concatenate(part.cuts)], P, width * part.h)
+    if lattice is not None:  # and the rings' bands: a part's worst corner left them slack
+        sa, sb = keep_clear(polygon)
+        ring = (RING_BAND + 1.0) * part.h
+        free |= to_segments(P, sa, sb, ring) < ring
+    free[:fixed] = False  # vertices and segment samples stay (first in both)
     st = KernelMesh.from_mesh(polygon, P, triangles, href=part.h, frozen=~free[nV:])
     run = st.advance(SCHEDULE, objective_code(objective))
     pts, tri, _ = st.result(run)
     return pts, np.asarray(tri, dtype=np.int64)
 
 
-def _plan(polygon: Polygon, n: int, parts: int, objective: str):
-    """The partition and every part's item for :func:`mesh_faces`."""
+def _plan(polygon: Polygon, n: int, parts: int, objective: str, shared: bool = False):
+    """The partition and every part's item for :func:`mesh_faces`; with ``shared``
+    (and no segments), the parts take the natural counts of one shared lattice
+    (:func:`global_lattice`)."""
     part = partition(polygon, n, parts)
     counts = part_counts(part, n)
     _, d, L = polygon_edges(polygon)
@@ -241,7 +339,11 @@ def _plan(polygon: Polygon, n: int, parts: int, objective: str):
     angle = float(np.arctan2(d[e, 1], d[e, 0]))
     # the whole mesh's schedule: a part is meshed as the whole would be there
     sched = schedule_for(len(polygon.vertices) + n, False)._asdict()
-    return part, [(faces, c, part.h, angle, objective, sched) for faces, c in zip(part.parts, counts)]
+    lat = None
+    if shared and part.cuts and not len(polygon.segment_edges):
+        lat = global_lattice(polygon, n, part.h)
+    return part, [(faces, c, part.h, angle, objective, sched, lat)
+                  for faces, c in zip(part.parts, counts)]
 
 
 def write_pvtu(polygon: Polygon, n: int, parts: int, path, *, jobs: int = 1, scheduler=None,
@@ -319,7 +421,8 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
         times[name] = now - clock
         clock = now
 
-    part, items = _plan(polygon, n, parts, objective)
+    part, items = _plan(polygon, n, parts, objective, relax)
+    lat = items[0][6]
     lap("partition")
     done = list(ordered_map(mesher or mesh_faces, items, jobs=jobs, scheduler=scheduler, bar=bar))
     lap("parts")
@@ -327,13 +430,13 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     del done
     P, T = stitch(part.points, pieces)
     del pieces
-    if len(P) != nV + n:
+    if lat is None and len(P) != nV + n:
         raise InternalError(f"the stitched mesh has {len(P) - nV} Steiner points, not {n} (a bug)")
     seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
     before = seam_uniformity(P, T, seam, part.h)
     lap("stitch")
     if relax and part.cuts:
-        P, T = relax_seams(polygon, P, T, part, objective)
+        P, T = relax_seams(polygon, P, T, part, objective, lat, n)
     lap("relax")
     ensure_valid(P, T, polygon, n, "uniform_mesh(parts=...)")
     lap("check")

@@ -246,7 +246,7 @@ def drop_nearest(cand: Candidates, P, dist, count: int) -> np.ndarray:
 def seed_interior(
     polygon: Polygon, count: int, h: float, bpts: np.ndarray, edge: int | None = None,
     rows: np.ndarray | None = None, bedges: np.ndarray | None = None, fit: Fit = Fit.NEAREST,
-    held: np.ndarray | None = None,
+    held: np.ndarray | None = None, lattice=None,
 ) -> np.ndarray:
     """``count`` interior points on a hexagonal lattice aligned with polygon edge
     ``edge`` (default: the longest), deterministic.  With ``rows`` (from
@@ -261,7 +261,12 @@ def seed_interior(
     its, where the lattice is not split into regions.  ``held`` (optional):
     points placed before the rows (:mod:`~uniform2d.optimize.transition`'s),
     which come first in the result and which the lattice keeps clear of
-    wherever they are (the rows only near the boundary)."""
+    wherever they are (the rows only near the boundary).  ``lattice``
+    (optional): ``(origin, angle, spacing, natural)`` of a lattice shared
+    with other meshes (the parts of a partitioned mesh) instead of one of P's
+    own whose spacing is searched for the count; with ``natural`` all its
+    points inside are taken, however many (``count`` is then only a guide);
+    ignored where segments split P."""
     if count <= 0:
         return np.empty((0, 2))
     if held is not None and (not len(held) or len(held) >= count):
@@ -274,10 +279,15 @@ def seed_interior(
     if rows is not None and len(polygon.segment_edges) and len(polygon.regions) > 1:
         return _seed_regions(polygon, count, h, bpts, edge, rows, bedges, fit is not Fit.NEAREST)
     cand = Candidates(polygon, h, edge, rows, held=held)
+    if lattice is not None:
+        cand.origin, cand.angle = lattice[0], lattice[1]
     total = count
     first = [q for q in (held, rows) if q is not None]
     count = total - sum(len(q) for q in first)
-    P, dist = closest_count(cand, count, h, fit)
+    P, dist = closest_count(cand, count, h, fit) if lattice is None else cand(lattice[2])
+    if lattice is not None and lattice[3]:
+        count = len(P)
+        total = count + sum(len(q) for q in first)
     P = drop_nearest(cand, P, dist, count)
     if first:
         P = np.concatenate([*first, P])

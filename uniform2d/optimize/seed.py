@@ -52,10 +52,11 @@ def variants(polygon: Polygon, n: int):
     return [(c, e, lay) for lay in layers for e in edges for c in spacings]
 
 
-def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False):
+def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False, lattice=None):
     """The sites of one start (boundary points, then the lattice), the polygon edge of
     each (-1 inside) and which stay put.  With ``transition``, rows around small
-    holes first (:mod:`~uniform2d.optimize.transition`, held in place)."""
+    holes first (:mod:`~uniform2d.optimize.transition`, held in place);
+    ``lattice``: a shared lattice, as :func:`seed_interior`'s."""
     spacing, edge, layered = variant
     # points on the rings' edges and on the interior segment pieces (after them)
     a, d, L = polygon_edges(polygon, constraints=True)
@@ -72,7 +73,7 @@ def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False)
     # were dropped: it fills a few too few instead (Fit.BELOW)
     large = n + len(polygon.vertices) > schedule.LARGE
     ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid,
-                         Fit.BELOW if large else Fit.ABOVE, held)
+                         Fit.BELOW if large else Fit.ABOVE, held, lattice)
     # the lattice deeper than BAND sizes inside P is uniform already: it stays
     deep = to_segments(ipts, a, a + d, 2.0 * schedule.BAND * h) > schedule.BAND * h
     if held is not None and len(held) < n - len(bpts):  # seed_interior puts them first
