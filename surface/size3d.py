@@ -27,6 +27,7 @@ import numbers
 import numpy as np
 
 from uniform2d.errors import InvalidArgumentError
+from uniform2d.grading import evaluate_size
 
 __all__ = ["Size3D", "as_size3d", "count_for_size", "integrals", "q_stats", "scale_for_count"]
 
@@ -82,22 +83,7 @@ class Size3D:
 
     def __call__(self, points) -> np.ndarray:
         P = np.array(points, dtype=np.float64).reshape(-1, 3)
-        try:
-            v = self.h(P.copy())
-        except Exception as exc:  # the caller's code: any failure is bad input here
-            raise InvalidArgumentError(
-                f"size callable raised {type(exc).__name__}: {exc} (it is called with a (k, 3) "
-                "float64 array of points on the surface and must return k positive sizes)"
-            ) from exc
-        try:
-            v = np.asarray(v, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError) as exc:
-            raise InvalidArgumentError(f"size callable returned no array of numbers: {exc}") from exc
-        if v.shape != (len(P),):
-            raise InvalidArgumentError(
-                f"size callable returned {v.size} values for {len(P)} points; it must return "
-                "one size per point, shape (k,)"
-            )
+        v = evaluate_size(self.h, P, "points on the surface")
         bad = ~(np.isfinite(v) & (v > 0))
         if bad.any():
             i = int(np.flatnonzero(bad)[0])

@@ -34,6 +34,7 @@ from .polygon import Polygon
 from .sizefield import SizeField
 
 __all__ = [
+    "evaluate_size",
     "MAX_RANGE",
     "as_field",
     "check_range",
@@ -57,15 +58,16 @@ def _where(p) -> str:
     return f"({p[0]:.6g}, {p[1]:.6g})"
 
 
-def _evaluate(h, P: np.ndarray) -> np.ndarray:
-    """``h(P)`` as a (k,) float64 array; a raising callable or a wrong shape is an
-    InvalidArgumentError."""
+def evaluate_size(h, P: np.ndarray, where: str = "points") -> np.ndarray:
+    """``h(P)`` for a size callable and a (k, d) float64 array of ``where``, as a
+    (k,) float64 array; a raising callable or a wrong shape is an
+    InvalidArgumentError (the surface layer's 3-D sizes use it too)."""
     try:
         v = h(P.copy())
     except Exception as exc:  # the caller's code: any failure is bad input here
         raise InvalidArgumentError(
-            f"size callable raised {type(exc).__name__}: {exc} (it is called with a (k, 2) "
-            "float64 array of points and must return k positive sizes)"
+            f"size callable raised {type(exc).__name__}: {exc} (it is called with a "
+            f"(k, {P.shape[1]}) float64 array of {where} and must return k positive sizes)"
         ) from exc
     try:
         v = np.asarray(v, dtype=np.float64).reshape(-1)
@@ -121,13 +123,13 @@ def as_field(polygon: Polygon, size) -> SizeField | None:
     ext = max(xmax - xmin, ymax - ymin)
     shape = shapely.Polygon(*_rings(polygon))
     coarse = _grid(xmin, ymin, xmax, ymax, ext / (SAMPLES[0] - 1))
-    v = _evaluate(size, coarse[2])
+    v = evaluate_size(size, coarse[2])
     inside = shapely.intersects_xy(shape, coarse[2][:, 0], coarse[2][:, 1])
     _check_positive(coarse[2], v, inside, "the size")
     hmin = float(v[inside].min()) if np.any(inside) else float(np.nanmin(v))
     nodes = int(np.clip(math.ceil(2 * ext / hmin) + 1, *SAMPLES))
     gx, gy, P = _grid(xmin, ymin, xmax, ymax, ext / (nodes - 1))
-    v = _evaluate(size, P)
+    v = evaluate_size(size, P)
     inside = shapely.intersects_xy(shape, P[:, 0], P[:, 1])
     _check_positive(P, v, inside, "the size")
     good = np.isfinite(v) & (v > 0)
