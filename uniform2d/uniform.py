@@ -148,9 +148,7 @@ def uniform_mesh(
     if isinstance(n, numbers.Integral) and not isinstance(n, bool):
         check_point_count(n + len(polygon.vertices), what)
     if parts is not None:
-        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
-            raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
-        return partitioned_mesh(polygon, int(n), parts, jobs=jobs, scheduler=scheduler,
+        return partitioned_mesh(polygon, _positive_count(n), parts, jobs=jobs, scheduler=scheduler,
                                 objective=objective)
     # optimize_mesh checks the mesh it makes (ensure_valid); its fallback, T+, was checked
     mesh = optimize_mesh(polygon, n, objective=objective, progress=progress)
@@ -165,8 +163,8 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress) ->
     """:func:`uniform_mesh` with ``resample=tol``: the rings resampled, then meshed."""
     if size is not None:
         steiner_count_for_size(polygon, size)  # the same checks of size
-    elif isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
-        raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
+    else:
+        _positive_count(n)
     res, left = resample_polygon(polygon, n, size=size, tolerance=tol, corner_angle=corner_angle)
     if res.resampled and is_coarse(polygon, res.spacing):  # see uniform2d.outline.COARSE_SPACING
         res, left = resample_polygon(polygon, n, size=size, tolerance=tol, corner_angle=corner_angle,
@@ -207,8 +205,14 @@ def _graded(polygon: Polygon, n, field, objective: str, progress) -> Mesh:
                 "the size field is larger than the polygon needs: it asks for no Steiner "
                 "points; use smaller sizes or give n"
             )
+    n = _positive_count(n)
+    check_point_count(n + len(polygon.vertices), what)
+    return graded_mesh(polygon, n, field, objective=objective, progress=progress,
+                       integrals=integrals)
+
+
+def _positive_count(n) -> int:
+    """``n`` as an int, or InsufficientPointsError if it is not a positive integer."""
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
         raise InsufficientPointsError(f"n must be a positive integer, got {n!r}")
-    check_point_count(int(n) + len(polygon.vertices), what)
-    return graded_mesh(polygon, int(n), field, objective=objective, progress=progress,
-                       integrals=integrals)
+    return int(n)

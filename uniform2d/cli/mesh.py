@@ -164,12 +164,6 @@ def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     return plot, False
 
 
-def _writable(directory: Path, option: str) -> None:
-    """Refuse, before any meshing, an existing output directory we may not write into."""
-    if directory.is_dir() and not os.access(directory, os.W_OK | os.X_OK):
-        raise PermissionError(13, f"{option}: the directory is not writable", str(directory))
-
-
 def _output_target(text: str | None, several: bool, parts=None) -> tuple[Path | None, bool]:
     """One -o path and whether it names a directory, checked before any meshing."""
     from ..io.registry import MESH_FORMATS, find_mesh_format, match_format
@@ -180,8 +174,7 @@ def _output_target(text: str | None, several: bool, parts=None) -> tuple[Path | 
     if several and (out.is_file() or (not names_directory(text) and match_format(out, MESH_FORMATS))):
         raise ValueError(f"with several inputs, -o must be a directory, got '{out}'")
     if several or names_directory(text):
-        check_output_dir(out, "-o")
-        _writable(out, "-o")
+        check_output_dir(out, "-o")  # it exists and is writable, or can be made
         return out, True
     if out.suffix.lower() == PVTU:
         if not parts:
@@ -190,8 +183,7 @@ def _output_target(text: str | None, several: bool, parts=None) -> tuple[Path | 
         check_output_file(out, "-o")
         return out, False
     find_mesh_format(out, "write")
-    check_output_file(out, "-o")
-    _writable(out.parent if str(out.parent) else Path("."), "-o")
+    check_output_file(out, "-o")  # its directory exists and is writable
     return out, False
 
 
