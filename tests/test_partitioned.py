@@ -138,6 +138,8 @@ def test_refusals():
         uniform_mesh(L_HOLE, 10, parts=8)  # the cuts alone take more points
     with pytest.raises(InsufficientPointsError, match="fewer parts"):
         uniform_mesh(L_HOLE, 5, parts=16)  # parts narrower than the spacing
+    with pytest.raises(InvalidArgumentError, match="size field"):
+        uniform_mesh(L_HOLE, 300, size=lambda p: 1.0 + p[:, 0] ** 2, parts=2)
 
 
 def test_pvtu_pieces_read_back(tmp_path):
@@ -223,6 +225,8 @@ def test_the_command_gathers_any_other_format(tmp_path, capsys):
 @pytest.mark.parametrize("extra, message", [
     (["--method", "paper", "-o", "m.vtu"], "cannot be used with --method paper"),
     (["-o", "m.pvtu", "--plot", "m.png"], "drop --plot"),
+    (["--refine", "holes:0.5", "-o", "m.vtu"], "--refine or --size-field"),
+    (["-o", "m.pvtu", "-o", "m.vtu"], "write it alone"),
 ])
 def test_the_command_refuses(tmp_path, capsys, extra, message):
     src = tmp_path / "p.json"
