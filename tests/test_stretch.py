@@ -9,9 +9,9 @@ import hashlib
 
 import numpy as np
 import pytest
+from support.benchmarks import benchmark_polygons
 
 import uniform2d
-from support.benchmarks import benchmark_polygons
 from uniform2d import Polygon
 from uniform2d.optimize import seed
 from uniform2d.optimize.boundary import target_size

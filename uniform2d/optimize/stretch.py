@@ -106,14 +106,14 @@ def _pieces(polygon: Polygon, shp, origin, u, nrm, levels, reach: float):
     return out
 
 
-def _on_boundary(polygon: Polygon, q: np.ndarray):
-    """(edge, parameter) of the ring edge point q lies on, or None at a vertex."""
+def _on_boundary(polygon: Polygon, q: np.ndarray, near: float):
+    """(edge, parameter) of the ring edge point q lies on, or None within ``near``
+    of a vertex (a crossing there would make a sliver with it)."""
     a, d, L = polygon_edges(polygon)
     t = np.clip(((q - a) * d).sum(axis=1) / L**2, 0.0, 1.0)
     dist = np.hypot(*(a + d * t[:, None] - q).T)
     e = int(np.argmin(dist))
-    scale = max(float(L.max()), 1.0)
-    if min(t[e], 1.0 - t[e]) * L[e] <= 1e-9 * scale:
+    if min(t[e], 1.0 - t[e]) * L[e] <= near:
         return None
     return e, float(t[e])
 
@@ -184,7 +184,7 @@ def _rows_at(polygon: Polygon, n: int, h: float, edge: int, t0: float, exact: bo
     cross, ceid, ct = [], [], []
     for j, s0, s1 in pieces:
         for s in (s0, s1):
-            hit = _on_boundary(polygon, origin + nrm * levels[j] + u * s)
+            hit = _on_boundary(polygon, origin + nrm * levels[j] + u * s, 0.25 * h)
             if hit is not None:
                 cross.append(a[hit[0]] + d[hit[0]] * hit[1])
                 ceid.append(hit[0])
