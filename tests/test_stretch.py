@@ -6,6 +6,7 @@ hexagonal start reaches."""
 from __future__ import annotations
 
 import hashlib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ from support.benchmarks import benchmark_polygons
 
 import uniform2d
 from uniform2d import Polygon
+from uniform2d.io import read_polygon
 from uniform2d.optimize import seed
 from uniform2d.optimize.boundary import target_size
 from uniform2d.optimize.moves import improve_best
@@ -81,3 +83,19 @@ def test_rows_on_a_rectangle_reach_a_longest_edge_no_hexagonal_start_reaches():
     rows = factor(sites, edges)
     hexagonal = [factor(*seed.start(RECT, n, h, v)[:2]) for v in seed.variants(RECT, n)]
     assert rows < min(hexagonal)
+
+
+BUNDLED = sorted((Path(__file__).resolve().parents[1] / "data").glob("*.json"))
+
+
+@pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
+def test_row_start_on_the_bundled_polygons_is_exact_and_valid(path):
+    p, n = read_polygon(path), 200
+    edges_followed = row_edges(p)
+    if p.has_constraints:
+        assert edges_followed == []
+    for edge in edges_followed[:2]:
+        made = row_start(p, n, target_size(p, n), edge)
+        assert made is not None and len(made[0]) == n
+        pts, tri = triangulate(p, made[0], made[1])
+        check_mesh(pts, tri, p, n_steiner=n)
