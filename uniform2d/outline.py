@@ -43,7 +43,6 @@ is resampled in degrees (project it first, see ``docs/outlines.md``).
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import logging
 import math
 import numbers
@@ -51,9 +50,10 @@ import numbers
 import numpy as np
 import shapely
 
-from .chord_sampling import plain_run, run_counts, sample_run
+from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
+from .outline_widen import REACH, moved_deviation, widen_moves
 from .polygon import Polygon
 from .ring_corners import ring_corners
 
@@ -153,7 +153,7 @@ class Resampled:
 
 def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | None = None,
                      tolerance: float, corner_angle: float = CORNER_ANGLE,
-                     boundary_spacing: float = 1.0) -> tuple[Resampled, int]:
+                     boundary_spacing: float = 1.0, widen: bool = True) -> tuple[Resampled, int]:
     """Resample ``polygon``'s rings for a mesh of ``n`` Steiner points (or edge ``size``).
 
     The spacing h is that of an equilateral mesh of the resampled polygon with
@@ -161,7 +161,10 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     found by iterating (the resampled perimeter depends on h); with ``size``, h
     is ``size`` and n follows as in :func:`uniform2d.steiner_count_for_size`.
     The rings are sampled at ``boundary_spacing`` times h (n stays exact: the
-    boundary points count in it).
+    boundary points count in it).  With ``widen`` (the default), features
+    narrower than the spacing are then widened within the tolerance
+    (:mod:`uniform2d.outline_widen`): the boundary points placed by the
+    resampling then lie within the tolerance of the outline, not on it.
 
     Returns
     -------
@@ -193,7 +196,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     extra = len(polygon.vertices) - polygon.n_ring_vertices
     if size is not None:
-        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c)
+        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c, widen=widen)
         q = r.polygon
         N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
         return r, max(0, round(N) - r.n_kept) - r.n_boundary
@@ -205,7 +208,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         h = max(h, size_for_count(polygon.area, simple.length, n + extra, polygon.n_holes))
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
     for _ in range(_ITERATIONS):
-        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c)
+        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c, widen)
         q = r.polygon
         h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
         if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
@@ -292,7 +295,7 @@ def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
 
 
 def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
-                 forced=None, c: float = 1.0) -> Resampled:
+                 forced=None, c: float = 1.0, widen: bool = True) -> Resampled:
     """The rings resampled at spacing ``c * h`` within ``tol * h``, made valid (see
     the module notes); the polygon as given if no constraint edge is shorter than
     ``COARSE_EDGE * h``.  ``forced`` (per ring, (k,) bool, updated): input vertices
@@ -326,12 +329,28 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
             continue
         kept = np.concatenate([np.concatenate([s[1] for s in samples]),
                                np.ones(len(poly.vertices) - poly.n_ring_vertices, dtype=bool)])
-        dev = max(s[2] for s in samples)
+        poly, dev = _widened(polygon, poly, samples, h, tol * h) if widen else (
+            poly, max(float(s[2].max()) for s in samples))
         return Resampled(poly, kept, h0, float(tol0), float(dev), sum(g.n_corners for g in rings),
                          boundary_spacing=c)
     log.warning("the outline could not be resampled at spacing %.4g without its rings crossing; "
                 "every input vertex kept", h)
     return _as_given(polygon, h0, tol0)
+
+
+def _widened(polygon: Polygon, poly: Polygon, samples, h: float, limit: float):
+    """``poly`` with its narrow features widened within ``limit`` of the outline
+    (:mod:`uniform2d.outline_widen`; the moves halved, then dropped, if the rings
+    would cross), and the deviation bound."""
+    dev = [s[2] for s in samples]
+    moves = widen_moves([s[0] for s in samples], [~s[1] for s in samples], dev, REACH * h, limit)
+    for f in (1.0, 0.5):
+        try:
+            rings = [s[0] + f * d for s, d in zip(samples, moves)]
+            return _rebuild(polygon, rings), moved_deviation(dev, [f * d for d in moves])
+        except InvalidPolygonError:
+            continue
+    return poly, max(float(d.max()) for d in dev)
 
 
 def _rebuild(polygon: Polygon, rings) -> Polygon:
@@ -388,15 +407,15 @@ class _Ring:
             idx = (a + np.arange(nv + 1)) % k
             key = (int(a), int(nv))
             if key not in cache:
-                cache[key] = _straightened(ring[idx], seg[idx[:-1]], tol * h)
+                cache[key] = straightened_lengths(ring[idx], seg[idx[:-1]], tol * h)
             meas[idx[:-1]] = cache[key]
         cum = np.concatenate([[0.0], np.cumsum(meas)])
         self.cum = cum
         self.ext = np.concatenate([cum[:-1], cum[-1] + cum])  # twice round
 
     def sample(self, h, tol):
-        """(points (r, 2), kept (r,), deviation, measure position of each point (r,))
-        at spacing ``h``, within ``tol`` of the spacing."""
+        """(points (r, 2), kept (r,), deviation of each edge (r,), measure position
+        of each point (r,)) at spacing ``h``, within ``tol`` of the spacing."""
         lp = np.arange(len(self.ring))
         m = run_counts(self.ext[self.starts + self.nvs] - self.ext[self.starts], h, self.closed)
         S, vert = [], []
@@ -411,7 +430,7 @@ class _Ring:
         pts = self._points(S, vert)
         kept = np.zeros(len(S), dtype=bool)
         kept[vert >= 0] = self.kept[vert[vert >= 0] % len(self.ring)]
-        return pts, kept, float(self._deviation(S, pts).max()), S
+        return pts, kept, self._deviation(S, pts, per_edge=True), S
 
     def split_points(self, S, edges):
         """The input vertices (indices) nearest the middle of the sampled edges
@@ -465,9 +484,10 @@ class _Ring:
         P[on] = self.ring[vert[on] % k]
         return P
 
-    def _deviation(self, S, P, idx=None):
+    def _deviation(self, S, P, idx=None, per_edge=False):
         """Distance of input vertices ``idx`` (default all) from the sampled edge
-        spanning each (samples at measure positions S, points P, in order)."""
+        spanning each (samples at measure positions S, points P, in order); with
+        ``per_edge``, per sampled edge the largest over the vertices it spans."""
         k = len(self.ring)
         idx = np.arange(k) if idx is None else idx
         pos = self.ext[idx]
@@ -476,25 +496,10 @@ class _Ring:
         pos2 = np.where(g < 0, pos + self.cum[-1], pos)  # before the first sample: wrap
         g = np.searchsorted(S, pos2, side="right") - 1
         g = np.where(g < 0, r - 1, g)
-        return point_segment_distance(self.ring[idx % k], P[g % r], P[(g + 1) % r])
+        d = point_segment_distance(self.ring[idx % k], P[g % r], P[(g + 1) % r])
+        if per_edge:
+            out = np.zeros(r)
+            np.maximum.at(out, g % r, d)
+            return out
+        return d
 
-
-def _straightened(pts, seg, eps):
-    """Per edge of the polyline ``pts`` (k + 1, 2): its length scaled so that each
-    stretch between the vertices Douglas-Peucker keeps at ``eps`` measures its chord."""
-    simple = shapely.get_coordinates(shapely.simplify(shapely.LineString(pts), eps, preserve_topology=False))
-    marks = np.zeros(len(pts), dtype=bool)
-    j = 0
-    for i in range(len(pts)):  # the kept vertices, in order (a closed run repeats its start)
-        if j < len(simple) and pts[i, 0] == simple[j, 0] and pts[i, 1] == simple[j, 1]:
-            marks[i] = True
-            j += 1
-    marks[0] = marks[-1] = True
-    at = np.flatnonzero(marks)
-    out = seg.copy()
-    for p, q in itertools.pairwise(at):
-        arc = seg[p:q].sum()
-        chord = float(np.hypot(*(pts[q] - pts[p])))
-        if arc > 0 and chord > 0:
-            out[p:q] = seg[p:q] * (chord / arc)
-    return out

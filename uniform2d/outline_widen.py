@@ -1,0 +1,123 @@
+"""Narrow features of a resampled outline widened within its tolerance band.
+
+A resampled outline (:mod:`uniform2d.outline`) keeps every feature wider than
+its tolerance: a pier, a fjord, a neck of land narrower than the mesh spacing h
+stays, and its width becomes a mesh edge.  The tolerance allows more than
+keeping it: the rings need only stay within ``limit`` (a length, the tolerance
+times h) of the input outline, both ways, so each side of a narrow feature may
+move up to that far from the other, widening a feature of width w to
+``w + 2 * limit`` (outwards for a pier, into the material for a notch).
+
+:func:`widen_moves` computes those moves: every movable ring point closer than
+``reach`` to a ring edge that is not its own nor its neighbours' is pushed away
+from that edge (half the shortfall if the edge can move too), a few rounds,
+each point no farther from where it was than its *budget*: ``limit`` less the
+deviation of its two ring edges from the outline.  Why that holds the
+tolerance: a ring edge is within ``dev`` of the outline between its ends, both
+ways (:attr:`uniform2d.outline.Resampled.deviation`); moving its ends by at most
+``d`` moves every point of it by at most ``d`` (the move is linear along the
+edge), so the moved edge is within ``dev + d <= limit`` of the outline, both
+ways.  :func:`moved_deviation` is that bound per edge.  Whether the moved rings
+are still a valid polygon is the caller's check (:mod:`uniform2d.outline` halves
+the moves, then drops them, if not).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from .geometry import point_segment_distance
+
+__all__ = ["REACH", "moved_deviation", "widen_moves"]
+
+#: Ring points closer than this many spacings to another part of the rings are
+#: pushed apart (a mesh edge across a feature narrower than that is short).
+REACH = 1.0
+#: Rounds of pushing (each one recomputes the nearest edges).
+_ROUNDS = 6
+
+
+def widen_moves(rings, movable, edge_dev, reach: float, limit: float) -> list[np.ndarray]:
+    """The moves (per ring, (r, 2) float64) that widen the rings' narrow features.
+
+    Parameters
+    ----------
+    rings : list of (r, 2) float64
+        Closed rings, the first point not repeated.
+    movable : list of (r,) bool
+        The points that may move (kept input vertices may not).
+    edge_dev : list of (r,) float64
+        The distance of edge ``i`` (point i to point i + 1) from the outline.
+    reach : float
+        The distance (a length) features are widened to where the budget allows.
+    limit : float
+        The largest distance (a length) of a moved edge from the outline.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pier = np.array([(0, 0), (4, 0), (4, 3), (2.2, 3), (2.2, 1), (1.8, 1), (1.8, 3), (0, 3)], float)
+    >>> movable = np.array([0, 0, 0, 1, 1, 1, 1, 0], bool)
+    >>> d = widen_moves([pier], [movable], [np.zeros(8)], 1.0, 0.25)[0]
+    >>> (pier + d)[[4, 5], 0].round(3).tolist()         # the slot's sides, 0.4 apart, moved apart
+    [2.45, 1.55]
+    >>> float(np.hypot(*d.T).max()) <= 0.25
+    True
+    """
+    sizes = [len(r) for r in rings]
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    P0 = np.concatenate(rings)
+    loc = np.arange(len(P0))
+    ring_of = np.repeat(np.arange(len(rings)), sizes)
+    nxt = start[ring_of] + (loc - start[ring_of] + 1) % np.repeat(sizes, sizes)
+    prv = np.empty_like(nxt)
+    prv[nxt] = loc
+    dev = np.concatenate(edge_dev)
+    can = np.concatenate(movable)
+    budget = np.where(can, np.maximum(0.0, limit - np.maximum(dev, dev[prv])), 0.0)
+    P = P0.copy()
+    for _ in range(_ROUNDS):
+        step = _push(P, nxt, prv, can, reach)
+        if not step.any():
+            break
+        D = P + step - P0
+        norm = np.hypot(*D.T)
+        over = norm > budget
+        D[over] *= (budget[over] / norm[over])[:, None]
+        P = P0 + D
+    return np.split(P - P0, start[1:-1])
+
+
+def moved_deviation(edge_dev, moves) -> float:
+    """The bound on the moved rings' distance from the outline: per edge, its
+    deviation plus the longer move of its two ends (largest over the rings)."""
+    out = 0.0
+    for dev, d in zip(edge_dev, moves):
+        m = np.hypot(*d.T)
+        out = max(out, float(np.max(dev + np.maximum(m, np.roll(m, -1)))))
+    return out
+
+
+def _push(P, nxt, prv, can, reach) -> np.ndarray:
+    """One round: per point, its move away from the nearest ring edge closer than
+    ``reach`` that is not its own nor a neighbour's (zero if none)."""
+    lines = shapely.linestrings(np.stack([P, P[nxt]], axis=1))
+    pi, e = shapely.STRtree(lines).query(shapely.points(P), predicate="dwithin", distance=reach)
+    near = (e != pi) & (e != prv[pi]) & (e != nxt[pi]) & (e != prv[prv[pi]]) & can[pi]
+    pi, e = pi[near], e[near]
+    step = np.zeros_like(P)
+    if not len(pi):
+        return step
+    d = point_segment_distance(P[pi], P[e], P[nxt[e]])
+    order = np.lexsort((e, d, pi))  # per point, its nearest edge first (ties: lowest index)
+    pi, e, d = pi[order], e[order], d[order]
+    first = np.concatenate([[True], pi[1:] != pi[:-1]]) & (d > 0)
+    pi, e, d = pi[first], e[first], d[first]
+    A, B = P[e], P[nxt[e]]
+    AB = B - A
+    t = np.clip(np.einsum("ij,ij->i", P[pi] - A, AB) / np.einsum("ij,ij->i", AB, AB), 0.0, 1.0)
+    away = (P[pi] - (A + t[:, None] * AB)) / d[:, None]
+    share = np.where(can[e] | can[nxt[e]], 0.5, 1.0)  # the other side moves too, or not
+    step[pi] = away * (share * (reach - d))[:, None]
+    return step
