@@ -53,7 +53,7 @@ import shapely
 from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
-from .outline_widen import REACH, moved_deviation, widen_moves
+from .outline_band import REACH, merge_short_edges, moved_deviation, widen_moves
 from .polygon import Polygon
 from .ring_corners import ring_corners
 
@@ -163,7 +163,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     The rings are sampled at ``boundary_spacing`` times h (n stays exact: the
     boundary points count in it).  With ``widen`` (the default), features
     narrower than the spacing are then widened within the tolerance
-    (:mod:`uniform2d.outline_widen`): the boundary points placed by the
+    (:mod:`uniform2d.outline_band`): the boundary points placed by the
     resampling then lie within the tolerance of the outline, not on it.
 
     Returns
@@ -311,7 +311,7 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings] if forced is None else forced
     caches = [{} for _ in polygon.rings]
     for _ in range(_ROUNDS):
-        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r])
+        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r], widen)
                  for r, ring in enumerate(polygon.rings)]
         samples = [g.sample(h, tol) for g in rings]
         try:
@@ -340,7 +340,7 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
 
 def _widened(polygon: Polygon, poly: Polygon, samples, h: float, limit: float):
     """``poly`` with its narrow features widened within ``limit`` of the outline
-    (:mod:`uniform2d.outline_widen`; the moves halved, then dropped, if the rings
+    (:mod:`uniform2d.outline_band`; the moves halved, then dropped, if the rings
     would cross), and the deviation bound."""
     dev = [s[2] for s in samples]
     moves = widen_moves([s[0] for s in samples], [~s[1] for s in samples], dev, REACH * h, limit)
@@ -391,12 +391,14 @@ def _share_end(p, q) -> bool:
 class _Ring:
     """One ring's runs between kept vertices and its straightened arc measure."""
 
-    def __init__(self, ring, keep, corners, forced, h, tol, cache):
+    def __init__(self, ring, keep, corners, forced, h, tol, cache, merge=False):
         self.ring = ring
         self.cache = cache  # (start, edges[, pieces]) -> a run's measure or sampling
         self.kept = keep | corners
         self.n_corners = int((corners & ~keep).sum())
         starts = np.flatnonzero(self.kept | forced)  # forced: run ends that count in n
+        self.ends = self.kept | forced
+        self.merge = merge
         self.closed = not len(starts)
         self.starts = starts if len(starts) else np.array([0])
         k = len(ring)
@@ -428,8 +430,13 @@ class _Ring:
                 vert.append(v)
         S, vert = np.concatenate(S), np.concatenate(vert)
         pts = self._points(S, vert)
+        k = len(self.ring)
+        if self.merge:  # kept, forced and single-edge run ends stay (see outline_band)
+            on = np.where(vert >= 0, self.ends[vert % k], False)
+            sel = merge_short_edges(self.ring, self.ext, S, pts, ~on, h, tol * h)
+            S, vert, pts = S[sel], vert[sel], pts[sel]
         kept = np.zeros(len(S), dtype=bool)
-        kept[vert >= 0] = self.kept[vert[vert >= 0] % len(self.ring)]
+        kept[vert >= 0] = self.kept[vert[vert >= 0] % k]
         return pts, kept, self._deviation(S, pts, per_edge=True), S
 
     def split_points(self, S, edges):

@@ -29,11 +29,14 @@ import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["REACH", "moved_deviation", "widen_moves"]
+__all__ = ["MERGE", "REACH", "merge_short_edges", "moved_deviation", "widen_moves"]
 
 #: Ring points closer than this many spacings to another part of the rings are
 #: pushed apart (a mesh edge across a feature narrower than that is short).
 REACH = 1.0
+#: Ring edges shorter than MERGE[0] spacings lose an end where the edge that
+#: replaces the two is at most MERGE[1] spacings long and within the tolerance.
+MERGE = (0.6, 1.3)
 #: Rounds of pushing (each one recomputes the nearest edges).
 _ROUNDS = 6
 
@@ -118,6 +121,84 @@ def _push(P, nxt, prv, can, reach) -> np.ndarray:
     AB = B - A
     t = np.clip(np.einsum("ij,ij->i", P[pi] - A, AB) / np.einsum("ij,ij->i", AB, AB), 0.0, 1.0)
     away = (P[pi] - (A + t[:, None] * AB)) / d[:, None]
+    # along the point's own normal (sliding along its ring would shorten its edges)
+    tang = P[nxt[pi]] - P[prv[pi]]
+    normal = np.c_[-tang[:, 1], tang[:, 0]] / np.hypot(*tang.T)[:, None]
     share = np.where(can[e] | can[nxt[e]], 0.5, 1.0)  # the other side moves too, or not
-    step[pi] = away * (share * (reach - d))[:, None]
+    step[pi] = normal * (np.einsum("ij,ij->i", away, normal) * share * (reach - d))[:, None]
     return step
+
+
+def merge_short_edges(ring, ext, S, P, removable, h: float, limit: float) -> np.ndarray:
+    """(r,) bool: the samples of a ring kept once its short edges are merged.
+
+    The shortest edge shorter than ``MERGE[0] * h`` loses a removable end when
+    the edge joining that end's neighbours is at most ``MERGE[1] * h`` long and
+    every input vertex between them is within ``limit`` of it (the samples lie
+    on the outline, so the new edge is then within ``limit`` of it both ways),
+    the shorter new edge first; again until no short edge can lose an end.  A
+    removed boundary point is one more point inside: n is unchanged.
+
+    Parameters
+    ----------
+    ring : (k, 2) float64
+        The input ring.
+    ext : (2k + 1,) float64
+        The measure position of its vertices, twice round.
+    S : (r,) float64
+        The samples' increasing measure positions (within one turn of the first).
+    P : (r, 2) float64
+        The samples (on the input ring).
+    removable : (r,) bool
+        The samples that may go.
+    h, limit : float
+        The spacing and the tolerance (lengths).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sq = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], float)
+    >>> ext = np.arange(9.0)
+    >>> S = np.array([0, 0.9, 1, 2, 3])
+    >>> P = np.array([(0, 0), (0.9, 0), (1, 0), (1, 1), (0, 1)])
+    >>> merge_short_edges(sq, ext, S, P, np.array([0, 1, 0, 0, 0], bool), 1.0, 0.1).tolist()
+    [True, False, True, True, True]
+    """
+    k = len(ring)
+    total = float(ext[k])
+    keep = np.ones(len(S), dtype=bool)
+    while keep.sum() > 3:
+        idx = np.flatnonzero(keep)
+        m = len(idx)
+        L = np.hypot(*(P[idx[(np.arange(m) + 1) % m]] - P[idx]).T)
+        best = None
+        for e in np.argsort(L, kind="stable"):
+            if L[e] >= MERGE[0] * h:
+                break
+            for j in (e, (e + 1) % m):
+                a, b = idx[(j - 1) % m], idx[(j + 1) % m]
+                new = float(np.hypot(*(P[b] - P[a])))
+                if removable[idx[j]] and new <= MERGE[1] * h and (best is None or new < best[0]) \
+                        and _span_height(ring, ext, total, S[a], S[b], P[a], P[b]) <= limit:
+                    best = (new, idx[j])
+            if best is not None:
+                break
+        if best is None:
+            break
+        keep[best[1]] = False
+    return keep
+
+
+def _span_height(ring, ext, total, lo, hi, A, B) -> float:
+    """Largest distance of the input vertices strictly between measure positions
+    ``lo`` and ``hi`` (the next sample, a turn later if it wrapped) from edge AB."""
+    if hi <= lo:
+        hi += total
+    if lo >= total:
+        lo, hi = lo - total, hi - total
+    i = np.arange(np.searchsorted(ext, lo, side="right"), np.searchsorted(ext, hi, side="left"))
+    if not len(i):
+        return 0.0
+    k = len(ring)
+    return float(point_segment_distance(ring[i % k], np.broadcast_to(A, (len(i), 2)),
+                                        np.broadcast_to(B, (len(i), 2))).max())
