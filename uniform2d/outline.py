@@ -53,7 +53,7 @@ import shapely
 from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
-from .outline_band import REACH, merge_short_edges, moved_deviation, widen_moves
+from .outline_band import REACH, merge_short_edges, moved_deviation, narrowest, widen_moves
 from .polygon import Polygon
 from .ring_corners import ring_corners
 
@@ -340,16 +340,19 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
 
 def _widened(polygon: Polygon, poly: Polygon, samples, h: float, limit: float):
     """``poly`` with its narrow features widened within ``limit`` of the outline
-    (:mod:`uniform2d.outline_band`; the moves halved, then dropped, if the rings
-    would cross), and the deviation bound."""
+    (:mod:`uniform2d.outline_band`) if that makes its narrowest part wider (the
+    moves halved, then dropped, if the rings would cross), and the deviation."""
     dev = [s[2] for s in samples]
-    moves = widen_moves([s[0] for s in samples], [~s[1] for s in samples], dev, REACH * h, limit)
+    base = [s[0] for s in samples]
+    moves = widen_moves(base, [~s[1] for s in samples], dev, REACH * h, limit)
+    width = narrowest(base, REACH * h)[0]
     for f in (1.0, 0.5):
-        try:
-            rings = [s[0] + f * d for s, d in zip(samples, moves)]
-            return _rebuild(polygon, rings), moved_deviation(dev, [f * d for d in moves])
-        except InvalidPolygonError:
-            continue
+        rings = [b + f * d for b, d in zip(base, moves)]
+        if narrowest(rings, REACH * h)[0] > width:
+            try:
+                return _rebuild(polygon, rings), moved_deviation(dev, [f * d for d in moves])
+            except InvalidPolygonError:
+                continue
     return poly, max(float(d.max()) for d in dev)
 
 

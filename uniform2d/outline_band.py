@@ -29,7 +29,7 @@ import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["MERGE", "REACH", "merge_short_edges", "moved_deviation", "widen_moves"]
+__all__ = ["MERGE", "REACH", "merge_short_edges", "moved_deviation", "narrowest", "widen_moves"]
 
 #: Ring points closer than this many spacings to another part of the rings are
 #: pushed apart (a mesh edge across a feature narrower than that is short).
@@ -68,17 +68,12 @@ def widen_moves(rings, movable, edge_dev, reach: float, limit: float) -> list[np
     >>> float(np.hypot(*d.T).max()) <= 0.25
     True
     """
-    sizes = [len(r) for r in rings]
-    start = np.concatenate([[0], np.cumsum(sizes)])
-    P0 = np.concatenate(rings)
-    loc = np.arange(len(P0))
-    ring_of = np.repeat(np.arange(len(rings)), sizes)
-    nxt = start[ring_of] + (loc - start[ring_of] + 1) % np.repeat(sizes, sizes)
-    prv = np.empty_like(nxt)
-    prv[nxt] = loc
+    P0, nxt, prv, start = _topology(rings)
     dev = np.concatenate(edge_dev)
     can = np.concatenate(movable)
     budget = np.where(can, np.maximum(0.0, limit - np.maximum(dev, dev[prv])), 0.0)
+    L0 = np.hypot(*(P0[nxt] - P0).T)
+    floor = np.minimum(L0, reach)  # a ring edge shorter than reach is not shortened
     P = P0.copy()
     for _ in range(_ROUNDS):
         step = _push(P, nxt, prv, can, reach)
@@ -88,8 +83,46 @@ def widen_moves(rings, movable, edge_dev, reach: float, limit: float) -> list[np
         norm = np.hypot(*D.T)
         over = norm > budget
         D[over] *= (budget[over] / norm[over])[:, None]
-        P = P0 + D
+        Q = P0 + D
+        L = np.hypot(*(Q[nxt] - Q).T)
+        short = (L < floor) & (L < np.hypot(*(P[nxt] - P).T))
+        hold = np.zeros(len(P), dtype=bool)
+        hold[short] = True
+        hold[nxt[short]] = True
+        Q[hold] = P[hold]
+        if np.array_equal(Q, P):
+            break
+        P = Q
     return np.split(P - P0, start[1:-1])
+
+
+def narrowest(rings, reach: float) -> tuple[float, np.ndarray]:
+    """The narrowest part of closed rings: the shortest ring edge or the least
+    distance from a ring point to a ring edge that is not its own nor a
+    neighbour's (a feature's width), whichever is less, if less than ``reach``
+    (else ``reach``); and where it is (a ring point, (2,)).  A mesh with these
+    rings as its boundary has an edge at most that long where it is an edge,
+    and almost always where it is a width.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> slot = np.array([(0, 0), (4, 0), (4, 3), (2.2, 3), (2.2, 2), (2.2, 1),
+    ...                  (1.8, 1), (1.8, 2), (1.8, 3), (0, 3)], float)
+    >>> w, at = narrowest([slot], 1.0)
+    >>> round(w, 3), at.tolist()
+    (0.4, [2.2, 2.0])
+    """
+    P, nxt, prv, _ = _topology(rings)
+    L = np.hypot(*(P[nxt] - P).T)
+    best, at = float(L.min()), P[int(np.argmin(L))]
+    pi, e = _near_pairs(P, nxt, prv, reach)
+    if len(pi):
+        d = point_segment_distance(P[pi], P[e], P[nxt[e]])
+        i = int(np.argmin(d))
+        if d[i] < best:
+            best, at = float(d[i]), P[pi[i]]
+    return min(best, reach), at
 
 
 def moved_deviation(edge_dev, moves) -> float:
@@ -102,13 +135,33 @@ def moved_deviation(edge_dev, moves) -> float:
     return out
 
 
+def _topology(rings):
+    """All ring points (P, 2), each one's next and previous point, ring starts."""
+    sizes = [len(r) for r in rings]
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    P = np.concatenate(rings)
+    loc = np.arange(len(P))
+    ring_of = np.repeat(np.arange(len(rings)), sizes)
+    nxt = start[ring_of] + (loc - start[ring_of] + 1) % np.repeat(sizes, sizes)
+    prv = np.empty_like(nxt)
+    prv[nxt] = loc
+    return P, nxt, prv, start
+
+
+def _near_pairs(P, nxt, prv, reach):
+    """(point, edge) pairs closer than ``reach``, the edge (from point e to nxt[e])
+    not the point's own nor a neighbour's."""
+    lines = shapely.linestrings(np.stack([P, P[nxt]], axis=1))
+    pi, e = shapely.STRtree(lines).query(shapely.points(P), predicate="dwithin", distance=reach)
+    near = (e != pi) & (e != prv[pi]) & (e != nxt[pi]) & (e != prv[prv[pi]])
+    return pi[near], e[near]
+
+
 def _push(P, nxt, prv, can, reach) -> np.ndarray:
     """One round: per point, its move away from the nearest ring edge closer than
     ``reach`` that is not its own nor a neighbour's (zero if none)."""
-    lines = shapely.linestrings(np.stack([P, P[nxt]], axis=1))
-    pi, e = shapely.STRtree(lines).query(shapely.points(P), predicate="dwithin", distance=reach)
-    near = (e != pi) & (e != prv[pi]) & (e != nxt[pi]) & (e != prv[prv[pi]]) & can[pi]
-    pi, e = pi[near], e[near]
+    pi, e = _near_pairs(P, nxt, prv, reach)
+    pi, e = pi[can[pi]], e[can[pi]]
     step = np.zeros_like(P)
     if not len(pi):
         return step
