@@ -53,7 +53,7 @@ import shapely
 from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
-from .outline_band import REACH, merge_short_edges, moved_deviation, narrowest, widen_moves
+from .outline_band import REACH, hold_tolerance, merge_short_edges, narrowest, widen_moves
 from .polygon import Polygon
 from .ring_corners import ring_corners
 
@@ -329,7 +329,7 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
             continue
         kept = np.concatenate([np.concatenate([s[1] for s in samples]),
                                np.ones(len(poly.vertices) - poly.n_ring_vertices, dtype=bool)])
-        poly, dev = _widened(polygon, poly, samples, h, tol * h) if widen else (
+        poly, dev = _widened(polygon, poly, rings, samples, h, tol * h) if widen else (
             poly, max(float(s[2].max()) for s in samples))
         return Resampled(poly, kept, h0, float(tol0), float(dev), sum(g.n_corners for g in rings),
                          boundary_spacing=c)
@@ -338,22 +338,23 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
     return _as_given(polygon, h0, tol0)
 
 
-def _widened(polygon: Polygon, poly: Polygon, samples, h: float, limit: float):
+def _widened(polygon: Polygon, poly: Polygon, rings, samples, h: float, limit: float):
     """``poly`` with its narrow features widened within ``limit`` of the outline
-    (:mod:`uniform2d.outline_band`) if that makes its narrowest part wider (the
-    moves halved, then dropped, if the rings would cross), and the deviation."""
-    dev = [s[2] for s in samples]
+    (:mod:`uniform2d.outline_band`) if that leaves its narrowest part no narrower
+    (the moves halved, then dropped, if the rings would cross); the deviation."""
     base = [s[0] for s in samples]
-    moves = widen_moves(base, [~s[1] for s in samples], dev, REACH * h, limit)
+    moves = widen_moves(base, [~s[1] for s in samples], REACH * h, limit)
     width = narrowest(base, REACH * h)[0]
     for f in (1.0, 0.5):
-        rings = [b + f * d for b, d in zip(base, moves)]
-        if narrowest(rings, REACH * h)[0] > width:
+        held = [hold_tolerance(g.ring, g.ext, s[3], s[0], f * d, s[2], limit)
+                for g, s, d in zip(rings, samples, moves)]
+        moved = [b + m for b, (m, _) in zip(base, held)]
+        if narrowest(moved, REACH * h)[0] >= width:
             try:
-                return _rebuild(polygon, rings), moved_deviation(dev, [f * d for d in moves])
+                return _rebuild(polygon, moved), max(float(d.max()) for _, d in held)
             except InvalidPolygonError:
                 continue
-    return poly, max(float(d.max()) for d in dev)
+    return poly, max(float(s[2].max()) for s in samples)
 
 
 def _rebuild(polygon: Polygon, rings) -> Polygon:

@@ -1,4 +1,4 @@
-"""Narrow features of a resampled outline widened within its tolerance band.
+"""Moves of a resampled outline's points within its tolerance band.
 
 A resampled outline (:mod:`uniform2d.outline`) keeps every feature wider than
 its tolerance: a pier, a fjord, a neck of land narrower than the mesh spacing h
@@ -8,18 +8,16 @@ times h) of the input outline, both ways, so each side of a narrow feature may
 move up to that far from the other, widening a feature of width w to
 ``w + 2 * limit`` (outwards for a pier, into the material for a notch).
 
-:func:`widen_moves` computes those moves: every movable ring point closer than
-``reach`` to a ring edge that is not its own nor its neighbours' is pushed away
-from that edge (half the shortfall if the edge can move too), a few rounds,
-each point no farther from where it was than its *budget*: ``limit`` less the
-deviation of its two ring edges from the outline.  Why that holds the
-tolerance: a ring edge is within ``dev`` of the outline between its ends, both
-ways (:attr:`uniform2d.outline.Resampled.deviation`); moving its ends by at most
-``d`` moves every point of it by at most ``d`` (the move is linear along the
-edge), so the moved edge is within ``dev + d <= limit`` of the outline, both
-ways.  :func:`moved_deviation` is that bound per edge.  Whether the moved rings
-are still a valid polygon is the caller's check (:mod:`uniform2d.outline` halves
-the moves, then drops them, if not).
+- :func:`merge_short_edges` drops a sample where a ring edge is much shorter
+  than h and the edge replacing the two stays within the tolerance;
+- :func:`widen_moves` pushes every movable ring point closer than ``reach`` to
+  a ring edge that is not its own nor its neighbours' away from it, along its
+  own normal (half the shortfall if the edge can move too), at most ``limit``,
+  a few rounds, never making a ring edge shorter than 0.75 ``reach``;
+- :func:`hold_tolerance` cuts those moves back where a moved edge would leave
+  the tolerance, measured both ways against the input path it spans;
+- :func:`narrowest` is the narrowest part of rings: the caller keeps the moves
+  only if they make it no narrower (and the rings stay a valid polygon).
 """
 
 from __future__ import annotations
@@ -29,7 +27,7 @@ import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["MERGE", "REACH", "merge_short_edges", "moved_deviation", "narrowest", "widen_moves"]
+__all__ = ["MERGE", "REACH", "hold_tolerance", "merge_short_edges", "narrowest", "widen_moves"]
 
 #: Ring points closer than this many spacings to another part of the rings are
 #: pushed apart (a mesh edge across a feature narrower than that is short).
@@ -37,12 +35,16 @@ REACH = 1.0
 #: Ring edges shorter than MERGE[0] spacings lose an end where the edge that
 #: replaces the two is at most MERGE[1] spacings long and within the tolerance.
 MERGE = (0.6, 1.3)
+#: Points per moved edge (besides its ends) whose distance to the input is measured.
+_SAMPLES = 16
 #: Rounds of pushing (each one recomputes the nearest edges).
 _ROUNDS = 6
 
 
-def widen_moves(rings, movable, edge_dev, reach: float, limit: float) -> list[np.ndarray]:
-    """The moves (per ring, (r, 2) float64) that widen the rings' narrow features.
+def widen_moves(rings, movable, reach: float, limit: float) -> list[np.ndarray]:
+    """The moves (per ring, (r, 2) float64, each at most ``limit`` long) that
+    widen the rings' narrow features towards ``reach``; :func:`hold_tolerance`
+    then cuts them back where a moved edge would leave the tolerance.
 
     Parameters
     ----------
@@ -50,30 +52,26 @@ def widen_moves(rings, movable, edge_dev, reach: float, limit: float) -> list[np
         Closed rings, the first point not repeated.
     movable : list of (r,) bool
         The points that may move (kept input vertices may not).
-    edge_dev : list of (r,) float64
-        The distance of edge ``i`` (point i to point i + 1) from the outline.
     reach : float
-        The distance (a length) features are widened to where the budget allows.
+        The distance (a length) features are widened to where the moves allow.
     limit : float
-        The largest distance (a length) of a moved edge from the outline.
+        The longest move (a length): the tolerance.
 
     Examples
     --------
     >>> import numpy as np
-    >>> pier = np.array([(0, 0), (4, 0), (4, 3), (2.2, 3), (2.2, 1), (1.8, 1), (1.8, 3), (0, 3)], float)
-    >>> movable = np.array([0, 0, 0, 1, 1, 1, 1, 0], bool)
-    >>> d = widen_moves([pier], [movable], [np.zeros(8)], 1.0, 0.25)[0]
-    >>> (pier + d)[[4, 5], 0].round(3).tolist()         # the slot's sides, 0.4 apart, moved apart
+    >>> slot = np.array([(0, 0), (4, 0), (4, 3), (2.2, 3), (2.2, 2), (2.2, 1),
+    ...                  (1.8, 1), (1.8, 2), (1.8, 3), (0, 3)], float)
+    >>> movable = np.array([0, 0, 0, 0, 1, 0, 0, 1, 0, 0], bool)
+    >>> d = widen_moves([slot], [movable], 1.0, 0.25)[0]
+    >>> (slot + d)[[4, 7], 0].round(3).tolist()      # the slot's sides, 0.4 apart: 0.9 now
     [2.45, 1.55]
-    >>> float(np.hypot(*d.T).max()) <= 0.25
-    True
     """
     P0, nxt, prv, start = _topology(rings)
-    dev = np.concatenate(edge_dev)
     can = np.concatenate(movable)
-    budget = np.where(can, np.maximum(0.0, limit - np.maximum(dev, dev[prv])), 0.0)
+    budget = np.where(can, limit, 0.0)
     L0 = np.hypot(*(P0[nxt] - P0).T)
-    floor = np.minimum(L0, reach)  # a ring edge shorter than reach is not shortened
+    floor = np.minimum(L0, 0.75 * reach)  # no ring edge made shorter than this
     P = P0.copy()
     for _ in range(_ROUNDS):
         step = _push(P, nxt, prv, can, reach)
@@ -111,7 +109,7 @@ def narrowest(rings, reach: float) -> tuple[float, np.ndarray]:
     ...                  (1.8, 1), (1.8, 2), (1.8, 3), (0, 3)], float)
     >>> w, at = narrowest([slot], 1.0)
     >>> round(w, 3), at.tolist()
-    (0.4, [2.2, 2.0])
+    (0.4, [2.2, 1.0])
     """
     P, nxt, prv, _ = _topology(rings)
     L = np.hypot(*(P[nxt] - P).T)
@@ -125,14 +123,111 @@ def narrowest(rings, reach: float) -> tuple[float, np.ndarray]:
     return min(best, reach), at
 
 
-def moved_deviation(edge_dev, moves) -> float:
-    """The bound on the moved rings' distance from the outline: per edge, its
-    deviation plus the longer move of its two ends (largest over the rings)."""
-    out = 0.0
-    for dev, d in zip(edge_dev, moves):
-        m = np.hypot(*d.T)
-        out = max(out, float(np.max(dev + np.maximum(m, np.roll(m, -1)))))
-    return out
+def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
+    """``moves`` of one ring's samples cut back (halved, then dropped) until every
+    moved edge is within ``limit`` of the input outline, both ways; and the
+    deviation reached per edge.
+
+    A sampled edge e spans the input *path* from its sample A[e] to A[e + 1]
+    (both on the outline) through the input vertices between them.  The path is
+    within a distance of the moved edge if its vertices are (the distance to a
+    segment is convex along each path edge); the moved edge is within a
+    distance of the path if its points at ``1 / _SAMPLES`` steps are, less half
+    a step's length (the distance to the path changes no faster than a point
+    moving along the edge).  An edge neither of whose ends moves keeps its
+    deviation ``edge_dev[e]``.
+
+    Parameters
+    ----------
+    ring : (k, 2) float64
+        The input ring.
+    ext : (2k + 1,) float64
+        The measure positions of its vertices, twice round.
+    S : (r,) float64
+        The samples' increasing measure positions (within one turn of the first).
+    A : (r, 2) float64
+        The samples, on the input ring.
+    moves : (r, 2) float64
+        Their moves.
+    edge_dev : (r,) float64
+        The deviation of each unmoved edge (A[e] to A[e + 1]).
+    limit : float
+        The tolerance (a length).
+
+    Returns
+    -------
+    moves : (r, 2) float64
+    deviation : (r,) float64
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ring = np.array([(0, 0), (1, 0), (2, 0), (2, 2), (0, 2)], float)
+    >>> ext = np.concatenate([[0, 1, 2, 4, 6], 8 + np.array([0, 1, 2, 4, 6, 8])])
+    >>> S = np.array([0.0, 2, 4, 6])
+    >>> A = ring[[0, 2, 3, 4]]
+    >>> moves = np.array([(0, 0), (0, -0.3), (0, 0), (0, 0)])   # the corner pulled out by 0.3
+    >>> m, dev = hold_tolerance(ring, ext, S, A, moves, np.zeros(4), 0.25)
+    >>> m[1].round(3).tolist(), bool(dev.max() <= 0.25)
+    ([0.0, -0.15], True)
+    """
+    r = len(S)
+    nxt = (np.arange(r) + 1) % r
+    Q, owner = _span_paths(ring, ext, S, A)
+    f = np.ones(r)
+    for rnd in range(_ROUNDS * 3):
+        D = moves * f[:, None]
+        moved = np.flatnonzero(D.any(axis=1) | D[nxt].any(axis=1))
+        dev = edge_dev.copy()
+        if len(moved):
+            dev[moved] = _moved_heights(Q, owner, A + D, moved)
+        bad = np.flatnonzero(dev > np.maximum(limit, edge_dev))
+        if not len(bad):
+            return D, dev
+        ends = np.concatenate([bad, nxt[bad]])
+        f[ends] = 0.5 * f[ends] if rnd < _ROUNDS else 0.0
+    return np.zeros_like(moves), edge_dev
+
+
+def _span_paths(ring, ext, S, A):
+    """The input paths of a ring's sampled edges, flattened: points (q, 2) and the
+    edge each belongs to (q,), each path from A[e] through the input vertices
+    strictly between S[e] and S[e + 1] to A[e + 1]."""
+    k, r = len(ring), len(S)
+    hi = np.append(S[1:], S[0] + ext[k])
+    i0 = np.searchsorted(ext, S, side="right")
+    c = np.searchsorted(ext, hi, side="left") - i0
+    size = c + 2
+    owner = np.repeat(np.arange(r), size)
+    pos = np.arange(len(owner)) - np.repeat(np.cumsum(size) - size, size)  # place in its path
+    inner = (pos > 0) & (pos <= c[owner])
+    Q = np.empty((len(owner), 2))
+    Q[inner] = ring[(i0[owner[inner]] + pos[inner] - 1) % k]
+    first, last = pos == 0, pos == c[owner] + 1
+    Q[first] = A[owner[first]]
+    Q[last] = A[(owner[last] + 1) % r]
+    return Q, owner
+
+
+def _moved_heights(Q, owner, P, edges) -> np.ndarray:
+    """Per edge in ``edges`` (from P[e] to P[e + 1]): the larger of the distance of
+    its input path (Q, owner) from it and a bound on its distance from the path."""
+    r = len(P)
+    sel = np.isin(owner, edges)
+    Qs, os_ = Q[sel], owner[sel]
+    out = np.zeros(r)
+    np.maximum.at(out, os_, point_segment_distance(Qs, P[os_], P[(os_ + 1) % r]))
+    seg = np.flatnonzero(os_[:-1] == os_[1:])  # path edges (Qs[s], Qs[s + 1])
+    e = os_[seg]
+    t = np.arange(_SAMPLES + 1) / _SAMPLES
+    X = P[e][:, None, :] + t[None, :, None] * (P[(e + 1) % r] - P[e])[:, None, :]
+    d = point_segment_distance(X.reshape(-1, 2), np.repeat(Qs[seg], _SAMPLES + 1, axis=0),
+                               np.repeat(Qs[seg + 1], _SAMPLES + 1, axis=0)).reshape(len(seg), -1)
+    near = np.full((r, _SAMPLES + 1), np.inf)
+    np.minimum.at(near, e, d)
+    slack = np.hypot(*(P[(np.arange(r) + 1) % r] - P).T) / (2 * _SAMPLES)
+    far = np.where(np.isfinite(near).all(axis=1), near.max(axis=1) + slack, 0.0)
+    return np.maximum(out, far)[edges]
 
 
 def _topology(rings):
