@@ -53,7 +53,7 @@ import shapely
 from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
-from .outline_band import REACH, hold_tolerance, merge_short_edges, narrowest, widen_moves
+from .outline_band import REACH, merge_short_edges, narrowest, widen
 from .polygon import Polygon
 from .ring_corners import ring_corners
 
@@ -340,20 +340,17 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
 
 def _widened(polygon: Polygon, poly: Polygon, rings, samples, h: float, limit: float):
     """``poly`` with its narrow features widened within ``limit`` of the outline
-    (:mod:`uniform2d.outline_band`) if that leaves its narrowest part no narrower
-    (the moves halved, then dropped, if the rings would cross); the deviation."""
+    (:func:`uniform2d.outline_band.widen`), unless that makes the narrowest part
+    narrower or the rings cross; and the deviation."""
     base = [s[0] for s in samples]
-    moves = widen_moves(base, [~s[1] for s in samples], REACH * h, limit)
-    width = narrowest(base, REACH * h)[0]
-    for f in (1.0, 0.5):
-        held = [hold_tolerance(g.ring, g.ext, s[3], s[0], f * d, s[2], limit)
-                for g, s, d in zip(rings, samples, moves)]
-        moved = [b + m for b, (m, _) in zip(base, held)]
-        if narrowest(moved, REACH * h)[0] >= width:
-            try:
-                return _rebuild(polygon, moved), max(float(d.max()) for _, d in held)
-            except InvalidPolygonError:
-                continue
+    held = widen([(g.ring, g.ext) for g in rings], [(s[0], ~s[1], s[2], s[3]) for s in samples],
+                 REACH * h, limit)
+    moved = [b + m for b, (m, _) in zip(base, held)]
+    if narrowest(moved, REACH * h)[0] >= narrowest(base, REACH * h)[0]:
+        try:
+            return _rebuild(polygon, moved), max(float(d.max()) for _, d in held)
+        except InvalidPolygonError:
+            pass
     return poly, max(float(s[2].max()) for s in samples)
 
 

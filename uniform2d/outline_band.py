@@ -27,7 +27,7 @@ import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["MERGE", "REACH", "hold_tolerance", "merge_short_edges", "narrowest", "widen_moves"]
+__all__ = ["MERGE", "REACH", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves"]
 
 #: Ring points closer than this many spacings to another part of the rings are
 #: pushed apart (a mesh edge across a feature narrower than that is short).
@@ -112,15 +112,72 @@ def narrowest(rings, reach: float) -> tuple[float, np.ndarray]:
     (0.4, [2.2, 1.0])
     """
     P, nxt, prv, _ = _topology(rings)
+    c, _ = _clearance(P, nxt, prv, reach)
+    i = int(np.argmin(c))
+    return float(c[i]), P[i]
+
+
+def widen(inputs, samples, reach: float, limit: float):
+    """Narrow features of resampled rings widened within ``limit`` of the input.
+
+    :func:`widen_moves`, cut back by :func:`hold_tolerance`; a point whose
+    clearance (its distance to the nearest ring edge not its own nor a
+    neighbour's, or its own edges' length, up to ``reach``) the moves made
+    smaller does not move, nor do the ends of the edge it came closer to, a
+    few rounds.
+
+    Parameters
+    ----------
+    inputs : list of (ring (k, 2), ext (2k + 1,))
+        Per ring, the input ring and its vertices' measure positions, twice round.
+    samples : list of (A (r, 2), movable (r,), edge_dev (r,), S (r,))
+        Per ring, the samples (on the input ring), which may move, each edge's
+        deviation and the samples' measure positions (see :func:`hold_tolerance`).
+    reach, limit : float
+        See :func:`widen_moves`.
+
+    Returns
+    -------
+    list of (moves (r, 2), deviation (r,))
+        Per ring, the moves and the deviation of each edge from the input.
+    """
+    base = [s[0] for s in samples]
+    moves = widen_moves(base, [s[1] for s in samples], reach, limit)
+    P0, nxt, prv, start = _topology(base)
+    c0, _ = _clearance(P0, nxt, prv, reach)
+    for _ in range(_ROUNDS):
+        held = [hold_tolerance(g[0], g[1], s[3], s[0], d, s[2], limit)
+                for g, s, d in zip(inputs, samples, moves)]
+        D = np.concatenate([m for m, _ in held])
+        c1, e = _clearance(P0 + D, nxt, prv, reach)
+        worse = np.flatnonzero((c1 < c0) & (c1 < reach))
+        if not len(worse):
+            break
+        still = np.ones(len(P0), dtype=bool)
+        still[np.concatenate([worse, e[worse], nxt[e[worse]]])] = False
+        moves = np.split(np.concatenate(moves) * still[:, None], start[1:-1])
+    return held
+
+
+def _clearance(P, nxt, prv, reach):
+    """Per ring point: the shorter of its two edges and its distance to the
+    nearest ring edge not its own nor a neighbour's, at most ``reach``; and
+    that edge (the point's own edge if none is nearer)."""
     L = np.hypot(*(P[nxt] - P).T)
-    best, at = float(L.min()), P[int(np.argmin(L))]
-    pi, e = _near_pairs(P, nxt, prv, reach)
+    c = np.minimum(np.minimum(L, L[prv]), reach)
+    e = np.where(L <= L[prv], np.arange(len(P)), prv)
+    pi, ed = _near_pairs(P, nxt, prv, reach)
     if len(pi):
-        d = point_segment_distance(P[pi], P[e], P[nxt[e]])
-        i = int(np.argmin(d))
-        if d[i] < best:
-            best, at = float(d[i]), P[pi[i]]
-    return min(best, reach), at
+        d = point_segment_distance(P[pi], P[ed], P[nxt[ed]])
+        order = np.lexsort((ed, -d, pi))  # per point, its nearest last
+        pi, ed, d = pi[order], ed[order], d[order]
+        closer = d < c[pi]
+        c_new = c.copy()
+        np.minimum.at(c_new, pi, d)
+        last = np.concatenate([pi[1:] != pi[:-1], [True]]) & closer
+        e[pi[last]] = ed[last]
+        c = c_new
+    return c, e
 
 
 def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
