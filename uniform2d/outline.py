@@ -196,7 +196,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     extra = len(polygon.vertices) - polygon.n_ring_vertices
     if size is not None:
-        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c, widen=widen)
+        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c, widen=widen, move=widen)
         q = r.polygon
         N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
         return r, max(0, round(N) - r.n_kept) - r.n_boundary
@@ -214,6 +214,8 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
             break
         h = h_next
+    if widen and r.resampled:  # narrow features widened once, at the spacing found
+        r = _resample_at(polygon, r.spacing, tolerance, corner_angle, forced, c, widen, move=True)
     return r, n - r.n_boundary
 
 
@@ -295,7 +297,7 @@ def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
 
 
 def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
-                 forced=None, c: float = 1.0, widen: bool = True) -> Resampled:
+                 forced=None, c: float = 1.0, widen: bool = True, move: bool = False) -> Resampled:
     """The rings resampled at spacing ``c * h`` within ``tol * h``, made valid (see
     the module notes); the polygon as given if no constraint edge is shorter than
     ``COARSE_EDGE * h``.  ``forced`` (per ring, (k,) bool, updated): input vertices
@@ -329,7 +331,7 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
             continue
         kept = np.concatenate([np.concatenate([s[1] for s in samples]),
                                np.ones(len(poly.vertices) - poly.n_ring_vertices, dtype=bool)])
-        poly, dev = _widened(polygon, poly, rings, samples, h, tol * h) if widen else (
+        poly, dev = _widened(polygon, poly, rings, samples, h, tol * h) if move else (
             poly, max(float(s[2].max()) for s in samples))
         return Resampled(poly, kept, h0, float(tol0), float(dev), sum(g.n_corners for g in rings),
                          boundary_spacing=c)

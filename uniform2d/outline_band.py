@@ -191,8 +191,9 @@ def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
     segment is convex along each path edge); the moved edge is within a
     distance of the path if its points at ``1 / _SAMPLES`` steps are, less half
     a step's length (the distance to the path changes no faster than a point
-    moving along the edge).  An edge neither of whose ends moves keeps its
-    deviation ``edge_dev[e]``.
+    moving along the edge).  Both are measured only where the simpler bound
+    does not do: ``edge_dev[e]`` plus the longer move of the edge's ends (each
+    point of the edge moves at most that far).
 
     Parameters
     ----------
@@ -234,10 +235,12 @@ def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
     f = np.ones(r)
     for rnd in range(_ROUNDS * 3):
         D = moves * f[:, None]
-        moved = np.flatnonzero(D.any(axis=1) | D[nxt].any(axis=1))
-        dev = edge_dev.copy()
+        m = np.hypot(*D.T)
+        # moving an edge's ends by at most d moves each of its points by at most d
+        dev = edge_dev + np.maximum(m, m[nxt])
+        moved = np.flatnonzero(dev > limit)
         if len(moved):
-            dev[moved] = _moved_heights(Q, owner, A + D, moved)
+            dev[moved] = np.minimum(dev[moved], _moved_heights(Q, owner, A + D, moved))
         bad = np.flatnonzero(dev > np.maximum(limit, edge_dev))
         if not len(bad):
             return D, dev
