@@ -208,14 +208,15 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         h = max(h, size_for_count(polygon.area, simple.length, n + extra, polygon.n_holes))
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
     for _ in range(_ITERATIONS):
-        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c, widen)
+        caches = [{} for _ in polygon.rings]  # runs sampled at this spacing
+        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c, widen, caches=caches)
         q = r.polygon
         h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
         if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
             break
         h = h_next
     if widen and r.resampled:  # narrow features widened once, at the spacing found
-        r = _resample_at(polygon, r.spacing, tolerance, corner_angle, forced, c, widen, move=True)
+        r = _resample_at(polygon, r.spacing, tolerance, corner_angle, forced, c, widen, True, caches)
     return r, n - r.n_boundary
 
 
@@ -297,7 +298,8 @@ def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
 
 
 def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
-                 forced=None, c: float = 1.0, widen: bool = True, move: bool = False) -> Resampled:
+                 forced=None, c: float = 1.0, widen: bool = True, move: bool = False,
+                 caches=None) -> Resampled:
     """The rings resampled at spacing ``c * h`` within ``tol * h``, made valid (see
     the module notes); the polygon as given if no constraint edge is shorter than
     ``COARSE_EDGE * h``.  ``forced`` (per ring, (k,) bool, updated): input vertices
@@ -311,7 +313,7 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
     thr = math.radians(corner_angle)
     corners = [ring_corners(ring, h, thr) for ring in polygon.rings]
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings] if forced is None else forced
-    caches = [{} for _ in polygon.rings]
+    caches = [{} for _ in polygon.rings] if caches is None else caches
     for _ in range(_ROUNDS):
         rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r], widen)
                  for r, ring in enumerate(polygon.rings)]
