@@ -1,40 +1,38 @@
 """A polygon's boundary rings resampled at the mesh spacing, within a tolerance of the outline.
 
 The paper keeps every polygon vertex, so a dense outline (a digitised coastline,
-a CAD curve exported as thousands of short chords) has its shortest mesh edge
-set by its own digitising step.  :func:`resample_polygon` replaces each ring by
-points about one spacing ``h`` apart that stay within ``tol * h`` of the
-outline, as the surface layer does for its domains (the same dynamic programme,
-:mod:`uniform2d.chord_sampling`):
+a CAD curve exported as thousands of short chords) has its shortest mesh edge set
+by its own digitising step.  :func:`resample_polygon` replaces each ring by points
+about one spacing ``h`` apart within ``tol * h`` of the outline, as the surface
+layer does for its domains (the same dynamic programme, :mod:`.chord_sampling`):
 
-- **kept vertices** are the input vertices that stay: *corners*, whose turning
-  angle exceeds ``corner_angle`` both at the vertex (between its two edges) and
-  at the scale of the mesh (between the chords to the outline points half a
-  spacing before and after it), at most one in any arc of length ``h``
-  (the sharpest, of those closer than ``h``); and every ring vertex a segment or fixed point touches.
-  Segments' interior vertices and fixed points inside stay as they are;
-- a run between kept vertices that is a single input edge is left whole: the
-  mesher splits it at the spacing it chooses, its points counting in n too;
-- the other **runs** between kept vertices (a whole ring if it has none) are sampled
-  evenly in a *straightened* arc length (that of the run simplified by
-  Douglas-Peucker at ``tol * h``, so a zigzag finer than the tolerance does not
-  count as length), ``round(L / h)`` pieces; where that leaves the outline
-  farther than ``tol * h`` from a ring edge, the dynamic programme moves the
-  samples (edges 0.8 to 1.25 of the run's spacing, then down to 0.5 and 0.25
-  of it, if that is what the tolerance takes), and a run it still cannot fit is
-  split at its farthest input vertex;
-- every sample lies on the outline, and every input vertex lies within the
-  tolerance of the ring edge that spans it, so the Hausdorff distance between
-  the rings and the outline (both ways) is at most :attr:`Resampled.deviation`;
+- **kept vertices** are the input vertices that stay: *corners*, turning by more
+  than ``corner_angle`` both between their two edges and between the chords to
+  the outline half a spacing before and after (at most one in an arc of ``h``, the
+  sharpest), and ring vertices a segment or fixed point touches (segments'
+  interior vertices and fixed points inside stay as they are);
+- a run between kept vertices that is a single input edge is left whole (the
+  mesher splits it at the spacing it chooses, its points counting in n too);
+- the other **runs** (a whole ring if it has none) are sampled evenly in a
+  *straightened* arc length (that of the run simplified by Douglas-Peucker at
+  ``tol * h``), ``round(L / h)`` pieces; where that leaves the outline farther
+  than ``tol * h`` from a ring edge, the dynamic programme moves the samples
+  (edges 0.8 to 1.25 of the run's spacing, then down to 0.5 and 0.25 of it),
+  and a run it still cannot fit is split at its farthest input vertex;
+- every sample lies on the outline, and every input vertex within the tolerance
+  of the ring edge that spans it: the Hausdorff distance between rings and
+  outline (both ways) is at most :attr:`Resampled.deviation`;
+- with ``widen`` (the default), :mod:`.outline_band` then drops samples where a
+  ring edge is much shorter than h and the tolerance allows, and, at the spacing
+  found, moves samples off the outline within the tolerance (measured both ways)
+  to widen features narrower than h (piers, notches, necks);
 - a polygon whose constraint edges are all at least :data:`COARSE_EDGE` of the
-  spacing needs no resampling: it is returned as given.  A *coarse* one
-  (:func:`is_coarse`) is resampled like the others, by
-  :func:`uniform2d.uniform_mesh` at :data:`COARSE_SPACING` times h;
-- if the resampled rings cross (two parts of the outline closer than the
-  tolerance), the crossing edges are split at the input vertex nearest their
-  middle (a boundary point, counted in n) and their runs sampled again, for a
-  few rounds; if that does not make them valid the polygon is kept as given:
-  the polygon returned is always valid.
+  spacing is returned as given; a *coarse* one (:func:`is_coarse`) is resampled,
+  by :func:`uniform2d.uniform_mesh` at :data:`COARSE_SPACING` times h;
+- if the rings cross (two parts of the outline closer than the tolerance), the
+  crossing edges are split at the input vertex nearest their middle (a boundary
+  point, counted in n) and sampled again, a few rounds, else the polygon is kept
+  as given: the polygon returned is always valid.
 
 Lengths are measured in the coordinates as given: a longitude/latitude outline
 is resampled in degrees (project it first, see ``docs/outlines.md``).
@@ -53,9 +51,10 @@ import shapely
 from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
-from .outline_band import REACH, merge_short_edges, narrowest, widen
+from .outline_band import REACH, merge_short_edges, widen_rings
 from .polygon import Polygon
 from .ring_corners import ring_corners
+from .short_edges import SEVERE, SHORT_EDGE, short_edge_warning
 
 __all__ = ["COARSE_EDGE", "COARSE_SPACING", "CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled",
            "is_coarse", "resample_polygon", "short_edge_warning"]
@@ -64,9 +63,6 @@ log = logging.getLogger(__name__)
 
 #: Default corner threshold, in degrees of turning angle (the surface layer's).
 CORNER_ANGLE = 30.0
-#: A polygon edge shorter than this fraction of the mesh spacing makes a uniform
-#: mesh impossible: the mesh keeps it, so its edge ratio is at least about 1 / SHORT_EDGE.
-SHORT_EDGE = 1 / 3
 #: A polygon with no constraint edge shorter than this fraction of the spacing is
 #: not resampled (its shortest edges cost the mesh an edge ratio below about 2).
 COARSE_EDGE = 0.6
@@ -74,9 +70,6 @@ COARSE_EDGE = 0.6
 #: resampled at by :func:`uniform2d.uniform_mesh` (one of the optimiser's own
 #: boundary spacings, ``optimize.schedule.SPACINGS``).
 COARSE_SPACING = 1.05
-#: The edge ratio the polygon's own edges force from which that is a warning (below,
-#: information kept in ``Mesh.info``).
-SEVERE = 10.0
 #: The edge-length bounds (fractions of a run's spacing) tried in turn where the
 #: tolerance is not met.
 _BOUNDS = ((0.8, 1.25), (0.5, 1.25), (0.25, 1.25))
@@ -106,8 +99,8 @@ class Resampled:
         The tolerance asked for, a fraction of ``spacing``.
     deviation : float
         A bound on the Hausdorff distance between the rings and the input
-        outline (a length): the largest distance of an input vertex from the
-        ring edge spanning it.
+        outline (a length): the largest, over the ring edges, of the distance
+        between an edge and the input it spans, both ways.
     n_corners : int
         Kept corners.
     resampled : bool
@@ -220,37 +213,6 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     return r, n - r.n_boundary
 
 
-def short_edge_warning(polygon: Polygon, n: int) -> tuple[str, int] | None:
-    """Why ``polygon``'s own edges make a uniform mesh of n points impossible, or None.
-
-    The criterion: a constraint edge (ring or segment piece) shorter than
-    :data:`SHORT_EDGE` of the spacing h of an equilateral mesh with |V| + n
-    vertices; the mesh keeps that edge, so its edge ratio is at least about h
-    over it.  Returns the message and its logging level: ``WARNING`` when that
-    ratio is at least :data:`SEVERE` (a digitised outline far finer than the
-    mesh), ``INFO`` below (a small hole's chords at a coarse n, say).
-
-    Examples
-    --------
-    >>> from uniform2d import Polygon
-    >>> print(short_edge_warning(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 100))
-    None
-    """
-    h = size_for_count(polygon.area, polygon.perimeter, n + len(polygon.vertices), polygon.n_holes)
-    E = polygon.constraint_edges
-    V = polygon.vertices
-    L = np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T)
-    short = int((L < SHORT_EDGE * h).sum())
-    if not short:
-        return None
-    ratio = h / L.min()
-    message = (f"{short} of the polygon's {len(L)} edges are shorter than a third of the mesh "
-               f"spacing {h:.4g} (the shortest {L.min():.3g}, spacing / {ratio:.3g}): the mesh "
-               f"keeps every polygon vertex, so its edge ratio is at least about {ratio:.3g}; "
-               "resample the outline (resample=0.25, or --resample 0.25 on the command line)")
-    return message, logging.WARNING if ratio >= SEVERE else logging.INFO
-
-
 def is_coarse(polygon: Polygon, spacing: float) -> bool:
     """True if ``polygon``'s shortest constraint edge is between :data:`SHORT_EDGE`
     and :data:`COARSE_EDGE` of ``spacing``: not dense, but too short for a mesh
@@ -343,19 +305,14 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
 
 
 def _widened(polygon: Polygon, poly: Polygon, rings, samples, h: float, limit: float):
-    """``poly`` with its narrow features widened within ``limit`` of the outline
-    (:func:`uniform2d.outline_band.widen`), unless that makes the narrowest part
-    narrower or the rings cross; and the deviation."""
-    base = [s[0] for s in samples]
-    held = widen([(g.ring, g.ext) for g in rings], [(s[0], ~s[1], s[2], s[3]) for s in samples],
-                 REACH * h, limit)
-    moved = [b + m for b, (m, _) in zip(base, held)]
-    if narrowest(moved, REACH * h)[0] >= narrowest(base, REACH * h)[0]:
-        try:
-            return _rebuild(polygon, moved), max(float(d.max()) for _, d in held)
-        except InvalidPolygonError:
-            pass
-    return poly, max(float(s[2].max()) for s in samples)
+    """``poly`` widened (:func:`uniform2d.outline_band.widen_rings`) if its rings
+    do not cross, and the deviation."""
+    out = widen_rings([(g.ring, g.ext) for g in rings],
+                      [(s[0], ~s[1], s[2], s[3]) for s in samples], REACH * h, limit)
+    try:
+        return _rebuild(polygon, out[0]), out[1]
+    except InvalidPolygonError:
+        return poly, max(float(s[2].max()) for s in samples)
 
 
 def _rebuild(polygon: Polygon, rings) -> Polygon:

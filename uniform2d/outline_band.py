@@ -27,7 +27,7 @@ import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["MERGE", "REACH", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves"]
+__all__ = ["MERGE", "REACH", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves", "widen_rings"]
 
 #: Ring points closer than this many spacings to another part of the rings are
 #: pushed apart (a mesh edge across a feature narrower than that is short).
@@ -160,6 +160,20 @@ def widen(inputs, samples, reach: float, limit: float):
         still[np.concatenate([worse, e[worse], nxt[e[worse]]])] = False
         moves = np.split(np.concatenate(moves) * still[:, None], start[1:-1])
     return held
+
+
+def widen_rings(inputs, samples, reach: float, limit: float):
+    """The rings moved by :func:`widen` if that leaves their narrowest part
+    (:func:`narrowest`) no narrower, else as they were; and the deviation.
+
+    Parameters and the deviation as in :func:`widen`; returns the rings (a
+    list of (r, 2) float64) and the largest deviation (a float)."""
+    base = [s[0] for s in samples]
+    held = widen(inputs, samples, reach, limit)
+    moved = [b + m for b, (m, _) in zip(base, held)]
+    if narrowest(moved, reach)[0] >= narrowest(base, reach)[0]:
+        return moved, max(float(d.max()) for _, d in held)
+    return base, max(float(s[2].max()) for s in samples)
 
 
 def _clearance(P, nxt, prv, reach):
