@@ -18,11 +18,11 @@ Steiner points, it meshes
 and prints the vertex count, edge ratio, edge CV, smallest angle, the Hausdorff
 distance between the mesh's boundary and the input outline (shapely, segments
 densified to quarters) as a fraction of the spacing, the wall time and, for
-``resample``, the narrowest part of the resampled boundary in spacings (a ring
-edge or a feature's width, after widening: ``uniform2d.outline_band``).  For
-every resampled outline with an edge ratio above 2 it then says what sets it:
-the narrowest kept feature and the ratio it forces (mean edge over its width),
-or the mesh's own shortest and longest edges.  The
+``resample``, the narrowest part of the resampled boundary in spacings (its
+shortest ring edge or a feature's width, after widening:
+``uniform2d.outline_band``).  For every resampled outline with an edge ratio
+above 2 it then says what sets it: the shortest ring edge (and the ratio it
+forces, a bound), a kept feature narrower than the spacing, or the mesher.  The
 goals of issue 35 (resample: ratio <= 2, CV <= 0.08, deviation <= tol, time <=
 3 s) are checked per outline and counted.  ``--growth`` adds the time against
 the number of outline vertices: the densest outline simplified (shapely,
@@ -45,7 +45,7 @@ import numpy as np
 import shapely
 
 import uniform2d as u
-from uniform2d.outline_band import narrowest
+from uniform2d.outline_band import feature_width
 from uniform2d.peers import gmsh_peer
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -71,11 +71,14 @@ def measures(points, triangles, seconds) -> dict:
 
 
 def narrow(polygon: u.Polygon, h: float) -> dict:
-    """The narrowest part of a (resampled) polygon's rings (uniform2d.outline_band):
-    a ring edge, or the width of a feature (a ring point's distance to a ring edge
-    not its own nor a neighbour's), in spacings, and where."""
-    w, at = narrowest(polygon.rings, h)
-    return {"narrow": w / h, "narrow_at": at}
+    """The narrowest parts of a (resampled) polygon's rings, in spacings
+    (uniform2d.outline_band): the shortest ring edge, and the least width of a
+    feature (a ring point's distance to a ring edge not its own nor a
+    neighbour's) and where it is."""
+    ring_edge = min(float(np.hypot(*(np.roll(r, -1, axis=0) - r).T).min()) for r in polygon.rings)
+    w, at = feature_width(polygon.rings, h)
+    return {"narrow": min(ring_edge, w) / h, "ring_edge": ring_edge / h, "width": w / h,
+            "width_at": at}
 
 
 def run_one(name, p, n, tol, gmsh: bool) -> list[dict]:
@@ -136,29 +139,34 @@ def summary(rows, tol) -> None:
 
 
 def why(rows) -> None:
-    """Per resampled outline with an edge ratio above 2: what sets it.  The mesh
-    has an edge no longer than its boundary's shortest ring edge (the mesher only
-    splits them) and one at least as long as its mean edge, so a ring edge of w
-    spacings forces a ratio of at least mean / w; a feature of width w (a point w
-    from a ring edge across a pier, a notch or a neck) almost always puts an edge
-    that short in the mesh too.  Otherwise the longest edge sets it."""
+    """Per resampled outline with an edge ratio above 2: what sets it.  The mesher
+    only splits ring edges, so the mesh has an edge no longer than the shortest
+    ring edge, and one at least as long as its mean edge: a ring edge of a
+    spacings forces a ratio of at least mean / a (a bound).  A feature of width w
+    (a pier, a neck; not a notch, which no mesh edge crosses) puts an edge about
+    w long in the mesh where the mesh spans it; when the mesh's shortest edge is
+    about that, the feature sets the ratio.  Otherwise the mesher does."""
     bad = [r for r in rows if r["mode"] == "resample" and r["ratio"] > 2.0]
     if not bad:
         return
-    print("\nwhy the edge ratio is above 2 (resample; narrowest part of the resampled boundary"
-          " after widening, in spacings h)")
+    print("\nwhy the edge ratio is above 2 (resample; the resampled boundary after widening; "
+          "lengths in spacings h)")
     for r in bad:
         h = r["h"]
-        lo = r["mean_edge"] / (r["narrow"] * h)
-        x, y = r["narrow_at"]
+        lo = r["mean_edge"] / (r["ring_edge"] * h)
+        s, lg = r["shortest"] / h, r["longest"] / h
+        x, y = r["width_at"]
         if lo > 2.0:
-            print(f"  {r['outline']:28s} ratio {r['ratio']:7.3g}: narrowest kept feature "
-                  f"{r['narrow']:.3f} h at ({x:.0f}, {y:.0f}) -> ratio >= about mean edge / it "
-                  f"= {lo:.3g}")
+            cause = f"its shortest ring edge forces ratio >= mean edge / it = {lo:.3g}"
+        elif s >= r["ring_edge"] * (1 - 1e-9):
+            cause = f"the shortest edge is that ring edge, the longest {lg:.3f} h"
+        elif s <= 1.05 * r["width"]:
+            cause = f"a kept feature narrower than the spacing sets the shortest edge ({s:.3f} h)"
         else:
-            print(f"  {r['outline']:28s} ratio {r['ratio']:7.3g}: narrowest feature {r['narrow']:.3f} h "
-                  f"(bound {lo:.3g}); shortest edge {r['shortest'] / h:.3f} h, longest "
-                  f"{r['longest'] / h:.3f} h: the mesher's, not the boundary's")
+            cause = f"the mesher's: shortest edge {s:.3f} h, longest {lg:.3f} h"
+        print(f"  {r['outline']:28s} ratio {r['ratio']:7.3g}: shortest ring edge "
+              f"{r['ring_edge']:.3f} h, narrowest feature {r['width']:.3f} h at ({x:.0f}, {y:.0f})"
+              f"; {cause}")
 
 
 #: Gmsh's tuning (a dozen meshes) takes minutes beyond this many vertices (see the table).

@@ -27,7 +27,7 @@ import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["MERGE", "REACH", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves", "widen_rings"]
+__all__ = ["MERGE", "REACH", "feature_width", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves", "widen_rings"]
 
 #: Ring points closer than this many spacings to another part of the rings are
 #: pushed apart (a mesh edge across a feature narrower than that is short).
@@ -118,6 +118,31 @@ def narrowest(rings, reach: float) -> tuple[float, np.ndarray]:
     c, _ = _clearance(P, nxt, prv, reach)
     i = int(np.argmin(c))
     return float(c[i]), P[i]
+
+
+def feature_width(rings, reach: float) -> tuple[float, np.ndarray]:
+    """The least width of a feature of closed rings: the least distance from a
+    ring point to a ring edge that is not its own nor a neighbour's (across a
+    pier, a notch, a neck), if less than ``reach`` (else ``reach``), and the
+    point.  Unlike a ring edge, it is a mesh edge only where the mesh spans it
+    (a pier, a neck: not a notch).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> slot = np.array([(0, 0), (4, 0), (4, 3), (2.2, 3), (2.2, 2), (2.2, 1),
+    ...                  (1.8, 1), (1.8, 2), (1.8, 3), (0, 3)], float)
+    >>> w, at = feature_width([slot], 1.0)
+    >>> round(w, 3), at.tolist()
+    (0.4, [2.2, 3.0])
+    """
+    P, nxt, prv, _ = _topology(rings)
+    pi, e = _near_pairs(P, nxt, prv, reach)
+    if not len(pi):
+        return reach, P[0]
+    d = point_segment_distance(P[pi], P[e], P[nxt[e]])
+    i = int(np.argmin(d))
+    return min(float(d[i]), reach), P[pi[i]]
 
 
 def widen(inputs, samples, reach: float, limit: float):
