@@ -275,19 +275,25 @@ def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
     nxt = (np.arange(r) + 1) % r
     Q, owner = _span_paths(ring, ext, S, A)
     f = np.ones(r)
+    measured = np.full(r, np.inf)
+    stale = np.ones(r, dtype=bool)  # edges whose ends moved since they were measured
     for rnd in range(_ROUNDS * 3):
         D = moves * f[:, None]
         m = np.hypot(*D.T)
         # moving an edge's ends by at most d moves each of its points by at most d
         dev = edge_dev + np.maximum(m, m[nxt])
-        moved = np.flatnonzero(dev > limit)
-        if len(moved):
-            dev[moved] = np.minimum(dev[moved], _moved_heights(Q, owner, A + D, moved))
+        need = np.flatnonzero((dev > limit) & stale)
+        if len(need):
+            measured[need] = _moved_heights(Q, owner, A + D, need)
+        dev = np.minimum(dev, measured)
         bad = np.flatnonzero(dev > np.maximum(limit, edge_dev))
         if not len(bad):
             return D, dev
         ends = np.concatenate([bad, nxt[bad]])
         f[ends] = 0.5 * f[ends] if rnd < _ROUNDS else 0.0
+        stale[:] = False
+        stale[ends] = stale[(ends - 1) % r] = True
+        measured[stale] = np.inf
     return np.zeros_like(moves), edge_dev
 
 
