@@ -145,7 +145,7 @@ def why(rows) -> None:
     spacings forces a ratio of at least mean / a (a bound).  A feature of width w
     (a pier, a neck; not a notch, which no mesh edge crosses) puts an edge about
     w long in the mesh where the mesh spans it; when the mesh's shortest edge is
-    about that, the feature sets the ratio.  Otherwise the mesher does."""
+    within 5 % of that, the feature sets the ratio.  Otherwise the mesher does."""
     bad = [r for r in rows if r["mode"] == "resample" and r["ratio"] > 2.0]
     if not bad:
         return
@@ -160,7 +160,7 @@ def why(rows) -> None:
             cause = f"its shortest ring edge forces ratio >= mean edge / it = {lo:.3g}"
         elif s >= r["ring_edge"] * (1 - 1e-9):
             cause = f"the shortest edge is that ring edge, the longest {lg:.3f} h"
-        elif s <= 1.05 * r["width"]:
+        elif r["width"] < 1.0 and abs(s - r["width"]) <= 0.05 * r["width"]:
             cause = f"a kept feature narrower than the spacing sets the shortest edge ({s:.3f} h)"
         else:
             cause = f"the mesher's: shortest edge {s:.3f} h, longest {lg:.3f} h"
