@@ -17,7 +17,12 @@ Steiner points, it meshes
 
 and prints the vertex count, edge ratio, edge CV, smallest angle, the Hausdorff
 distance between the mesh's boundary and the input outline (shapely, segments
-densified to quarters) as a fraction of the spacing, and the wall time.  The
+densified to quarters) as a fraction of the spacing, the wall time and, for
+``resample``, the narrowest part of the resampled boundary in spacings (its
+shortest ring edge or a feature's width, after widening:
+``uniform2d.outline_band``).  For every resampled outline with an edge ratio
+above 2 it then says what sets it: the shortest ring edge (and the ratio it
+forces, a bound), a kept feature narrower than the spacing, or the mesher.  The
 goals of issue 35 (resample: ratio <= 2, CV <= 0.08, deviation <= tol, time <=
 3 s) are checked per outline and counted.  ``--growth`` adds the time against
 the number of outline vertices: the densest outline simplified (shapely,
@@ -40,6 +45,7 @@ import numpy as np
 import shapely
 
 import uniform2d as u
+from uniform2d.outline_band import feature_width
 from uniform2d.peers import gmsh_peer
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,7 +66,19 @@ def hausdorff(a: u.Polygon, b: u.Polygon) -> float:
 def measures(points, triangles, seconds) -> dict:
     q = u.quality(points, triangles)
     return {"N": len(points), "ratio": q.edge_ratio, "cv": q.cv_edge,
-            "min_angle": q.min_angle, "time": seconds}
+            "min_angle": q.min_angle, "time": seconds, "mean_edge": q.mean_edge,
+            "longest": q.longest_edge, "shortest": q.shortest_edge}
+
+
+def narrow(polygon: u.Polygon, h: float) -> dict:
+    """The narrowest parts of a (resampled) polygon's rings, in spacings
+    (uniform2d.outline_band): the shortest ring edge, and the least width of a
+    feature (a ring point's distance to a ring edge not its own nor a
+    neighbour's) and where it is."""
+    ring_edge = min(float(np.hypot(*(np.roll(r, -1, axis=0) - r).T).min()) for r in polygon.rings)
+    w, at = feature_width(polygon.rings, h)
+    return {"narrow": min(ring_edge, w) / h, "ring_edge": ring_edge / h, "width": w / h,
+            "width_at": at}
 
 
 def run_one(name, p, n, tol, gmsh: bool) -> list[dict]:
@@ -76,7 +94,7 @@ def run_one(name, p, n, tol, gmsh: bool) -> list[dict]:
     h = info["spacing"]
     assert len(r.points) == info["kept_vertices"] + n
     rows.append({"mode": "resample", **measures(r.points, r.triangles, dt),
-                 "dev": hausdorff(p, r.polygon) / h, "h": h})
+                 "dev": hausdorff(p, r.polygon) / h, "h": h, **narrow(r.polygon, h)})
     if gmsh:
         for mode, poly, count in (("gmsh", p, len(p.vertices) + n),
                                   ("gmsh-rs", r.polygon, len(r.points))):
@@ -91,7 +109,7 @@ def run_one(name, p, n, tol, gmsh: bool) -> list[dict]:
 
 def show(rows, tol) -> None:
     print(f"{'outline':30s} {'|V|':>6s} {'mode':9s} {'N':>6s} {'ratio':>9s} {'CV':>6s} "
-          f"{'minang':>6s} {'dev/h':>6s} {'time s':>7s}  goals")
+          f"{'minang':>6s} {'dev/h':>6s} {'time s':>7s} {'narrow/h':>8s}  goals")
     for r in rows:
         goals = ""
         if r["mode"] == "resample":
@@ -99,8 +117,9 @@ def show(rows, tol) -> None:
                                    ("dev", r["dev"] <= tol * (1 + 1e-9)), ("time", r["time"] <= 3))
                    if not ok]
             goals = "met" if not bad else "NOT " + ",".join(bad)
+        nar = f"{r['narrow']:8.3f}" if "narrow" in r else f"{'':8s}"
         print(f"{r['outline']:30s} {r['V']:6d} {r['mode']:9s} {r['N']:6d} {r['ratio']:9.3g} "
-              f"{r['cv']:6.3f} {r['min_angle']:6.1f} {r['dev']:6.3f} {r['time']:7.2f}  {goals}")
+              f"{r['cv']:6.3f} {r['min_angle']:6.1f} {r['dev']:6.3f} {r['time']:7.2f} {nar}  {goals}")
 
 
 def summary(rows, tol) -> None:
@@ -117,6 +136,37 @@ def summary(rows, tol) -> None:
     for key, lim in (("ratio", 2.0), ("cv", 0.08), ("dev", tol * (1 + 1e-9)), ("time", 3.0)):
         ok = sum(r[key] <= lim for r in rs)
         print(f"goal {key} <= {lim:.3g}: met on {ok} of {len(rs)} outlines")
+
+
+def why(rows) -> None:
+    """Per resampled outline with an edge ratio above 2: what sets it.  The mesher
+    only splits ring edges, so the mesh has an edge no longer than the shortest
+    ring edge, and one at least as long as its mean edge: a ring edge of a
+    spacings forces a ratio of at least mean / a (a bound).  A feature of width w
+    (a pier, a neck; not a notch, which no mesh edge crosses) puts an edge about
+    w long in the mesh where the mesh spans it; when the mesh's shortest edge is
+    within 5 % of that, the feature sets the ratio.  Otherwise the mesher does."""
+    bad = [r for r in rows if r["mode"] == "resample" and r["ratio"] > 2.0]
+    if not bad:
+        return
+    print("\nwhy the edge ratio is above 2 (resample; the resampled boundary after widening; "
+          "lengths in spacings h)")
+    for r in bad:
+        h = r["h"]
+        lo = r["mean_edge"] / (r["ring_edge"] * h)
+        s, lg = r["shortest"] / h, r["longest"] / h
+        x, y = r["width_at"]
+        if lo > 2.0:
+            cause = f"its shortest ring edge forces ratio >= mean edge / it = {lo:.3g}"
+        elif s >= r["ring_edge"] * (1 - 1e-9):
+            cause = f"the shortest edge is that ring edge, the longest {lg:.3f} h"
+        elif r["width"] < 1.0 and abs(s - r["width"]) <= 0.05 * r["width"]:
+            cause = f"a kept feature narrower than the spacing sets the shortest edge ({s:.3f} h)"
+        else:
+            cause = f"the mesher's: shortest edge {s:.3f} h, longest {lg:.3f} h"
+        print(f"  {r['outline']:28s} ratio {r['ratio']:7.3g}: shortest ring edge "
+              f"{r['ring_edge']:.3f} h, narrowest feature {r['width']:.3f} h at ({x:.0f}, {y:.0f})"
+              f"; {cause}")
 
 
 #: Gmsh's tuning (a dozen meshes) takes minutes beyond this many vertices (see the table).
@@ -174,6 +224,7 @@ def main(argv=None) -> None:
     print("\nall outlines, n =", args.n, "tolerance", args.tol)
     show(rows, args.tol)
     summary(rows, args.tol)
+    why(rows)
     if args.profile:
         worst = max((r for r in rows if r["mode"] == "resample"), key=lambda r: r["time"])
         profile(worst["outline"], polys[worst["outline"]], args.n, args.tol)

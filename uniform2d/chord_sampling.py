@@ -10,11 +10,14 @@ programme over candidate positions.  Any dimension: the planar outlines of
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
+import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["plain_run", "run_counts", "sample_run"]
+__all__ = ["plain_run", "run_counts", "sample_run", "straightened_lengths"]
 
 #: Candidate positions per plain spacing (besides the input vertices).
 _GRID = 16
@@ -238,3 +241,25 @@ def sample_run(V, lp, ext, a, nv, m, tol, bounds=(_SHORTEST, _LONGEST), grid=_GR
     height = float(np.max(H[np.diff(path), path[:-1]]))
     path = path[:-1]  # the run's end is the next run's start
     return u[path], np.where(rv[path] >= 0, a + rv[path], -1), height
+
+
+def straightened_lengths(pts, seg, eps):
+    """Per edge of the polyline ``pts`` (k + 1, 2) of edge lengths ``seg`` (k,): its
+    length scaled so that each stretch between the vertices Douglas-Peucker keeps at
+    ``eps`` measures its chord (a zigzag finer than ``eps`` adds no length)."""
+    simple = shapely.get_coordinates(shapely.simplify(shapely.LineString(pts), eps, preserve_topology=False))
+    marks = np.zeros(len(pts), dtype=bool)
+    j = 0
+    for i in range(len(pts)):  # the kept vertices, in order (a closed run repeats its start)
+        if j < len(simple) and pts[i, 0] == simple[j, 0] and pts[i, 1] == simple[j, 1]:
+            marks[i] = True
+            j += 1
+    marks[0] = marks[-1] = True
+    at = np.flatnonzero(marks)
+    out = seg.copy()
+    for p, q in itertools.pairwise(at):
+        arc = seg[p:q].sum()
+        chord = float(np.hypot(*(pts[q] - pts[p])))
+        if arc > 0 and chord > 0:
+            out[p:q] = seg[p:q] * (chord / arc)
+    return out

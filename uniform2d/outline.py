@@ -1,40 +1,38 @@
 """A polygon's boundary rings resampled at the mesh spacing, within a tolerance of the outline.
 
 The paper keeps every polygon vertex, so a dense outline (a digitised coastline,
-a CAD curve exported as thousands of short chords) has its shortest mesh edge
-set by its own digitising step.  :func:`resample_polygon` replaces each ring by
-points about one spacing ``h`` apart that stay within ``tol * h`` of the
-outline, as the surface layer does for its domains (the same dynamic programme,
-:mod:`uniform2d.chord_sampling`):
+a CAD curve exported as thousands of short chords) has its shortest mesh edge set
+by its own digitising step.  :func:`resample_polygon` replaces each ring by points
+about one spacing ``h`` apart within ``tol * h`` of the outline, as the surface
+layer does for its domains (the same dynamic programme, :mod:`.chord_sampling`):
 
-- **kept vertices** are the input vertices that stay: *corners*, whose turning
-  angle exceeds ``corner_angle`` both at the vertex (between its two edges) and
-  at the scale of the mesh (between the chords to the outline points half a
-  spacing before and after it), at most one in any arc of length ``h``
-  (the sharpest, of those closer than ``h``); and every ring vertex a segment or fixed point touches.
-  Segments' interior vertices and fixed points inside stay as they are;
-- a run between kept vertices that is a single input edge is left whole: the
-  mesher splits it at the spacing it chooses, its points counting in n too;
-- the other **runs** between kept vertices (a whole ring if it has none) are sampled
-  evenly in a *straightened* arc length (that of the run simplified by
-  Douglas-Peucker at ``tol * h``, so a zigzag finer than the tolerance does not
-  count as length), ``round(L / h)`` pieces; where that leaves the outline
-  farther than ``tol * h`` from a ring edge, the dynamic programme moves the
-  samples (edges 0.8 to 1.25 of the run's spacing, then down to 0.5 and 0.25
-  of it, if that is what the tolerance takes), and a run it still cannot fit is
-  split at its farthest input vertex;
-- every sample lies on the outline, and every input vertex lies within the
-  tolerance of the ring edge that spans it, so the Hausdorff distance between
-  the rings and the outline (both ways) is at most :attr:`Resampled.deviation`;
+- **kept vertices** are the input vertices that stay: *corners*, turning by more
+  than ``corner_angle`` both between their two edges and between the chords to
+  the outline half a spacing before and after (at most one in an arc of ``h``, the
+  sharpest), and ring vertices a segment or fixed point touches (segments'
+  interior vertices and fixed points inside stay as they are);
+- a run between kept vertices that is a single input edge is left whole (the
+  mesher splits it at the spacing it chooses, its points counting in n too);
+- the other **runs** (a whole ring if it has none) are sampled evenly in a
+  *straightened* arc length (that of the run simplified by Douglas-Peucker at
+  ``tol * h``), ``round(L / h)`` pieces; where that leaves the outline farther
+  than ``tol * h`` from a ring edge, the dynamic programme moves the samples
+  (edges 0.8 to 1.25 of the run's spacing, then down to 0.5 and 0.25 of it),
+  and a run it still cannot fit is split at its farthest input vertex;
+- every sample lies on the outline, and every input vertex within the tolerance
+  of the ring edge that spans it: the Hausdorff distance between rings and
+  outline (both ways) is at most :attr:`Resampled.deviation`;
+- with ``widen`` (the default), :mod:`.outline_band` then drops samples where a
+  ring edge is much shorter than h and the tolerance allows, and, at the spacing
+  found, moves samples off the outline within the tolerance (measured both ways)
+  to widen features narrower than h (piers, notches, necks);
 - a polygon whose constraint edges are all at least :data:`COARSE_EDGE` of the
-  spacing needs no resampling: it is returned as given.  A *coarse* one
-  (:func:`is_coarse`) is resampled like the others, by
-  :func:`uniform2d.uniform_mesh` at :data:`COARSE_SPACING` times h;
-- if the resampled rings cross (two parts of the outline closer than the
-  tolerance), the crossing edges are split at the input vertex nearest their
-  middle (a boundary point, counted in n) and their runs sampled again, for a
-  few rounds; if that does not make them valid the polygon is kept as given:
-  the polygon returned is always valid.
+  spacing is returned as given; a *coarse* one (:func:`is_coarse`) is resampled,
+  by :func:`uniform2d.uniform_mesh` at :data:`COARSE_SPACING` times h;
+- if the rings cross (two parts of the outline closer than the tolerance), the
+  crossing edges are split at the input vertex nearest their middle (a boundary
+  point, counted in n) and sampled again, a few rounds, else the polygon is kept
+  as given: the polygon returned is always valid.
 
 Lengths are measured in the coordinates as given: a longitude/latitude outline
 is resampled in degrees (project it first, see ``docs/outlines.md``).
@@ -43,7 +41,6 @@ is resampled in degrees (project it first, see ``docs/outlines.md``).
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import logging
 import math
 import numbers
@@ -51,11 +48,13 @@ import numbers
 import numpy as np
 import shapely
 
-from .chord_sampling import plain_run, run_counts, sample_run
+from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
+from .outline_band import REACH, merge_short_edges, widen_rings
 from .polygon import Polygon
 from .ring_corners import ring_corners
+from .short_edges import SEVERE, SHORT_EDGE, short_edge_warning
 
 __all__ = ["COARSE_EDGE", "COARSE_SPACING", "CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled",
            "is_coarse", "resample_polygon", "short_edge_warning"]
@@ -64,9 +63,6 @@ log = logging.getLogger(__name__)
 
 #: Default corner threshold, in degrees of turning angle (the surface layer's).
 CORNER_ANGLE = 30.0
-#: A polygon edge shorter than this fraction of the mesh spacing makes a uniform
-#: mesh impossible: the mesh keeps it, so its edge ratio is at least about 1 / SHORT_EDGE.
-SHORT_EDGE = 1 / 3
 #: A polygon with no constraint edge shorter than this fraction of the spacing is
 #: not resampled (its shortest edges cost the mesh an edge ratio below about 2).
 COARSE_EDGE = 0.6
@@ -74,9 +70,6 @@ COARSE_EDGE = 0.6
 #: resampled at by :func:`uniform2d.uniform_mesh` (one of the optimiser's own
 #: boundary spacings, ``optimize.schedule.SPACINGS``).
 COARSE_SPACING = 1.05
-#: The edge ratio the polygon's own edges force from which that is a warning (below,
-#: information kept in ``Mesh.info``).
-SEVERE = 10.0
 #: The edge-length bounds (fractions of a run's spacing) tried in turn where the
 #: tolerance is not met.
 _BOUNDS = ((0.8, 1.25), (0.5, 1.25), (0.25, 1.25))
@@ -106,8 +99,8 @@ class Resampled:
         The tolerance asked for, a fraction of ``spacing``.
     deviation : float
         A bound on the Hausdorff distance between the rings and the input
-        outline (a length): the largest distance of an input vertex from the
-        ring edge spanning it.
+        outline (a length): the largest, over the ring edges, of the distance
+        between an edge and the input it spans, both ways.
     n_corners : int
         Kept corners.
     resampled : bool
@@ -153,7 +146,7 @@ class Resampled:
 
 def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | None = None,
                      tolerance: float, corner_angle: float = CORNER_ANGLE,
-                     boundary_spacing: float = 1.0) -> tuple[Resampled, int]:
+                     boundary_spacing: float = 1.0, widen: bool = True) -> tuple[Resampled, int]:
     """Resample ``polygon``'s rings for a mesh of ``n`` Steiner points (or edge ``size``).
 
     The spacing h is that of an equilateral mesh of the resampled polygon with
@@ -161,7 +154,10 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     found by iterating (the resampled perimeter depends on h); with ``size``, h
     is ``size`` and n follows as in :func:`uniform2d.steiner_count_for_size`.
     The rings are sampled at ``boundary_spacing`` times h (n stays exact: the
-    boundary points count in it).
+    boundary points count in it).  With ``widen`` (the default), features
+    narrower than the spacing are then widened within the tolerance
+    (:mod:`uniform2d.outline_band`): the boundary points placed by the
+    resampling then lie within the tolerance of the outline, not on it.
 
     Returns
     -------
@@ -193,7 +189,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     extra = len(polygon.vertices) - polygon.n_ring_vertices
     if size is not None:
-        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c)
+        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c, widen=widen, move=widen)
         q = r.polygon
         N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
         return r, max(0, round(N) - r.n_kept) - r.n_boundary
@@ -205,44 +201,16 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         h = max(h, size_for_count(polygon.area, simple.length, n + extra, polygon.n_holes))
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
     for _ in range(_ITERATIONS):
-        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c)
+        caches = [{} for _ in polygon.rings]  # runs sampled at this spacing
+        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c, widen, caches=caches)
         q = r.polygon
         h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
         if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
             break
         h = h_next
+    if widen and r.resampled:  # narrow features widened once, at the spacing found
+        r = _resample_at(polygon, r.spacing, tolerance, corner_angle, forced, c, widen, True, caches)
     return r, n - r.n_boundary
-
-
-def short_edge_warning(polygon: Polygon, n: int) -> tuple[str, int] | None:
-    """Why ``polygon``'s own edges make a uniform mesh of n points impossible, or None.
-
-    The criterion: a constraint edge (ring or segment piece) shorter than
-    :data:`SHORT_EDGE` of the spacing h of an equilateral mesh with |V| + n
-    vertices; the mesh keeps that edge, so its edge ratio is at least about h
-    over it.  Returns the message and its logging level: ``WARNING`` when that
-    ratio is at least :data:`SEVERE` (a digitised outline far finer than the
-    mesh), ``INFO`` below (a small hole's chords at a coarse n, say).
-
-    Examples
-    --------
-    >>> from uniform2d import Polygon
-    >>> print(short_edge_warning(Polygon([(0, 0), (1, 0), (1, 1), (0, 1)]), 100))
-    None
-    """
-    h = size_for_count(polygon.area, polygon.perimeter, n + len(polygon.vertices), polygon.n_holes)
-    E = polygon.constraint_edges
-    V = polygon.vertices
-    L = np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T)
-    short = int((L < SHORT_EDGE * h).sum())
-    if not short:
-        return None
-    ratio = h / L.min()
-    message = (f"{short} of the polygon's {len(L)} edges are shorter than a third of the mesh "
-               f"spacing {h:.4g} (the shortest {L.min():.3g}, spacing / {ratio:.3g}): the mesh "
-               f"keeps every polygon vertex, so its edge ratio is at least about {ratio:.3g}; "
-               "resample the outline (resample=0.25, or --resample 0.25 on the command line)")
-    return message, logging.WARNING if ratio >= SEVERE else logging.INFO
 
 
 def is_coarse(polygon: Polygon, spacing: float) -> bool:
@@ -292,7 +260,8 @@ def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
 
 
 def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
-                 forced=None, c: float = 1.0) -> Resampled:
+                 forced=None, c: float = 1.0, widen: bool = True, move: bool = False,
+                 caches=None) -> Resampled:
     """The rings resampled at spacing ``c * h`` within ``tol * h``, made valid (see
     the module notes); the polygon as given if no constraint edge is shorter than
     ``COARSE_EDGE * h``.  ``forced`` (per ring, (k,) bool, updated): input vertices
@@ -306,9 +275,9 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
     thr = math.radians(corner_angle)
     corners = [ring_corners(ring, h, thr) for ring in polygon.rings]
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings] if forced is None else forced
-    caches = [{} for _ in polygon.rings]
+    caches = [{} for _ in polygon.rings] if caches is None else caches
     for _ in range(_ROUNDS):
-        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r])
+        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r], widen)
                  for r, ring in enumerate(polygon.rings)]
         samples = [g.sample(h, tol) for g in rings]
         try:
@@ -326,12 +295,24 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
             continue
         kept = np.concatenate([np.concatenate([s[1] for s in samples]),
                                np.ones(len(poly.vertices) - poly.n_ring_vertices, dtype=bool)])
-        dev = max(s[2] for s in samples)
+        poly, dev = _widened(polygon, poly, rings, samples, h, tol * h) if move else (
+            poly, max(float(s[2].max()) for s in samples))
         return Resampled(poly, kept, h0, float(tol0), float(dev), sum(g.n_corners for g in rings),
                          boundary_spacing=c)
     log.warning("the outline could not be resampled at spacing %.4g without its rings crossing; "
                 "every input vertex kept", h)
     return _as_given(polygon, h0, tol0)
+
+
+def _widened(polygon: Polygon, poly: Polygon, rings, samples, h: float, limit: float):
+    """``poly`` widened (:func:`uniform2d.outline_band.widen_rings`) if its rings
+    do not cross, and the deviation."""
+    out = widen_rings([(g.ring, g.ext) for g in rings],
+                      [(s[0], ~s[1], s[2], s[3]) for s in samples], REACH * h, limit)
+    try:
+        return _rebuild(polygon, out[0]), out[1]
+    except InvalidPolygonError:
+        return poly, max(float(s[2].max()) for s in samples)
 
 
 def _rebuild(polygon: Polygon, rings) -> Polygon:
@@ -372,12 +353,14 @@ def _share_end(p, q) -> bool:
 class _Ring:
     """One ring's runs between kept vertices and its straightened arc measure."""
 
-    def __init__(self, ring, keep, corners, forced, h, tol, cache):
+    def __init__(self, ring, keep, corners, forced, h, tol, cache, merge=False):
         self.ring = ring
         self.cache = cache  # (start, edges[, pieces]) -> a run's measure or sampling
         self.kept = keep | corners
         self.n_corners = int((corners & ~keep).sum())
         starts = np.flatnonzero(self.kept | forced)  # forced: run ends that count in n
+        self.ends = self.kept | forced
+        self.merge = merge
         self.closed = not len(starts)
         self.starts = starts if len(starts) else np.array([0])
         k = len(ring)
@@ -388,15 +371,15 @@ class _Ring:
             idx = (a + np.arange(nv + 1)) % k
             key = (int(a), int(nv))
             if key not in cache:
-                cache[key] = _straightened(ring[idx], seg[idx[:-1]], tol * h)
+                cache[key] = straightened_lengths(ring[idx], seg[idx[:-1]], tol * h)
             meas[idx[:-1]] = cache[key]
         cum = np.concatenate([[0.0], np.cumsum(meas)])
         self.cum = cum
         self.ext = np.concatenate([cum[:-1], cum[-1] + cum])  # twice round
 
     def sample(self, h, tol):
-        """(points (r, 2), kept (r,), deviation, measure position of each point (r,))
-        at spacing ``h``, within ``tol`` of the spacing."""
+        """(points (r, 2), kept (r,), deviation of each edge (r,), measure position
+        of each point (r,)) at spacing ``h``, within ``tol`` of the spacing."""
         lp = np.arange(len(self.ring))
         m = run_counts(self.ext[self.starts + self.nvs] - self.ext[self.starts], h, self.closed)
         S, vert = [], []
@@ -409,9 +392,14 @@ class _Ring:
                 vert.append(v)
         S, vert = np.concatenate(S), np.concatenate(vert)
         pts = self._points(S, vert)
+        k = len(self.ring)
+        if self.merge:  # kept, forced and single-edge run ends stay (see outline_band)
+            on = np.where(vert >= 0, self.ends[vert % k], False)
+            sel = merge_short_edges(self.ring, self.ext, S, pts, ~on, h, tol * h)
+            S, vert, pts = S[sel], vert[sel], pts[sel]
         kept = np.zeros(len(S), dtype=bool)
-        kept[vert >= 0] = self.kept[vert[vert >= 0] % len(self.ring)]
-        return pts, kept, float(self._deviation(S, pts).max()), S
+        kept[vert >= 0] = self.kept[vert[vert >= 0] % k]
+        return pts, kept, self._deviation(S, pts, per_edge=True), S
 
     def split_points(self, S, edges):
         """The input vertices (indices) nearest the middle of the sampled edges
@@ -465,9 +453,10 @@ class _Ring:
         P[on] = self.ring[vert[on] % k]
         return P
 
-    def _deviation(self, S, P, idx=None):
+    def _deviation(self, S, P, idx=None, per_edge=False):
         """Distance of input vertices ``idx`` (default all) from the sampled edge
-        spanning each (samples at measure positions S, points P, in order)."""
+        spanning each (samples at measure positions S, points P, in order); with
+        ``per_edge``, per sampled edge the largest over the vertices it spans."""
         k = len(self.ring)
         idx = np.arange(k) if idx is None else idx
         pos = self.ext[idx]
@@ -476,25 +465,10 @@ class _Ring:
         pos2 = np.where(g < 0, pos + self.cum[-1], pos)  # before the first sample: wrap
         g = np.searchsorted(S, pos2, side="right") - 1
         g = np.where(g < 0, r - 1, g)
-        return point_segment_distance(self.ring[idx % k], P[g % r], P[(g + 1) % r])
+        d = point_segment_distance(self.ring[idx % k], P[g % r], P[(g + 1) % r])
+        if per_edge:
+            out = np.zeros(r)
+            np.maximum.at(out, g % r, d)
+            return out
+        return d
 
-
-def _straightened(pts, seg, eps):
-    """Per edge of the polyline ``pts`` (k + 1, 2): its length scaled so that each
-    stretch between the vertices Douglas-Peucker keeps at ``eps`` measures its chord."""
-    simple = shapely.get_coordinates(shapely.simplify(shapely.LineString(pts), eps, preserve_topology=False))
-    marks = np.zeros(len(pts), dtype=bool)
-    j = 0
-    for i in range(len(pts)):  # the kept vertices, in order (a closed run repeats its start)
-        if j < len(simple) and pts[i, 0] == simple[j, 0] and pts[i, 1] == simple[j, 1]:
-            marks[i] = True
-            j += 1
-    marks[0] = marks[-1] = True
-    at = np.flatnonzero(marks)
-    out = seg.copy()
-    for p, q in itertools.pairwise(at):
-        arc = seg[p:q].sum()
-        chord = float(np.hypot(*(pts[q] - pts[p])))
-        if arc > 0 and chord > 0:
-            out[p:q] = seg[p:q] * (chord / arc)
-    return out
