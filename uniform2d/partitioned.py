@@ -33,21 +33,21 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ._kernel.distance import to_segments
-from ._parallel import ordered_map
+from ._parallel import Runner, ordered_map
 from .errors import InsufficientPointsError, InternalError
 from .geometry import is_vertex, polygon_edges, unique_edges
 from .mesh import Mesh
 from .optimize.boundary import boundary_counts, boundary_points
 from .optimize.fill import fill_band_gaps
 from .optimize.lattice import Candidates, hex_lattice
-from .optimize.moves import KernelMesh, improve_kept
-from .optimize.objective import objective_code
+from .optimize.moves import improve_kept
 from .optimize.rows import boundary_rows, keep_clear
-from .optimize.schedule import SCHEDULE, schedule_for
+from .optimize.schedule import schedule_for
 from .optimize.seed import start
 from .partition import Partition, partition
 from .parts import allocate, stitch
 from .polygon import Polygon
+from .seams import relax_band
 from .triangulation import triangulate
 from .validity import ensure_valid
 
@@ -288,7 +288,7 @@ def _reseed(polygon: Polygon, P: np.ndarray, part: Partition, lattice, n: int) -
 
 
 def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective: str = "balanced",
-                lattice=None, n: int | None = None):
+                lattice=None, n: int | None = None, runner=None):
     """The stitched mesh with the band within :data:`BAND` h of the cuts relaxed.
 
     The cut points are ordinary points now: they and their neighbours move (the
@@ -322,10 +322,12 @@ def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective:
         ring = (RING_BAND + 1.0) * part.h
         free |= to_segments(P, sa, sb, ring) < ring
     free[:fixed] = False  # vertices and segment samples stay (first in both)
-    st = KernelMesh.from_mesh(polygon, P, triangles, href=part.h, frozen=~free[nV:])
-    run = st.advance(SCHEDULE, objective_code(objective))
-    pts, tri, _ = st.result(run)
-    return pts, np.asarray(tri, dtype=np.int64)
+    seg = [ii[f.segment_edges] for faces, idx in zip(part.parts, part.index) for f, ii in zip(faces, idx)]
+    seg = np.unique(np.sort(np.concatenate([np.zeros((0, 2), np.int64), *seg]), axis=1), axis=0)
+    if runner is not None:
+        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, runner, objective)
+    with Runner() as run:
+        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, run, objective)
 
 
 def _plan(polygon: Polygon, n: int, parts: int, objective: str, shared: bool = False):
@@ -424,20 +426,21 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     part, items = _plan(polygon, n, parts, objective, relax)
     lat = items[0][6]
     lap("partition")
-    done = list(ordered_map(mesher or mesh_faces, items, jobs=jobs, scheduler=scheduler, bar=bar))
-    lap("parts")
-    pieces = [(idx, own, T) for ii, res in zip(part.index, done) for idx, (own, T) in zip(ii, res)]
-    del done
-    P, T = stitch(part.points, pieces)
-    del pieces
-    if lat is None and len(P) != nV + n:
-        raise InternalError(f"the stitched mesh has {len(P) - nV} Steiner points, not {n} (a bug)")
-    seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
-    before = seam_uniformity(P, T, seam, part.h)
-    lap("stitch")
-    if relax and part.cuts:
-        P, T = relax_seams(polygon, P, T, part, objective, lat, n)
-    lap("relax")
+    with Runner(jobs, scheduler) as run:
+        done = list(run.map(mesher or mesh_faces, items, bar=bar))
+        lap("parts")
+        pieces = [(idx, own, T) for ii, res in zip(part.index, done) for idx, (own, T) in zip(ii, res)]
+        del done
+        P, T = stitch(part.points, pieces)
+        del pieces
+        if lat is None and len(P) != nV + n:
+            raise InternalError(f"the stitched mesh has {len(P) - nV} Steiner points, not {n} (a bug)")
+        seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
+        before = seam_uniformity(P, T, seam, part.h)
+        lap("stitch")
+        if relax and part.cuts:
+            P, T = relax_seams(polygon, P, T, part, objective, lat, n, runner=run)
+        lap("relax")
     ensure_valid(P, T, polygon, n, "uniform_mesh(parts=...)")
     lap("check")
     info = {"method": "partitioned", "parts": int(parts), "h": part.h,
