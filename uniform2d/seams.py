@@ -42,7 +42,7 @@ from .optimize.objective import objective_code
 from .optimize.schedule import SCHEDULE
 from .polygon import Polygon
 
-__all__ = ["CONTEXT", "LONG", "OVERLAP", "ROUNDS", "SHORT", "SPOT_RADIUS", "TILE", "finish", "relax_band",
+__all__ = ["CONTEXT", "FINISH", "LONG", "OVERLAP", "ROUNDS", "SHORT", "SPOT_RADIUS", "TILE", "finish", "relax_band",
            "relax_piece", "round_pieces"]
 
 log = logging.getLogger(__name__)
@@ -66,7 +66,10 @@ ROUNDS = 4
 #: its own extremes, left the whole mesh's worse.
 SHORT = 0.85
 LONG = 1.13
-SPOT_RADIUS = 4.0
+SPOT_RADIUS = 3.0
+#: Its schedule: the extremes' stages and the spread (the points are near
+#: their places already; springs would undo the pieces' balance).
+FINISH = SCHEDULE._replace(spring_rounds=0, exponents=(7, 8))
 
 _PINCH_STEPS = 20
 
@@ -305,8 +308,11 @@ def relax_band(polygon: Polygon, points, triangles, free, h: float, fixed: int, 
     """
     P = np.array(points, dtype=np.float64)
     T = np.array(triangles, dtype=np.int64)
+    # the triangles a piece can reach (its region, a pinch's star), once: the
+    # pieces rewrite them in place, so they cover the same ground every round
+    near = np.flatnonzero(_label_round(T, np.where(free, 0, -1), CONTEXT + 3)[1] >= 0)
     for rnd in range(ROUNDS):
-        pieces = round_pieces(P, T, free, h, polygon.bounds[:2], rnd, fixed, segments)
+        pieces = round_pieces(P, T[near], free, h, polygon.bounds[:2], rnd, fixed, segments)
         items = [(*it, objective) for _, _, it in pieces]
         log.info("seams: round %d, %d pieces, %d free points", rnd, len(items),
                  int(sum(it[2].sum() for it in items)))
@@ -314,7 +320,7 @@ def relax_band(polygon: Polygon, points, triangles, free, h: float, fixed: int, 
             if len(tri) != len(rows):
                 raise InternalError("a piece's region has another triangle count (a bug: please report it)")
             P[ids[moved]] = xy
-            T[rows] = ids[tri]
+            T[near[rows]] = ids[tri]
     return finish(polygon, P, T, free, h, objective)
 
 
@@ -337,6 +343,6 @@ def finish(polygon: Polygon, points, triangles, free, h: float, objective: str =
     log.info("seams: %d edges beyond [%g, %g] h, %d points move again", int(bad.sum()), SHORT,
              LONG, int(spots.sum()))
     st = KernelMesh.from_mesh(polygon, P, T, href=h, frozen=~spots[len(polygon.vertices):])
-    run = st.advance(SCHEDULE, objective_code(objective))
+    run = st.advance(FINISH, objective_code(objective))
     pts, tri, _ = st.result(run)
     return pts, np.asarray(tri, dtype=np.int64)
