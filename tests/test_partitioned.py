@@ -293,3 +293,23 @@ def test_the_pieces_of_a_round_are_apart_and_cover_the_band(monkeypatch):
             assert set(moved.tolist()) <= set(np.flatnonzero(item[2]).tolist())
             assert len(tri) == len(rows) and not np.array_equal(xy, item[0][moved])
     np.testing.assert_array_equal(seen, free)
+
+
+def test_pvtu_pieces_carry_the_regions(tmp_path):
+    """Every piece triangle's cell data ``region`` is the region of that triangle
+    in the gathered mesh (the parts as meshed), and the index declares it."""
+    import meshio
+
+    out = tmp_path / "plate.pvtu"
+    write_pvtu(PLATE, 1500, 3, out)
+    root = ET.parse(out).getroot()
+    assert [a.get("Name") for c in root.iter("PCellData") for a in c] == ["region"]
+    ref = partitioned_mesh(PLATE, 1500, 3, relax=False)
+    want = {tuple(sorted(t)): r for t, r in zip(ref.triangles.tolist(), ref.regions.tolist())}
+    got = {}
+    for p in root.iter("Piece"):
+        piece = meshio.read(out.parent / p.get("Source"))
+        g = piece.point_data["GlobalPointIds"]
+        for t, r in zip(piece.cells_dict["triangle"].tolist(), piece.cell_data["region"][0].tolist()):
+            got[tuple(sorted(g[t].tolist()))] = r
+    assert got == want and set(want.values()) == {0, 1}

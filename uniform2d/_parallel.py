@@ -14,7 +14,7 @@ from typing import Callable, Iterable, Iterator
 
 from .errors import InvalidArgumentError
 
-__all__ = ["Runner", "ordered_map", "check_jobs"]
+__all__ = ["Runner", "check_jobs", "ordered_map"]
 
 
 def check_jobs(jobs: int, scheduler=None) -> None:
@@ -139,7 +139,7 @@ class Runner:
         self._pool = None
         self._client = None
 
-    def __enter__(self) -> "Runner":
+    def __enter__(self):
         if self.scheduler is not None:
             from distributed import Client
 

@@ -31,6 +31,7 @@ keeps the mesh valid and conforming.
 from __future__ import annotations
 
 import logging
+import time
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -299,29 +300,42 @@ def relax_piece(item, objective: str = "balanced"):
 
 
 def relax_band(polygon: Polygon, points, triangles, free, h: float, fixed: int, segments, runner,
-               objective: str = "balanced"):
+               objective: str = "balanced", times: dict | None = None):
     """``points`` (N, 2) and ``triangles`` (M, 3), a mesh of ``polygon``, with the
     ``free`` (N,) points moved: piece by piece in :data:`ROUNDS` rounds on
     ``runner`` (:class:`uniform2d._parallel.Runner`), then :func:`finish`.
     ``fixed`` and ``segments`` as :func:`round_pieces`'s.  Returns new arrays:
     the kernel's exact constrained Delaunay triangulation of the moved points.
+    ``times``, if given, gets the seconds spent cutting the pieces out
+    (``seams_cut``), running them (``seams_pieces``) and in :func:`finish`
+    (``seams_finish``).
     """
+    clock = {"seams_cut": 0.0, "seams_pieces": 0.0}
     P = np.array(points, dtype=np.float64)
     T = np.array(triangles, dtype=np.int64)
     # the triangles a piece can reach (its region, a pinch's star), once: the
     # pieces rewrite them in place, so they cover the same ground every round
     near = np.flatnonzero(_label_round(T, np.where(free, 0, -1), CONTEXT + 3)[1] >= 0)
     for rnd in range(ROUNDS):
+        t0 = time.perf_counter()
         pieces = round_pieces(P, T[near], free, h, polygon.bounds[:2], rnd, fixed, segments)
         items = [(*it, objective) for _, _, it in pieces]
         log.info("seams: round %d, %d pieces, %d free points", rnd, len(items),
                  int(sum(it[2].sum() for it in items)))
+        t1 = time.perf_counter()
         for (rows, ids, _), (moved, xy, tri) in zip(pieces, runner.map(relax_piece, items)):
             if len(tri) != len(rows):
                 raise InternalError("a piece's region has another triangle count (a bug: please report it)")
             P[ids[moved]] = xy
             T[near[rows]] = ids[tri]
-    return finish(polygon, P, T, free, h, objective)
+        clock["seams_cut"] += t1 - t0
+        clock["seams_pieces"] += time.perf_counter() - t1
+    t0 = time.perf_counter()
+    out = finish(polygon, P, T, free, h, objective)
+    clock["seams_finish"] = time.perf_counter() - t0
+    if times is not None:
+        times.update(clock)
+    return out
 
 
 def finish(polygon: Polygon, points, triangles, free, h: float, objective: str = "balanced"):
