@@ -176,13 +176,25 @@ def round_pieces(points, triangles, free, h: float, origin, rnd: int, fixed: int
     return out
 
 
+def _edge_keys(T):
+    """The directed edges of T as sorted keys ``u * n + v``, and n."""
+    n = int(T.max()) + 1
+    return np.sort(T.ravel() * n + T[:, [1, 2, 0]].ravel()), n
+
+
+def _has(skey, keys) -> np.ndarray:
+    at = np.minimum(np.searchsorted(skey, keys), len(skey) - 1)
+    return skey[at] == keys
+
+
 def _loops(T) -> list:
     """The boundary loops of a pinch-free triangle set, as vertex lists in order
     (the region on their left), each starting at its smallest vertex."""
+    skey, n = _edge_keys(T)
     a = T.ravel()
     b = T[:, [1, 2, 0]].ravel()
-    own = set(zip(a.tolist(), b.tolist()))
-    nxt = {u: v for u, v in zip(a.tolist(), b.tolist()) if (v, u) not in own}
+    bnd = ~_has(skey, b * n + a)
+    nxt = dict(zip(a[bnd].tolist(), b[bnd].tolist()))
     loops, seen = [], set()
     for s in sorted(nxt):
         if s in seen:
@@ -226,9 +238,10 @@ def _region(P, T, free, fixed, seg):
     if len(outer) != 1 or any(len(r) < 3 for r in rings):
         raise InternalError("a piece's region is not one polygon (a bug: please report it)")
     on = {v for lp in loops for v in lp}
-    own = set(zip(T.ravel().tolist(), T[:, [1, 2, 0]].ravel().tolist()))
-    # the segment pieces inside the region: edges of two of its triangles
-    seg = [(int(u), int(v)) for u, v in seg if (u, v) in own and (v, u) in own]
+    if len(seg):  # the segment pieces inside the region: edges of two of its triangles
+        skey, n = _edge_keys(T)
+        seg = seg[_has(skey, seg[:, 0] * n + seg[:, 1]) & _has(skey, seg[:, 1] * n + seg[:, 0])]
+    seg = [(int(u), int(v)) for u, v in seg]
     ends = {v for e in seg for v in e}
     lone = [v for v in np.flatnonzero(fixed).tolist() if v not in on and v not in ends]
     o = outer[0]
