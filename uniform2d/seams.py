@@ -9,19 +9,22 @@ into pieces that can run at once:
 1. The plane is tiled in squares of :data:`TILE` h, coloured in four by the
    parity of their row and column: tiles of one colour are a whole tile apart.
 2. Four rounds, one per colour.  In a round, every tile of that colour with
-   band points in it is a piece: those points (free), the mesh :data:`CONTEXT`
-   rings of triangles around them (frozen), and the piece's region, the union
-   of those triangles, made a :class:`~uniform2d.Polygon` of its own (its
-   boundary loops: its band points on the mesh's rings slide along them, all
-   other points of the loops are fixed).  A piece is a function of its inputs
-   alone (:func:`relax_piece`): the kernel's exact constrained Delaunay
-   triangulation of the region with its free points moved.
+   band points in it is a piece: those points (the tile grown by
+   :data:`OVERLAP` h, so that the points near a tile's side move again in the
+   later round of its neighbour, with both sides free), the mesh
+   :data:`CONTEXT` rings of triangles around them (frozen), and the piece's
+   region, the union of those triangles, made a :class:`~uniform2d.Polygon`
+   of its own (its boundary loops: its band points on the mesh's rings slide
+   along them, all other points of the loops are fixed).  A piece is a
+   function of its inputs alone (:func:`relax_piece`): the kernel's exact
+   constrained Delaunay triangulation of the region with its free points moved.
 3. The pieces of a round are independent (a tile apart) and run in
    :class:`uniform2d._parallel.Runner`, here, in local processes or on Dask;
    their points and triangles are written back in tile order before the next
-   round reads the mesh.  Points near a tile's side move in its round against
-   neighbours that move in a later round, as the band's points near a
-   seam's junction do.
+   round reads the mesh.
+4. A piece balances its own longest and shortest edges, not the mesh's, so a
+   last round here (:func:`finish`) moves the few points near the edges
+   furthest from h again with the whole mesh loaded.
 
 The region of a piece is covered by the same triangles before and after (its
 boundary does not move, points sliding on P's rings aside), so writing back
@@ -43,8 +46,8 @@ from .optimize.objective import objective_code
 from .optimize.schedule import SCHEDULE
 from .polygon import Polygon
 
-__all__ = ["CONTEXT", "FINISH", "LONG", "OVERLAP", "ROUNDS", "SHORT", "SPOT_RADIUS", "TILE", "finish", "relax_band",
-           "relax_piece", "round_pieces"]
+__all__ = ["CONTEXT", "FINISH", "LONG", "OVERLAP", "ROUNDS", "SHORT", "SPOT_RADIUS", "TILE",
+           "finish", "relax_band", "relax_piece", "round_pieces"]
 
 log = logging.getLogger(__name__)
 
