@@ -237,3 +237,79 @@ def test_the_command_refuses(tmp_path, capsys, extra, message):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and message in err[0]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.json"]
+
+
+def test_the_seam_pass_runs_in_pieces_with_the_same_bytes_anywhere(monkeypatch):
+    """The seams' pass in tiles of 20 h (several pieces a round): the same bytes
+    with 1 and 2 local processes, exactly n, valid and constrained Delaunay."""
+    from uniform2d import seams
+
+    monkeypatch.setattr(seams, "TILE", 20.0)
+    monkeypatch.setattr(seams, "OVERLAP", 3.0)
+    counts = []
+    real = seams.round_pieces
+
+    def counted(*a, **k):
+        out = real(*a, **k)
+        counts.append(len(out))
+        return out
+
+    monkeypatch.setattr(seams, "round_pieces", counted)
+    a = uniform_mesh(PLATE, 4000, parts=4)
+    b = uniform_mesh(PLATE, 4000, parts=4, jobs=2)
+    assert len(counts) == 2 * seams.ROUNDS and max(counts) > 1
+    assert same(a, b)
+    check_mesh(a.points, a.triangles, PLATE, n_steiner=4000)
+    c = uniform_mesh(L_HOLE, 3000, parts=5, jobs=2)
+    check_mesh(c.points, c.triangles, L_HOLE, n_steiner=3000)
+    assert same(c, uniform_mesh(L_HOLE, 3000, parts=5))
+
+
+def test_the_pieces_of_a_round_are_apart_and_cover_the_band(monkeypatch):
+    """Every band point is a free point of a piece in some round; the pieces of a
+    round share no triangle and no free point; a piece moves its free points
+    only and keeps its region's triangle count."""
+    from uniform2d import seams
+    from uniform2d.seams import ROUNDS, relax_piece, round_pieces
+
+    monkeypatch.setattr(seams, "TILE", 16.0)
+    monkeypatch.setattr(seams, "OVERLAP", 2.0)
+    square = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    m = uniform_mesh(square, 3000)
+    P, T, h = m.points, m.triangles, 1.0 / 56
+    free = np.zeros(len(P), bool)
+    free[4:] = (np.abs(P[4:, 0] - 0.5) < 0.15) | (P[4:, 1] < 0.1)
+    seen = np.zeros(len(P), bool)
+    for rnd in range(ROUNDS):
+        pieces = round_pieces(P, T, free, h, (0.0, 0.0), rnd, 4, np.zeros((0, 2), np.int64))
+        assert len(pieces) > 1
+        rows = np.concatenate([r for r, _, _ in pieces])
+        assert len(rows) == len(np.unique(rows))
+        cores = np.concatenate([ids[it[2]] for _, ids, it in pieces])
+        assert len(cores) == len(np.unique(cores)) and free[cores].all()
+        seen[cores] = True
+        for rows, ids, item in pieces[:2]:
+            moved, xy, tri = relax_piece(item)
+            assert set(moved.tolist()) <= set(np.flatnonzero(item[2]).tolist())
+            assert len(tri) == len(rows) and not np.array_equal(xy, item[0][moved])
+    np.testing.assert_array_equal(seen, free)
+
+
+def test_pvtu_pieces_carry_the_regions(tmp_path):
+    """Every piece triangle's cell data ``region`` is the region of that triangle
+    in the gathered mesh (the parts as meshed), and the index declares it."""
+    import meshio
+
+    out = tmp_path / "plate.pvtu"
+    write_pvtu(PLATE, 1500, 3, out)
+    root = ET.parse(out).getroot()
+    assert [a.get("Name") for c in root.iter("PCellData") for a in c] == ["region"]
+    ref = partitioned_mesh(PLATE, 1500, 3, relax=False)
+    want = {tuple(sorted(t)): r for t, r in zip(ref.triangles.tolist(), ref.regions.tolist())}
+    got = {}
+    for p in root.iter("Piece"):
+        piece = meshio.read(out.parent / p.get("Source"))
+        g = piece.point_data["GlobalPointIds"]
+        for t, r in zip(piece.cells_dict["triangle"].tolist(), piece.cell_data["region"][0].tolist()):
+            got[tuple(sorted(g[t].tolist()))] = r
+    assert got == want and set(want.values()) == {0, 1}

@@ -14,7 +14,7 @@ from typing import Callable, Iterable, Iterator
 
 from .errors import InvalidArgumentError
 
-__all__ = ["ordered_map", "check_jobs"]
+__all__ = ["Runner", "check_jobs", "ordered_map"]
 
 
 def check_jobs(jobs: int, scheduler=None) -> None:
@@ -116,3 +116,80 @@ def ordered_map(
                 following += 1
     finally:
         source.close()
+
+
+class Runner:
+    """Several :func:`ordered_map` calls on one set of workers: local processes
+    started once (each loads the compiled kernels once), or one Dask client.
+
+    Use as a context manager; :meth:`map` is :func:`ordered_map` on these
+    workers.  A scheduler given as an address is connected on entry and
+    closed on exit; a client is used as it is.
+
+    Examples
+    --------
+    >>> with Runner() as run:
+    ...     list(run.map(abs, [-1, 2])), list(run.map(str, [3]))
+    ([1, 2], ['3'])
+    """
+
+    def __init__(self, jobs: int = 1, scheduler=None):
+        check_jobs(jobs, scheduler)
+        self.jobs, self.scheduler = jobs, scheduler
+        self._pool = None
+        self._client = None
+
+    def __enter__(self):
+        if self.scheduler is not None:
+            from distributed import Client
+
+            own = not isinstance(self.scheduler, Client)
+            self._client = (Client(self.scheduler) if own else self.scheduler, own)
+        return self
+
+    def __exit__(self, kind, *rest) -> None:
+        if self._pool is not None:
+            # an interrupt or a failed item: run nothing more
+            self._pool.shutdown(wait=kind is None, cancel_futures=kind is not None)
+            self._pool = None
+        if self._client is not None and self._client[1]:
+            self._client[0].close()
+        self._client = None
+
+    def _source(self, fn, items):
+        if self._client is not None:
+            return _dask(fn, items, self._client[0], None)
+        if self.jobs > 1 and len(items) > 1:
+            if self._pool is None:
+                ctx = multiprocessing.get_context("spawn")
+                self._pool = ProcessPoolExecutor(max_workers=self.jobs, mp_context=ctx)
+            return _submit(self._pool, fn, items)
+        return _serial(fn, items, None)
+
+    def map(self, fn: Callable, items: Iterable, bar=None) -> Iterator:
+        """``fn(item)`` for every item, yielded in the order of ``items``
+        (:func:`ordered_map`'s arguments)."""
+        items = list(items)
+        source = self._source(fn, items)
+        done, following = {}, 0
+        try:
+            for i, value in source:
+                if bar is not None:
+                    bar.update()
+                done[i] = value
+                while following in done:
+                    yield done.pop(following)
+                    following += 1
+        finally:
+            source.close()
+
+
+def _submit(ex, fn, items):
+    futures = {ex.submit(fn, item): i for i, item in enumerate(items)}
+    try:
+        for fut in as_completed(futures):
+            yield futures[fut], fut.result()
+    except BaseException:
+        for fut in futures:
+            fut.cancel()
+        raise

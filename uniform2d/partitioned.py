@@ -13,7 +13,8 @@
 4. the parts are stitched (:func:`uniform2d.parts.stitch`) and the band within
    :data:`BAND` h of the cuts is relaxed (:func:`relax_seams`): the cuts stop
    being constraints, their points and their neighbours move and the mesh is
-   made constrained Delaunay again.
+   made constrained Delaunay again; the band is moved in pieces, in parallel
+   on the parts' workers (:mod:`uniform2d.seams`).
 
 The result does not depend on where the parts ran: the same K gives the same
 bytes with 1 process, 8 or a cluster.  Different K cut differently and give
@@ -33,21 +34,21 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ._kernel.distance import to_segments
-from ._parallel import ordered_map
+from ._parallel import Runner, ordered_map
 from .errors import InsufficientPointsError, InternalError
 from .geometry import is_vertex, polygon_edges, unique_edges
 from .mesh import Mesh
 from .optimize.boundary import boundary_counts, boundary_points
 from .optimize.fill import fill_band_gaps
 from .optimize.lattice import Candidates, hex_lattice
-from .optimize.moves import KernelMesh, improve_kept
-from .optimize.objective import objective_code
+from .optimize.moves import improve_kept
 from .optimize.rows import boundary_rows, keep_clear
-from .optimize.schedule import SCHEDULE, schedule_for
+from .optimize.schedule import schedule_for
 from .optimize.seed import start
 from .partition import Partition, partition
 from .parts import allocate, stitch
 from .polygon import Polygon
+from .seams import relax_band
 from .triangulation import triangulate
 from .validity import ensure_valid
 
@@ -169,22 +170,56 @@ def mesh_faces(item):
 def write_part(item) -> tuple[int, int]:
     """Mesh one part and write it as a piece: ``item`` is :func:`mesh_faces`'s, then
     ``(index, first, path)``: per face the global number of each polygon vertex,
-    per face the global number of its first own point, and the piece's file.
-    Returns the piece's (points, triangles)."""
+    per face the global number of its first own point, and the piece's file;
+    optionally then the whole polygon, whose region each triangle is in is
+    written as the cell array ``region``.  Returns the piece's (points, triangles)."""
     from .io.pvtu import write_piece
 
-    index, first, path = item[7:]
-    ids, pts, tris, base = [], [], [], 0
+    index, first, path = item[7:10]
+    whole = item[10] if len(item) > 10 else None
+    ids, pts, tris, regs, base = [], [], [], [], 0
     for poly, count, idx, f0, (own, T) in zip(item[0], item[1], index, first, mesh_faces(item)):
-        ensure_valid(np.concatenate([poly.vertices, own]), T, poly, count, "a part")
+        P = np.concatenate([poly.vertices, own])
+        ensure_valid(P, T, poly, count, "a part")
         ids.append(np.concatenate([idx, f0 + np.arange(len(own), dtype=np.int64)]))
-        pts.append(np.concatenate([poly.vertices, own]))
+        pts.append(P)
         tris.append(T + base)
+        if whole is not None:
+            regs.append(_face_regions(whole, poly, P, T))
         base += len(ids[-1])
     ids, pts, tris = np.concatenate(ids), np.concatenate(pts), np.concatenate(tris)
     glob, first_at, local = np.unique(ids, return_index=True, return_inverse=True)
-    write_piece(path, pts[first_at], local[tris], glob)
+    write_piece(path, pts[first_at], local[tris], glob, np.concatenate(regs) if regs else None)
     return len(glob), len(tris)
+
+
+def _face_regions(whole: Polygon, face: Polygon, P, T) -> np.ndarray:
+    """(m,) int64: the region of ``whole`` each triangle of a face's mesh is in:
+    the triangles joined across the edges on no segment, each group located
+    by its largest triangle's centroid (as :func:`uniform2d.mesh_regions.triangle_regions`)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    if not len(whole.segment_edges):
+        return np.zeros(len(T), np.int64)
+    seg = {tuple(e) for e in np.sort(face.segment_edges, axis=1).tolist()}
+    he = np.sort(T[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    owner = np.repeat(np.arange(len(T)), 3)
+    order = np.lexsort((he[:, 1], he[:, 0]))
+    k, o = he[order], owner[order]
+    i = np.flatnonzero((k[1:] == k[:-1]).all(axis=1))
+    i = i[[tuple(k[j]) not in seg for j in i.tolist()]] if len(i) else i
+    _, comp = connected_components(coo_matrix((np.ones(len(i)), (o[i], o[i + 1])),
+                                              shape=(len(T), len(T))), directed=False)
+    q = P[T]
+    a, b = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
+    area = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    out = np.empty(len(T), np.int64)
+    for c in np.unique(comp).tolist():
+        tri = np.flatnonzero(comp == c)
+        x, y = q[tri[np.argmax(area[tri])]].mean(axis=0)
+        out[tri] = whole.regions.locate(x, y)
+    return out
 
 
 def _lattice_edge(poly: Polygon, angle: float) -> int:
@@ -288,20 +323,21 @@ def _reseed(polygon: Polygon, P: np.ndarray, part: Partition, lattice, n: int) -
 
 
 def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective: str = "balanced",
-                lattice=None, n: int | None = None):
+                lattice=None, n: int | None = None, runner=None, times: dict | None = None):
     """The stitched mesh with the band within :data:`BAND` h of the cuts relaxed.
 
     The cut points are ordinary points now: they and their neighbours move (the
     optimiser's moves, :mod:`uniform2d.optimize`, with everything else frozen
-    and the full schedule, on the band only; those on a ring slide along it).
-    The stitched mesh is loaded into the kernel as it is, made constrained
-    Delaunay there (across the cuts too), and the result is the kernel's own
-    exact constrained Delaunay triangulation of the moved points.  Vertices
-    and segment samples do not move.  With ``lattice`` (the parts' shared
+    and the full schedule, on the band only; those on a ring slide along it),
+    piece by piece on ``runner`` (:func:`uniform2d.seams.relax_band`; default:
+    here), and the result is the kernel's own exact constrained Delaunay
+    triangulation of the moved points.  Vertices and segment samples do not
+    move.  With ``lattice`` (the parts' shared
     lattice, :func:`global_lattice`) the band within :data:`RESEED` h of the
     cuts is first made that lattice again (the mesh is triangulated anew, with
     ``n`` Steiner points: the parts may have taken their lattice's natural
-    count) and the band relaxed is :data:`RESEED` + 1 h wide.
+    count) and the band relaxed is :data:`RESEED` + 1 h wide.  ``times``
+    gets the seams' pass's own times (:func:`uniform2d.seams.relax_band`).
 
     Returns
     -------
@@ -322,10 +358,12 @@ def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective:
         ring = (RING_BAND + 1.0) * part.h
         free |= to_segments(P, sa, sb, ring) < ring
     free[:fixed] = False  # vertices and segment samples stay (first in both)
-    st = KernelMesh.from_mesh(polygon, P, triangles, href=part.h, frozen=~free[nV:])
-    run = st.advance(SCHEDULE, objective_code(objective))
-    pts, tri, _ = st.result(run)
-    return pts, np.asarray(tri, dtype=np.int64)
+    seg = [ii[f.segment_edges] for faces, idx in zip(part.parts, part.index) for f, ii in zip(faces, idx)]
+    seg = np.unique(np.sort(np.concatenate([np.zeros((0, 2), np.int64), *seg]), axis=1), axis=0)
+    if runner is not None:
+        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, runner, objective, times)
+    with Runner() as run:
+        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, run, objective, times)
 
 
 def _plan(polygon: Polygon, n: int, parts: int, objective: str, shared: bool = False):
@@ -366,12 +404,14 @@ def write_pvtu(polygon: Polygon, n: int, parts: int, path, *, jobs: int = 1, sch
     tmp = piece_dir(path)
     names = [piece_name(path, k) for k in range(len(items))]
     full, k = [], 0
+    regions = polygon.has_constraints or bool(polygon.region_seeds)
     for it, idx, name in zip(items, part.index, names):
-        full.append((*it, idx, [int(S + own[k + j]) for j in range(len(idx))], str(tmp / name)))
+        full.append((*it, idx, [int(S + own[k + j]) for j in range(len(idx))], str(tmp / name),
+                     polygon if regions else None))
         k += len(idx)
     try:
         done = list(ordered_map(write_part, full, jobs=jobs, scheduler=scheduler, bar=bar))
-        commit(path, tmp, names)
+        commit(path, tmp, names, regions)
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
@@ -413,7 +453,7 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     (300, 3)
     """
     nV = len(polygon.vertices)
-    clock, times = time.perf_counter(), {}
+    clock, times, seams = time.perf_counter(), {}, {}
 
     def lap(name):
         nonlocal clock
@@ -424,20 +464,22 @@ def partitioned_mesh(polygon: Polygon, n: int, parts: int, *, jobs: int = 1, sch
     part, items = _plan(polygon, n, parts, objective, relax)
     lat = items[0][6]
     lap("partition")
-    done = list(ordered_map(mesher or mesh_faces, items, jobs=jobs, scheduler=scheduler, bar=bar))
-    lap("parts")
-    pieces = [(idx, own, T) for ii, res in zip(part.index, done) for idx, (own, T) in zip(ii, res)]
-    del done
-    P, T = stitch(part.points, pieces)
-    del pieces
-    if lat is None and len(P) != nV + n:
-        raise InternalError(f"the stitched mesh has {len(P) - nV} Steiner points, not {n} (a bug)")
-    seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
-    before = seam_uniformity(P, T, seam, part.h)
-    lap("stitch")
-    if relax and part.cuts:
-        P, T = relax_seams(polygon, P, T, part, objective, lat, n)
-    lap("relax")
+    with Runner(jobs, scheduler) as run:
+        done = list(run.map(mesher or mesh_faces, items, bar=bar))
+        lap("parts")
+        pieces = [(idx, own, T) for ii, res in zip(part.index, done) for idx, (own, T) in zip(ii, res)]
+        del done
+        P, T = stitch(part.points, pieces)
+        del pieces
+        if lat is None and len(P) != nV + n:
+            raise InternalError(f"the stitched mesh has {len(P) - nV} Steiner points, not {n} (a bug)")
+        seam = part.points[np.concatenate(part.cuts)] if part.cuts else np.zeros((0, 2))
+        before = seam_uniformity(P, T, seam, part.h)
+        lap("stitch")
+        if relax and part.cuts:
+            P, T = relax_seams(polygon, P, T, part, objective, lat, n, runner=run, times=seams)
+        lap("relax")
+        times.update(seams)
     ensure_valid(P, T, polygon, n, "uniform_mesh(parts=...)")
     lap("check")
     info = {"method": "partitioned", "parts": int(parts), "h": part.h,

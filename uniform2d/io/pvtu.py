@@ -42,12 +42,15 @@ import numpy as np
 from .atomic import atomic_write
 from .mesh_files import meshio_writer
 
-__all__ = ["GLOBAL_IDS", "commit", "piece_dir", "piece_name", "read_pvtu", "write_piece"]
+__all__ = ["GLOBAL_IDS", "REGION", "commit", "piece_dir", "piece_name", "read_pvtu", "write_piece"]
 
 #: The point array carrying every piece point's global number.
 GLOBAL_IDS = "GlobalPointIds"
 
-_write_vtu = meshio_writer("vtu", pad_z=True)
+#: The cell array carrying every piece triangle's region (as in a gathered ``.vtu``).
+REGION = "region"
+
+_write_vtu = meshio_writer("vtu", pad_z=True, regions="region")
 
 
 def piece_name(index, k: int) -> str:
@@ -63,19 +66,23 @@ def piece_dir(index) -> Path:
     return tmp
 
 
-def write_piece(path, points, triangles, global_ids) -> None:
-    """One piece: ``points`` (k, 2), ``triangles`` (m, 3) in piece numbering, and
-    the global number of every point, (k,) int64."""
+def write_piece(path, points, triangles, global_ids, regions=None) -> None:
+    """One piece: ``points`` (k, 2), ``triangles`` (m, 3) in piece numbering, the
+    global number of every point, (k,) int64, and optionally the region of
+    every triangle, (m,) int64 (the cell array ``region``)."""
     ids = np.asarray(global_ids, dtype=np.int64)
     _write_vtu(path, np.asarray(points, dtype=np.float64), np.asarray(triangles, dtype=np.int64),
-               {GLOBAL_IDS: ids})
+               {GLOBAL_IDS: ids}, regions=regions)
 
 
-def _index_xml(folder: str, names) -> bytes:
+def _index_xml(folder: str, names, regions: bool) -> bytes:
     root = ET.Element("VTKFile", type="PUnstructuredGrid", version="1.0", byte_order="LittleEndian")
     grid = ET.SubElement(root, "PUnstructuredGrid", GhostLevel="0")
     pd = ET.SubElement(grid, "PPointData", GlobalIds=GLOBAL_IDS)
     ET.SubElement(pd, "PDataArray", type="Int64", Name=GLOBAL_IDS, NumberOfComponents="1")
+    if regions:
+        cd = ET.SubElement(grid, "PCellData", Scalars=REGION)
+        ET.SubElement(cd, "PDataArray", type="Int64", Name=REGION, NumberOfComponents="1")
     pts = ET.SubElement(grid, "PPoints")
     ET.SubElement(pts, "PDataArray", type="Float64", NumberOfComponents="3")
     for name in names:
@@ -84,9 +91,10 @@ def _index_xml(folder: str, names) -> bytes:
     return b'<?xml version="1.0"?>\n' + ET.tostring(root) + b"\n"
 
 
-def commit(index, tmp, names) -> None:
+def commit(index, tmp, names, regions: bool = False) -> None:
     """Move the pieces in ``tmp`` to their directory beside ``index`` and write the
-    index listing ``names`` (in order); an older directory of pieces is replaced."""
+    index listing ``names`` (in order; with ``regions``, they carry the cell
+    array ``region``); an older directory of pieces is replaced."""
     index, tmp = Path(index), Path(tmp)
     final = index.with_name(index.stem)
     old = None
@@ -94,7 +102,7 @@ def commit(index, tmp, names) -> None:
         old = index.with_name(f".{index.stem}.old-{secrets.token_hex(4)}")
         os.replace(final, old)
     os.replace(tmp, final)
-    data = _index_xml(final.name, names)
+    data = _index_xml(final.name, names, regions)
 
     def write(p):
         Path(p).write_bytes(data)
