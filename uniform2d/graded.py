@@ -53,10 +53,13 @@ __all__ = ["PHASES", "boundary_sites", "graded_mesh"]
 
 log = logging.getLogger(__name__)
 
-#: Weighted Lloyd iterations before the moves, and their over-relaxation: from
-#: the rows, 10 gave a lower CV of q than 5, 15 or 30 (which undo the rows).
-LLOYD_ITERATIONS = 10
+#: Weighted Lloyd iterations before the moves, their over-relaxation and the
+#: power of their density 1 / h**power: 4 is the density whose centroidal
+#: tessellation has cells following h (with 2, more iterations flattened the
+#: grading and undid the rows).
+LLOYD_ITERATIONS = 20
 LLOYD_OMEGA = 1.5
+LLOYD_POWER = 4
 
 #: Samples of the field along each boundary edge (:func:`boundary_sites`).
 EDGE_SAMPLES = 64
@@ -111,7 +114,7 @@ def graded_mesh(polygon: Polygon, n: int, field: SizeField, *, objective: str = 
     report("insert", 1, 1)
     report("relaxation", 0, 1)
     sites = weighted_lloyd(polygon, sites, fixed, field, iterations=LLOYD_ITERATIONS,
-                           omega=LLOYD_OMEGA)
+                           omega=LLOYD_OMEGA, power=LLOYD_POWER)
     pts, tri, run = improve_kept(polygon, sites, size=field, objective=objective)
     report("relaxation", 1, 1)
     if len(pts) != nV + n:

@@ -22,13 +22,20 @@ from ..geometry import polygon_edges
 from ..insert import insert_on_edges
 from ..polygon import Polygon
 
-__all__ = ["FILLED", "SPACING", "frontal_seed", "rows_start"]
+__all__ = ["FILLED", "LINE_SPACING", "SPACING", "frontal_seed", "rows_start"]
 
-#: A new point keeps at least this many h from every point and from the boundary.
+#: A new point keeps at least this many h from every point (h the smaller of the
+#: two points' sizes) ...
 SPACING = 0.8
+#: ... and this many h from the boundary: SPACING times an equilateral
+#: triangle's height over its side (an apex on a boundary edge is that far from it).
+LINE_SPACING = SPACING * 0.8660254037844386
 #: A triangle whose circumradius is at most this many h is filled (an
 #: equilateral triangle of side h has 1 / sqrt(3) = 0.577).
 FILLED = 0.75
+#: Fixed-point iterations for an apex's side: the side is h at its own midpoint,
+#: not at the front edge's, so that a row follows a steep size gradient.
+APEX_ITERATIONS = 2
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
 
@@ -64,11 +71,31 @@ def _front(P, tri, size, shape):
         L = np.linalg.norm(d, axis=1)
         nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(L, 1e-300)[:, None]
         side = np.sign(np.einsum("ij,ij->i", P[S[t, k]] - m, nrm))
-        hm = size(m)
-        height = np.sqrt(np.maximum(hm * hm - 0.25 * L * L, 0.25 * hm * hm))
-        out.append(m + (side * height)[:, None] * nrm)
+        up = side[:, None] * nrm
+        hs = size(m)
+        for _ in range(APEX_ITERATIONS):
+            height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
+            hs = size(m + (0.5 * height)[:, None] * up)
+        height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
+        out.append(m + height[:, None] * up)
     cand = np.concatenate(out)
     return cand, size(cand)
+
+
+def _clear(cand, hc, P, hP, lines, size) -> np.ndarray:
+    """(k,) bool: the candidates at least SPACING times the smaller of the two sizes
+    from every point of ``P`` and LINE_SPACING times the smaller of theirs and the
+    nearest boundary point's from the boundary.  The smaller size, not the
+    candidate's: where h grows steeply the apex of a front edge has a larger size
+    than the edge, and its own size would refuse the whole first row."""
+    pc = shapely.points(cand)
+    near = shapely.get_coordinates(shapely.shortest_line(pc, lines))[1::2]
+    ok = shapely.distance(lines, pc) >= LINE_SPACING * np.minimum(hc, size(near))
+    for i, nb in enumerate(cKDTree(P).query_ball_point(cand, SPACING * hc)):
+        if ok[i] and nb:
+            nb = np.asarray(nb, dtype=np.int64)
+            ok[i] = bool(np.all(np.hypot(*(P[nb] - cand[i]).T) >= SPACING * np.minimum(hP[nb], hc[i])))
+    return ok
 
 
 def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
@@ -103,20 +130,21 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     for _ in range(MAX_ROUNDS):
         cand, hc = _front(P, Delaunay(P), size, shape)
         ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
-        ok[ok] = shapely.distance(lines, shapely.points(cand[ok])) >= SPACING * hc[ok]
-        d, _ = cKDTree(P).query(cand)
-        ok &= d >= SPACING * hc
+        ok[ok] = _clear(cand[ok], hc[ok], P, size(P), lines, size)
         idx = np.flatnonzero(ok)
         if not len(idx):
             break
-        tree = cKDTree(cand[idx])
+        C, hC = cand[idx], hc[idx]
+        tree = cKDTree(C)
         blocked = np.zeros(len(idx), dtype=bool)
         keep = []
         for j in range(len(idx)):
             if blocked[j]:
                 continue
             keep.append(idx[j])
-            blocked[tree.query_ball_point(cand[idx[j]], SPACING * hc[idx[j]])] = True
+            nb = np.asarray(tree.query_ball_point(C[j], SPACING * hC[j]), dtype=np.int64)
+            close = np.hypot(*(C[nb] - C[j]).T) < SPACING * np.minimum(hC[nb], hC[j])
+            blocked[nb[close]] = True
         P = np.concatenate([P, cand[keep]])
     return P[n0:]
 
