@@ -45,6 +45,7 @@ from .optimize.lloyd import weighted_lloyd
 from .optimize.moves import improve_kept
 from .optimize.objective import objective_code
 from .optimize.packing import rows_start
+from .optimize.schedule import LARGE
 from .polygon import Polygon
 from .sizefield import SizeField
 from .validity import ensure_valid
@@ -60,6 +61,12 @@ log = logging.getLogger(__name__)
 LLOYD_ITERATIONS = 20
 LLOYD_OMEGA = 1.5
 LLOYD_POWER = 4
+#: The moves' descent stages (p-norm exponents 2**k) up to ``schedule.LARGE``
+#: points: one stage at p = 128.  The graded default (p = 4 to 64, for the
+#: surface layer) trades the CV of q for the extremes; from the rows and Lloyd,
+#: springs then one high stage then the spread sweeps give the lowest CV of q
+#: with max q / min q within 1.6 on the benchmark cases.
+EXPONENTS = (7,)
 
 #: Samples of the field along each boundary edge (:func:`boundary_sites`).
 EDGE_SAMPLES = 64
@@ -115,7 +122,9 @@ def graded_mesh(polygon: Polygon, n: int, field: SizeField, *, objective: str = 
     report("relaxation", 0, 1)
     sites = weighted_lloyd(polygon, sites, fixed, field, iterations=LLOYD_ITERATIONS,
                            omega=LLOYD_OMEGA, power=LLOYD_POWER)
-    pts, tri, run = improve_kept(polygon, sites, size=field, objective=objective)
+    exponents = EXPONENTS if nV + n <= LARGE else None
+    pts, tri, run = improve_kept(polygon, sites, size=field, objective=objective,
+                                 exponents=exponents)
     report("relaxation", 1, 1)
     if len(pts) != nV + n:
         raise InternalError(f"graded: {len(pts) - nV} Steiner points instead of {n} {PLEASE_REPORT}")
