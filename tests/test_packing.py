@@ -117,3 +117,26 @@ def test_uniform_field_rows_are_a_lattice():
     nn = d[:, 1] / 0.05
     assert nn.min() >= SPACING * (1 - 1e-12)
     assert np.mean(nn <= 1.15) > 0.9
+
+
+def test_rows_around_a_hole_take_the_count_their_circumference_asks():
+    """A 24-gon hole whose edges are 1.12 h long, h growing with the radius: one apex
+    per edge would keep 24 points on every ring (edges 1.12 h long on all of
+    them); the rings get about ∮ ds / h points instead."""
+    ang = -2 * np.pi * np.arange(24) / 24
+    hole = np.column_stack([np.cos(ang), np.sin(ang)])
+
+    def h(p):
+        return 0.2333 + 0.27 * np.maximum(np.hypot(p[:, 0], p[:, 1]) - 1, 0)
+
+    poly = Polygon([(-6, -6), (6, -6), (6, 6), (-6, 6)], [hole])
+    field = as_field(poly, h)
+    b, _ = boundary_sites(poly, field, 1.0, 10**6)
+    rows = frontal_seed(poly, field, b)
+    r = np.hypot(rows[:, 0], rows[:, 1])
+    for lo, hi in ((1.0, 1.35), (1.35, 1.75)):  # the first two rings
+        ring = (r > lo) & (r < hi)
+        rm = float(r[ring].mean())
+        asks = 2 * np.pi * rm / float(h(np.array([[rm, 0.0]]))[0])
+        assert ring.sum() > 24
+        assert abs(ring.sum() - asks) <= 1.0

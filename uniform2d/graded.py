@@ -57,8 +57,9 @@ log = logging.getLogger(__name__)
 #: Weighted Lloyd iterations before the moves, their over-relaxation and the
 #: power of their density 1 / h**power: 4 is the density whose centroidal
 #: tessellation has cells following h (with 2, more iterations flattened the
-#: grading and undid the rows).
-LLOYD_ITERATIONS = 20
+#: grading and undid the rows; with 4, 10 to 50 iterations lower the CV of q
+#: steadily, where the fronts met most).
+LLOYD_ITERATIONS = 30
 LLOYD_OMEGA = 1.5
 LLOYD_POWER = 4
 #: The moves' descent stages (p-norm exponents 2**k) up to ``schedule.LARGE``

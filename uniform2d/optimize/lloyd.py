@@ -60,8 +60,10 @@ def _centroids(P: np.ndarray, T: np.ndarray, size, power: int = 2) -> np.ndarray
         for x, y in ((m1, cc), (cc, m2)):
             g = (pv + x + y) / 3.0
             w = _signed_area(pv, x, y) / size(g) ** power
-            np.add.at(num, v, w[:, None] * g)
-            np.add.at(den, v, w)
+            # bincount sums in input order, as np.add.at does, and much faster
+            num[:, 0] += np.bincount(v, w * g[:, 0], minlength=len(P))
+            num[:, 1] += np.bincount(v, w * g[:, 1], minlength=len(P))
+            den += np.bincount(v, w, minlength=len(P))
     with np.errstate(invalid="ignore", divide="ignore"):
         return num / den[:, None]
 

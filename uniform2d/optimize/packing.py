@@ -36,6 +36,8 @@ FILLED = 0.75
 #: Fixed-point iterations for an apex's side: the side is h at its own midpoint,
 #: not at the front edge's, so that a row follows a steep size gradient.
 APEX_ITERATIONS = 2
+#: Samples of the size per gap of a ring respaced by :func:`_respace_rings`.
+RING_SAMPLES = 4
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
 
@@ -60,7 +62,7 @@ def _front(P, tri, size, shape):
     R = a * b * c / np.maximum(2.0 * area2, 1e-300)
     filled = inside & (R <= FILLED * size(cen))
     open_ = inside & ~filled
-    out = []
+    out, ends = [], []
     for k in range(3):  # edge opposite vertex k
         nb = tri.neighbors[:, k]
         edge_side = open_ & ((nb < 0) | ~inside[np.maximum(nb, 0)] | filled[np.maximum(nb, 0)])
@@ -78,8 +80,70 @@ def _front(P, tri, size, shape):
             hs = size(m + (0.5 * height)[:, None] * up)
         height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
         out.append(m + height[:, None] * up)
+        # the edge's ends in the order that has its open side (the apex) on the left
+        pi, qi = S[t, (k + 1) % 3], S[t, (k + 2) % 3]
+        ends.append(np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1)))
     cand = np.concatenate(out)
+    if len(cand):
+        cand = _respace_rings(cand, np.concatenate(ends), size)
     return cand, size(cand)
+
+
+def _loops(ends: np.ndarray) -> list:
+    """The closed chains of front edges ``ends`` (k, 2) (each with its open side on
+    the left; an edge followed by the one starting where it ends, where exactly
+    one starts and one ends there): lists of edge indices."""
+    k = len(ends)
+    n = int(ends.max()) + 1 if k else 0
+    out_deg = np.bincount(ends[:, 0], minlength=n)
+    in_deg = np.bincount(ends[:, 1], minlength=n)
+    start_of = np.full(n, -1, np.int64)
+    start_of[ends[:, 0]] = np.arange(k)
+    succ = np.where((out_deg[ends[:, 1]] == 1) & (in_deg[ends[:, 1]] == 1),
+                    start_of[ends[:, 1]], -1)
+    seen = np.zeros(k, bool)
+    loops = []
+    for first in range(k):
+        chain, e = [], first
+        while e >= 0 and not seen[e]:
+            seen[e] = True
+            chain.append(e)
+            e = succ[e]
+        if e == first:
+            loops.append(chain)
+    return loops
+
+
+def _respace_rings(cand: np.ndarray, ends: np.ndarray, size) -> np.ndarray:
+    """``cand`` (the apexes of the front edges ``ends``, in order) with the apexes of
+    every front ring growing outward around a hole (a closed chain turning
+    clockwise, the open side outside) replaced by ``round(∮ ds / h)`` points
+    along the ring through them, spaced by equal ``∫ ds / h``, where that is more
+    than the apexes: one apex per edge keeps a ring's count from row to row,
+    where h growing with the radius asks for more (the spacing test already
+    drops apexes where it asks for fewer)."""
+    out = [c[None, :] for c in cand]
+    t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
+    for chain in _loops(ends):
+        a = cand[chain]
+        x, y = a[:, 0], a[:, 1]
+        if len(a) < 3 or float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) >= 0:
+            continue
+        d = np.roll(a, -1, axis=0) - a
+        mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
+        inv = (1.0 / size(mids.reshape(-1, 2))).reshape(len(a), -1).mean(axis=1)
+        inv *= np.hypot(d[:, 0], d[:, 1])
+        cum = np.concatenate([[0.0], np.cumsum(inv)])
+        m = int(np.rint(cum[-1]))
+        if m <= len(a):
+            continue
+        goal = cum[-1] * np.arange(m) / m
+        seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
+        frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
+        out[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
+        for e in chain[1:]:
+            out[e] = out[e][:0]
+    return np.concatenate(out) if out else cand
 
 
 def _clear(cand, hc, P, hP, lines, size) -> np.ndarray:
