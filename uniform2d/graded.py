@@ -6,20 +6,21 @@
    that each piece has the same ``∫ ds / h``, with s the field's scale at n (see
    4.).  The moves slide boundary points along their own edge only, so these
    counts fix how the boundary follows h.  Then rows packed front by front
-   from the boundary, each point at the apex of an equilateral triangle of
-   side s h on the front (:func:`uniform2d.optimize.packing.rows_start`), and
-   Algorithm INSERT (:func:`uniform2d.insert`) with the field where the fronts
-   leave gaps (or the most crowded row points dropped): exactly n.  The rows
-   have far fewer irregular vertices than INSERT alone leaves (the CV of q
-   falls from 0.09-0.12 to 0.07-0.08 on the benchmark cases).
-2. **Lloyd.**  A few weighted Lloyd iterations for the density 1 / h²
-   (:func:`uniform2d.optimize.lloyd.weighted_lloyd`) even out where the fronts
-   met; boundary and segment points stay.
+   from the boundary, each point at the apex of a triangle of sides s h on
+   the front (:func:`uniform2d.optimize.packing.rows_start`), and Algorithm
+   INSERT (:func:`uniform2d.insert`) with the field where the fronts leave
+   gaps (or the most crowded row points dropped): exactly n.  The rows have
+   far fewer irregular vertices than INSERT alone leaves.
+2. **Lloyd.**  Weighted Lloyd iterations for the density 1 / h⁴, whose
+   centroidal tessellation has cells following h
+   (:func:`uniform2d.optimize.lloyd.weighted_lloyd`), even out where the
+   fronts met; boundary and segment points stay.
 3. **Moves.**  :func:`uniform2d.optimize.improve` with the field: the same moves
    as for a uniform mesh (springs, descent on the p-norm energy of the
-   objective, spread sweeps), every edge measured against the mean of its
-   end points' sizes, so the mesh becomes uniform relative to h.  The
-   triangulation stays the exact constrained Delaunay one of its points.
+   objective, here one stage at p = 128, spread sweeps), every edge measured
+   against the mean of its end points' sizes, so the mesh becomes uniform
+   relative to h.  The triangulation stays the exact constrained Delaunay one
+   of its points.
 4. **Scale.**  The field's scale s at which it implies |V| + n vertices
    (:func:`uniform2d.grading.scale_for_count`) is recorded
    (``mesh.info["size_scale"]``) and ``mesh.size`` is the field times s, so

@@ -2,14 +2,17 @@
 
 :func:`frontal_seed` is the graded counterpart of the uniform path's boundary rows
 (:mod:`uniform2d.optimize.rows`): starting from the boundary points, each round
-puts a point at the apex of the equilateral triangle of side h (the size at the
-edge's midpoint) on every edge of the front, the edges between the triangles
-already small enough for h and the rest of the domain, and keeps those at least
-:data:`SPACING` times h from every point and from the boundary, in order.  The
-result is rows parallel to the boundary that thin out where h grows, with far
-fewer irregular vertices than farthest-point insertion leaves.  The rows are
-not an exact count: :func:`rows_start` tops them up with Algorithm INSERT or
-drops the most crowded, for exactly n points.
+puts a point on every edge of the front (the edges between the triangles
+already small enough for h and the rest of the domain), at the apex of the
+isosceles triangle whose sides are h at their own midpoints (so that a row
+follows a steep size), and keeps those at least :data:`SPACING` times h from
+every point and :data:`LINE_SPACING` times h from the boundary, in order, h the
+smaller of the two sizes.  A ring of the front around a hole whose
+circumference asks for more points than its apexes gets them
+(:func:`_respace_rings`).  The result is rows parallel to the boundary that
+thin out where h grows, with far fewer irregular vertices than farthest-point
+insertion leaves.  The rows are not an exact count: :func:`rows_start` tops
+them up with Algorithm INSERT or drops the most crowded, for exactly n points.
 """
 
 from __future__ import annotations
