@@ -53,9 +53,10 @@ def _shape(polygon: Polygon):
     return shapely.Polygon(rings[0], rings[1:]), lines
 
 
-def _front(P, tri, size, shape):
-    """Apexes on the front edges of the Delaunay triangulation ``tri`` of ``P``:
-    (candidates (k, 2), their h)."""
+def _front(P, tri, size, shape, n0: int = 0):
+    """Apexes on the front edges of the Delaunay triangulation ``tri`` of ``P``
+    (its first ``n0`` points the boundary's), rings respaced
+    (:func:`_respace_rings`): (candidates (k, 2), their h)."""
     S = tri.simplices
     A, B, C = P[S[:, 0]], P[S[:, 1]], P[S[:, 2]]
     cen = (A + B + C) / 3.0
@@ -88,7 +89,7 @@ def _front(P, tri, size, shape):
         ends.append(np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1)))
     cand = np.concatenate(out)
     if len(cand):
-        cand = _respace_rings(cand, np.concatenate(ends), size)
+        cand = _respace_rings(cand, np.concatenate(ends), size, n0)
     return cand, size(cand)
 
 
@@ -117,14 +118,15 @@ def _loops(ends: np.ndarray) -> list:
     return loops
 
 
-def _respace_rings(cand: np.ndarray, ends: np.ndarray, size) -> np.ndarray:
+def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
     """``cand`` (the apexes of the front edges ``ends``, in order) with the apexes of
     every front ring growing outward around a hole (a closed chain turning
     clockwise, the open side outside) replaced by ``round(∮ ds / h)`` points
-    along the ring through them, spaced by equal ``∫ ds / h``, where that is more
-    than the apexes: one apex per edge keeps a ring's count from row to row,
-    where h growing with the radius asks for more (the spacing test already
-    drops apexes where it asks for fewer)."""
+    along the ring through them, spaced by equal ``∫ ds / h``: one apex per edge
+    keeps a ring's count from row to row, where h growing with the radius asks
+    for more (or fewer).  The first ring, on the boundary points (indices below
+    ``n0``), only gains points: with fewer, the polygon's vertices, which
+    cannot move, would meet long edges (the spacing test drops apexes there)."""
     out = [c[None, :] for c in cand]
     t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
     for chain in _loops(ends):
@@ -138,7 +140,7 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size) -> np.ndarray:
         inv *= np.hypot(d[:, 0], d[:, 1])
         cum = np.concatenate([[0.0], np.cumsum(inv)])
         m = int(np.rint(cum[-1]))
-        if m <= len(a):
+        if m == len(a) or (m < len(a) and bool(np.all(ends[chain] < n0))):
             continue
         goal = cum[-1] * np.arange(m) / m
         seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
@@ -195,7 +197,7 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     P = np.concatenate([polygon.vertices, np.asarray(sites, dtype=np.float64).reshape(-1, 2)])
     n0 = len(P)
     for _ in range(MAX_ROUNDS):
-        cand, hc = _front(P, Delaunay(P), size, shape)
+        cand, hc = _front(P, Delaunay(P), size, shape, n0)
         ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
         ok[ok] = _clear(cand[ok], hc[ok], P, size(P), lines, size)
         idx = np.flatnonzero(ok)
