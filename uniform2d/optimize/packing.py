@@ -17,6 +17,8 @@ them up with Algorithm INSERT or drops the most crowded, for exactly n points.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import shapely
 from scipy.spatial import Delaunay, cKDTree
@@ -160,11 +162,33 @@ def _clear(cand, hc, P, hP, lines, size) -> np.ndarray:
     pc = shapely.points(cand)
     near = shapely.get_coordinates(shapely.shortest_line(pc, lines))[1::2]
     ok = shapely.distance(lines, pc) >= LINE_SPACING * np.minimum(hc, size(near))
-    for i, nb in enumerate(cKDTree(P).query_ball_point(cand, SPACING * hc)):
-        if ok[i] and nb:
-            nb = np.asarray(nb, dtype=np.int64)
-            ok[i] = bool(np.all(np.hypot(*(P[nb] - cand[i]).T) >= SPACING * np.minimum(hP[nb], hc[i])))
+    i, j = _within(cKDTree(P).query_ball_point(cand, SPACING * hc))
+    d = np.hypot(*(P[j] - cand[i]).T)
+    ok[i[d < SPACING * np.minimum(hP[j], hc[i])]] = False
     return ok
+
+
+def _within(lists) -> tuple:
+    """(i, j) int64 arrays: the pairs of a KD-tree's ball query, j in lists[i]."""
+    counts = np.fromiter(map(len, lists), dtype=np.int64, count=len(lists))
+    i = np.repeat(np.arange(len(lists), dtype=np.int64), counts)
+    j = np.fromiter(itertools.chain.from_iterable(lists), dtype=np.int64, count=int(counts.sum()))
+    return i, j
+
+
+def _greedy(C: np.ndarray, hC: np.ndarray) -> np.ndarray:
+    """Indices of the points ``C`` kept in order, each unless an earlier kept one is
+    closer than SPACING times the smaller of their sizes (the relation is
+    symmetric, so a point close to none is kept)."""
+    i, j = _within(cKDTree(C).query_ball_point(C, SPACING * hC))
+    close = (i != j) & (np.hypot(*(C[j] - C[i]).T) < SPACING * np.minimum(hC[i], hC[j]))
+    i, j = i[close], j[close]
+    start = np.searchsorted(i, np.arange(len(C) + 1))
+    blocked = np.zeros(len(C), dtype=bool)
+    for k in np.unique(i).tolist():
+        if not blocked[k]:
+            blocked[j[start[k]:start[k + 1]]] = True
+    return np.flatnonzero(~blocked)
 
 
 def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
@@ -203,17 +227,7 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
         idx = np.flatnonzero(ok)
         if not len(idx):
             break
-        C, hC = cand[idx], hc[idx]
-        tree = cKDTree(C)
-        blocked = np.zeros(len(idx), dtype=bool)
-        keep = []
-        for j in range(len(idx)):
-            if blocked[j]:
-                continue
-            keep.append(idx[j])
-            nb = np.asarray(tree.query_ball_point(C[j], SPACING * hC[j]), dtype=np.int64)
-            close = np.hypot(*(C[nb] - C[j]).T) < SPACING * np.minimum(hC[nb], hC[j])
-            blocked[nb[close]] = True
+        keep = idx[_greedy(cand[idx], hc[idx])]
         P = np.concatenate([P, cand[keep]])
     return P[n0:]
 
