@@ -14,7 +14,7 @@ from uniform2d import Polygon, SizeField
 from uniform2d.geometry import unique_edges
 from uniform2d.graded import boundary_sites
 from uniform2d.grading import as_field, scale_for_count
-from uniform2d.optimize.packing import SPACING, frontal_seed, rows_start
+from uniform2d.optimize.packing import LINE_SPACING, SPACING, frontal_seed, rows_start
 from uniform2d.testing import check_mesh
 
 LSHAPE = Polygon([(0, 0), (1, 0), (1, 1), (-1, 1), (-1, -1), (0, -1)])
@@ -38,8 +38,13 @@ def test_rows_keep_their_spacing(poly, h, n):
     assert len(rows) > 0.6 * n  # the rows make most of the count
     hs = s * field(rows)
     others = np.concatenate([poly.vertices, b])
-    d, _ = cKDTree(others).query(rows)
-    assert np.all(d >= SPACING * hs)
+    ho = s * field(others)
+    # every row point is at least SPACING times the smaller of the two sizes from
+    # every boundary point
+    for i, nb in enumerate(cKDTree(others).query_ball_point(rows, SPACING * hs)):
+        nb = np.asarray(nb, dtype=np.int64)
+        d = np.linalg.norm(others[nb] - rows[i], axis=1)
+        assert np.all(d >= SPACING * np.minimum(ho[nb], hs[i]) * (1 - 1e-12))
     # two row points are at least SPACING times the smaller of their sizes apart
     pairs = np.array(sorted(cKDTree(rows).query_pairs(SPACING * hs.max())))
     if len(pairs):
@@ -49,7 +54,29 @@ def test_rows_keep_their_spacing(poly, h, n):
     rings = [poly.vertices[off[r]:off[r + 1]] for r in range(len(poly.rings))]
     shape = shapely.Polygon(rings[0], rings[1:])
     assert shapely.contains_xy(shape, rows[:, 0], rows[:, 1]).all()
-    assert np.all(shapely.distance(shape.boundary, shapely.points(rows)) >= SPACING * hs * (1 - 1e-12))
+    pr = shapely.points(rows)
+    foot = shapely.get_coordinates(shapely.shortest_line(pr, shape.boundary))[1::2]
+    limit = LINE_SPACING * np.minimum(hs, s * field(foot))
+    assert np.all(shapely.distance(shape.boundary, pr) >= limit * (1 - 1e-12))
+
+
+def test_first_row_around_a_hole_with_a_steep_size():
+    """h growing at slope 0.27 from a 24-gon hole whose edges are about h long:
+    every hole edge gets its apex, one ring of 24 points at one distance (an apex's
+    own size is 1.2 times the edge's there, and spacing by it refused half of them)."""
+    ang = -2 * np.pi * np.arange(24) / 24
+    hole = np.column_stack([np.cos(ang), np.sin(ang)])
+    poly = Polygon([(-6, -6), (6, -6), (6, 6), (-6, 6)], [hole])
+    field = as_field(poly, lambda p: 0.27 + 0.27 * np.maximum(np.hypot(p[:, 0], p[:, 1]) - 1, 0))
+    b, _ = boundary_sites(poly, field, 1.0, 10**6)
+    rows = frontal_seed(poly, field, b)
+    d = shapely.distance(shapely.LinearRing(hole), shapely.points(rows))
+    first = d < 0.5 * float(field(hole[:1])[0]) + d.min()
+    assert first.sum() == 24
+    # one apex per hole edge: the nearest hole edge of each is a different one
+    mids = 0.5 * (hole + np.roll(hole, -1, axis=0))
+    _, edge = cKDTree(mids).query(rows[first])
+    assert len(set(edge.tolist())) == 24
 
 
 @pytest.mark.parametrize("n", [5, 80, 700])
@@ -90,3 +117,26 @@ def test_uniform_field_rows_are_a_lattice():
     nn = d[:, 1] / 0.05
     assert nn.min() >= SPACING * (1 - 1e-12)
     assert np.mean(nn <= 1.15) > 0.9
+
+
+def test_rows_around_a_hole_take_the_count_their_circumference_asks():
+    """A 24-gon hole whose edges are 1.12 h long, h growing with the radius: one apex
+    per edge would keep 24 points on every ring (edges 1.12 h long on all of
+    them); the rings get about ∮ ds / h points instead."""
+    ang = -2 * np.pi * np.arange(24) / 24
+    hole = np.column_stack([np.cos(ang), np.sin(ang)])
+
+    def h(p):
+        return 0.2333 + 0.27 * np.maximum(np.hypot(p[:, 0], p[:, 1]) - 1, 0)
+
+    poly = Polygon([(-6, -6), (6, -6), (6, 6), (-6, 6)], [hole])
+    field = as_field(poly, h)
+    b, _ = boundary_sites(poly, field, 1.0, 10**6)
+    rows = frontal_seed(poly, field, b)
+    r = np.hypot(rows[:, 0], rows[:, 1])
+    for lo, hi in ((1.0, 1.35), (1.35, 1.75)):  # the first two rings
+        ring = (r > lo) & (r < hi)
+        rm = float(r[ring].mean())
+        asks = 2 * np.pi * rm / float(h(np.array([[rm, 0.0]]))[0])
+        assert ring.sum() > 24
+        assert abs(ring.sum() - asks) <= 1.0

@@ -6,20 +6,21 @@
    that each piece has the same ``∫ ds / h``, with s the field's scale at n (see
    4.).  The moves slide boundary points along their own edge only, so these
    counts fix how the boundary follows h.  Then rows packed front by front
-   from the boundary, each point at the apex of an equilateral triangle of
-   side s h on the front (:func:`uniform2d.optimize.packing.rows_start`), and
-   Algorithm INSERT (:func:`uniform2d.insert`) with the field where the fronts
-   leave gaps (or the most crowded row points dropped): exactly n.  The rows
-   have far fewer irregular vertices than INSERT alone leaves (the CV of q
-   falls from 0.09-0.12 to 0.07-0.08 on the benchmark cases).
-2. **Lloyd.**  A few weighted Lloyd iterations for the density 1 / h²
-   (:func:`uniform2d.optimize.lloyd.weighted_lloyd`) even out where the fronts
-   met; boundary and segment points stay.
+   from the boundary, each point at the apex of a triangle of sides s h on
+   the front (:func:`uniform2d.optimize.packing.rows_start`), and Algorithm
+   INSERT (:func:`uniform2d.insert`) with the field where the fronts leave
+   gaps (or the most crowded row points dropped): exactly n.  The rows have
+   far fewer irregular vertices than INSERT alone leaves.
+2. **Lloyd.**  Weighted Lloyd iterations for the density 1 / h⁴, whose
+   centroidal tessellation has cells following h
+   (:func:`uniform2d.optimize.lloyd.weighted_lloyd`), even out where the
+   fronts met; boundary and segment points stay.
 3. **Moves.**  :func:`uniform2d.optimize.improve` with the field: the same moves
    as for a uniform mesh (springs, descent on the p-norm energy of the
-   objective, spread sweeps), every edge measured against the mean of its
-   end points' sizes, so the mesh becomes uniform relative to h.  The
-   triangulation stays the exact constrained Delaunay one of its points.
+   objective, here one stage at p = 128, spread sweeps), every edge measured
+   against the mean of its end points' sizes, so the mesh becomes uniform
+   relative to h.  The triangulation stays the exact constrained Delaunay one
+   of its points.
 4. **Scale.**  The field's scale s at which it implies |V| + n vertices
    (:func:`uniform2d.grading.scale_for_count`) is recorded
    (``mesh.info["size_scale"]``) and ``mesh.size`` is the field times s, so
@@ -45,6 +46,7 @@ from .optimize.lloyd import weighted_lloyd
 from .optimize.moves import improve_kept
 from .optimize.objective import objective_code
 from .optimize.packing import rows_start
+from .optimize.schedule import LARGE
 from .polygon import Polygon
 from .sizefield import SizeField
 from .validity import ensure_valid
@@ -53,10 +55,20 @@ __all__ = ["PHASES", "boundary_sites", "graded_mesh"]
 
 log = logging.getLogger(__name__)
 
-#: Weighted Lloyd iterations before the moves, and their over-relaxation: from
-#: the rows, 10 gave a lower CV of q than 5, 15 or 30 (which undo the rows).
-LLOYD_ITERATIONS = 10
+#: Weighted Lloyd iterations before the moves, their over-relaxation and the
+#: power of their density 1 / h**power: 4 is the density whose centroidal
+#: tessellation has cells following h (with 2, more iterations flattened the
+#: grading and undid the rows; with 4, 10 to 50 iterations lower the CV of q
+#: steadily, where the fronts met most).
+LLOYD_ITERATIONS = 30
 LLOYD_OMEGA = 1.5
+LLOYD_POWER = 4
+#: The moves' descent stages (p-norm exponents 2**k) up to ``schedule.LARGE``
+#: points: one stage at p = 128.  The graded default (p = 4 to 64, for the
+#: surface layer) trades the CV of q for the extremes; from the rows and Lloyd,
+#: springs then one high stage then the spread sweeps give the lowest CV of q
+#: with max q / min q within 1.6 on the benchmark cases.
+EXPONENTS = (7,)
 
 #: Samples of the field along each boundary edge (:func:`boundary_sites`).
 EDGE_SAMPLES = 64
@@ -111,8 +123,10 @@ def graded_mesh(polygon: Polygon, n: int, field: SizeField, *, objective: str = 
     report("insert", 1, 1)
     report("relaxation", 0, 1)
     sites = weighted_lloyd(polygon, sites, fixed, field, iterations=LLOYD_ITERATIONS,
-                           omega=LLOYD_OMEGA)
-    pts, tri, run = improve_kept(polygon, sites, size=field, objective=objective)
+                           omega=LLOYD_OMEGA, power=LLOYD_POWER)
+    exponents = EXPONENTS if nV + n <= LARGE else None
+    pts, tri, run = improve_kept(polygon, sites, size=field, objective=objective,
+                                 exponents=exponents)
     report("relaxation", 1, 1)
     if len(pts) != nV + n:
         raise InternalError(f"graded: {len(pts) - nV} Steiner points instead of {n} {PLEASE_REPORT}")

@@ -2,17 +2,22 @@
 
 :func:`frontal_seed` is the graded counterpart of the uniform path's boundary rows
 (:mod:`uniform2d.optimize.rows`): starting from the boundary points, each round
-puts a point at the apex of the equilateral triangle of side h (the size at the
-edge's midpoint) on every edge of the front, the edges between the triangles
-already small enough for h and the rest of the domain, and keeps those at least
-:data:`SPACING` times h from every point and from the boundary, in order.  The
-result is rows parallel to the boundary that thin out where h grows, with far
-fewer irregular vertices than farthest-point insertion leaves.  The rows are
-not an exact count: :func:`rows_start` tops them up with Algorithm INSERT or
-drops the most crowded, for exactly n points.
+puts a point on every edge of the front (the edges between the triangles
+already small enough for h and the rest of the domain), at the apex of the
+isosceles triangle whose sides are h at their own midpoints (so that a row
+follows a steep size), and keeps those at least :data:`SPACING` times h from
+every point and :data:`LINE_SPACING` times h from the boundary, in order, h the
+smaller of the two sizes.  A ring of the front around a hole whose
+circumference asks for more points than its apexes gets them
+(:func:`_respace_rings`).  The result is rows parallel to the boundary that
+thin out where h grows, with far fewer irregular vertices than farthest-point
+insertion leaves.  The rows are not an exact count: :func:`rows_start` tops
+them up with Algorithm INSERT or drops the most crowded, for exactly n points.
 """
 
 from __future__ import annotations
+
+import itertools
 
 import numpy as np
 import shapely
@@ -22,13 +27,22 @@ from ..geometry import polygon_edges
 from ..insert import insert_on_edges
 from ..polygon import Polygon
 
-__all__ = ["FILLED", "SPACING", "frontal_seed", "rows_start"]
+__all__ = ["FILLED", "LINE_SPACING", "SPACING", "frontal_seed", "rows_start"]
 
-#: A new point keeps at least this many h from every point and from the boundary.
+#: A new point keeps at least this many h from every point (h the smaller of the
+#: two points' sizes) ...
 SPACING = 0.8
+#: ... and this many h from the boundary: SPACING times an equilateral
+#: triangle's height over its side (an apex on a boundary edge is that far from it).
+LINE_SPACING = SPACING * 0.8660254037844386
 #: A triangle whose circumradius is at most this many h is filled (an
 #: equilateral triangle of side h has 1 / sqrt(3) = 0.577).
 FILLED = 0.75
+#: Fixed-point iterations for an apex's side: the side is h at its own midpoint,
+#: not at the front edge's, so that a row follows a steep size gradient.
+APEX_ITERATIONS = 2
+#: Samples of the size per gap of a ring respaced by :func:`_respace_rings`.
+RING_SAMPLES = 4
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
 
@@ -41,9 +55,10 @@ def _shape(polygon: Polygon):
     return shapely.Polygon(rings[0], rings[1:]), lines
 
 
-def _front(P, tri, size, shape):
-    """Apexes on the front edges of the Delaunay triangulation ``tri`` of ``P``:
-    (candidates (k, 2), their h)."""
+def _front(P, tri, size, shape, n0: int = 0):
+    """Apexes on the front edges of the Delaunay triangulation ``tri`` of ``P``
+    (its first ``n0`` points the boundary's), rings respaced
+    (:func:`_respace_rings`): (candidates (k, 2), their h)."""
     S = tri.simplices
     A, B, C = P[S[:, 0]], P[S[:, 1]], P[S[:, 2]]
     cen = (A + B + C) / 3.0
@@ -53,7 +68,7 @@ def _front(P, tri, size, shape):
     R = a * b * c / np.maximum(2.0 * area2, 1e-300)
     filled = inside & (R <= FILLED * size(cen))
     open_ = inside & ~filled
-    out = []
+    out, ends = [], []
     for k in range(3):  # edge opposite vertex k
         nb = tri.neighbors[:, k]
         edge_side = open_ & ((nb < 0) | ~inside[np.maximum(nb, 0)] | filled[np.maximum(nb, 0)])
@@ -64,11 +79,116 @@ def _front(P, tri, size, shape):
         L = np.linalg.norm(d, axis=1)
         nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(L, 1e-300)[:, None]
         side = np.sign(np.einsum("ij,ij->i", P[S[t, k]] - m, nrm))
-        hm = size(m)
-        height = np.sqrt(np.maximum(hm * hm - 0.25 * L * L, 0.25 * hm * hm))
-        out.append(m + (side * height)[:, None] * nrm)
+        up = side[:, None] * nrm
+        hs = size(m)
+        for _ in range(APEX_ITERATIONS):
+            height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
+            hs = size(m + (0.5 * height)[:, None] * up)
+        height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
+        out.append(m + height[:, None] * up)
+        # the edge's ends in the order that has its open side (the apex) on the left
+        pi, qi = S[t, (k + 1) % 3], S[t, (k + 2) % 3]
+        ends.append(np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1)))
     cand = np.concatenate(out)
+    if len(cand):
+        cand = _respace_rings(cand, np.concatenate(ends), size, n0)
     return cand, size(cand)
+
+
+def _loops(ends: np.ndarray) -> list:
+    """The closed chains of front edges ``ends`` (k, 2) (each with its open side on
+    the left; an edge followed by the one starting where it ends, where exactly
+    one starts and one ends there): lists of edge indices."""
+    k = len(ends)
+    n = int(ends.max()) + 1 if k else 0
+    out_deg = np.bincount(ends[:, 0], minlength=n)
+    in_deg = np.bincount(ends[:, 1], minlength=n)
+    start_of = np.full(n, -1, np.int64)
+    start_of[ends[:, 0]] = np.arange(k)
+    succ = np.where((out_deg[ends[:, 1]] == 1) & (in_deg[ends[:, 1]] == 1),
+                    start_of[ends[:, 1]], -1)
+    seen = np.zeros(k, bool)
+    loops = []
+    for first in range(k):
+        chain, e = [], first
+        while e >= 0 and not seen[e]:
+            seen[e] = True
+            chain.append(e)
+            e = succ[e]
+        if e == first:
+            loops.append(chain)
+    return loops
+
+
+def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
+    """``cand`` (the apexes of the front edges ``ends``, in order) with the apexes of
+    every front ring growing outward around a hole (a closed chain turning
+    clockwise, the open side outside) replaced by ``round(∮ ds / h)`` points
+    along the ring through them, spaced by equal ``∫ ds / h``: one apex per edge
+    keeps a ring's count from row to row, where h growing with the radius asks
+    for more (or fewer).  The first ring, on the boundary points (indices below
+    ``n0``), only gains points: with fewer, the polygon's vertices, which
+    cannot move, would meet long edges (the spacing test drops apexes there)."""
+    out = [c[None, :] for c in cand]
+    t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
+    for chain in _loops(ends):
+        a = cand[chain]
+        x, y = a[:, 0], a[:, 1]
+        if len(a) < 3 or float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) >= 0:
+            continue
+        d = np.roll(a, -1, axis=0) - a
+        mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
+        inv = (1.0 / size(mids.reshape(-1, 2))).reshape(len(a), -1).mean(axis=1)
+        inv *= np.hypot(d[:, 0], d[:, 1])
+        cum = np.concatenate([[0.0], np.cumsum(inv)])
+        m = int(np.rint(cum[-1]))
+        if m == len(a) or (m < len(a) and bool(np.all(ends[chain] < n0))):
+            continue
+        goal = cum[-1] * np.arange(m) / m
+        seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
+        frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
+        out[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
+        for e in chain[1:]:
+            out[e] = out[e][:0]
+    return np.concatenate(out) if out else cand
+
+
+def _clear(cand, hc, P, hP, lines, size) -> np.ndarray:
+    """(k,) bool: the candidates at least SPACING times the smaller of the two sizes
+    from every point of ``P`` and LINE_SPACING times the smaller of theirs and the
+    nearest boundary point's from the boundary.  The smaller size, not the
+    candidate's: where h grows steeply the apex of a front edge has a larger size
+    than the edge, and its own size would refuse the whole first row."""
+    pc = shapely.points(cand)
+    near = shapely.get_coordinates(shapely.shortest_line(pc, lines))[1::2]
+    ok = shapely.distance(lines, pc) >= LINE_SPACING * np.minimum(hc, size(near))
+    i, j = _within(cKDTree(P).query_ball_point(cand, SPACING * hc))
+    d = np.hypot(*(P[j] - cand[i]).T)
+    ok[i[d < SPACING * np.minimum(hP[j], hc[i])]] = False
+    return ok
+
+
+def _within(lists) -> tuple:
+    """(i, j) int64 arrays: the pairs of a KD-tree's ball query, j in lists[i]."""
+    counts = np.fromiter(map(len, lists), dtype=np.int64, count=len(lists))
+    i = np.repeat(np.arange(len(lists), dtype=np.int64), counts)
+    j = np.fromiter(itertools.chain.from_iterable(lists), dtype=np.int64, count=int(counts.sum()))
+    return i, j
+
+
+def _greedy(C: np.ndarray, hC: np.ndarray) -> np.ndarray:
+    """Indices of the points ``C`` kept in order, each unless an earlier kept one is
+    closer than SPACING times the smaller of their sizes (the relation is
+    symmetric, so a point close to none is kept)."""
+    i, j = _within(cKDTree(C).query_ball_point(C, SPACING * hC))
+    close = (i != j) & (np.hypot(*(C[j] - C[i]).T) < SPACING * np.minimum(hC[i], hC[j]))
+    i, j = i[close], j[close]
+    start = np.searchsorted(i, np.arange(len(C) + 1))
+    blocked = np.zeros(len(C), dtype=bool)
+    for k in np.unique(i).tolist():
+        if not blocked[k]:
+            blocked[j[start[k]:start[k + 1]]] = True
+    return np.flatnonzero(~blocked)
 
 
 def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
@@ -101,22 +221,13 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     P = np.concatenate([polygon.vertices, np.asarray(sites, dtype=np.float64).reshape(-1, 2)])
     n0 = len(P)
     for _ in range(MAX_ROUNDS):
-        cand, hc = _front(P, Delaunay(P), size, shape)
+        cand, hc = _front(P, Delaunay(P), size, shape, n0)
         ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
-        ok[ok] = shapely.distance(lines, shapely.points(cand[ok])) >= SPACING * hc[ok]
-        d, _ = cKDTree(P).query(cand)
-        ok &= d >= SPACING * hc
+        ok[ok] = _clear(cand[ok], hc[ok], P, size(P), lines, size)
         idx = np.flatnonzero(ok)
         if not len(idx):
             break
-        tree = cKDTree(cand[idx])
-        blocked = np.zeros(len(idx), dtype=bool)
-        keep = []
-        for j in range(len(idx)):
-            if blocked[j]:
-                continue
-            keep.append(idx[j])
-            blocked[tree.query_ball_point(cand[idx[j]], SPACING * hc[idx[j]])] = True
+        keep = idx[_greedy(cand[idx], hc[idx])]
         P = np.concatenate([P, cand[keep]])
     return P[n0:]
 
