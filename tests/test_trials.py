@@ -6,6 +6,7 @@ reference is one run of all the rounds on a second copy of the same start.
 """
 
 import hashlib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,6 +21,7 @@ from uniform2d.optimize.seed import start, variants
 from uniform2d.testing import check_mesh
 
 BENCH = benchmark_polygons()
+BENCH_DIR = Path(__file__).resolve().parents[1] / "data" / "benchmarks"
 OBJ = objective_code("balanced")
 
 
@@ -82,3 +84,25 @@ def test_a_start_whose_spring_stopped_runs_no_more_rounds():
     _, _, _, run = _trial((0, st, stopped), S.TRIALS[0], OBJ, resumed=S.PRUNE_ROUNDS)
     assert run == stopped
     assert np.array_equal(st.xy, before)
+
+
+def test_starts_sharing_their_rows_leave_them_as_they_were():
+    # the two lattice edges' starts of one spacing share start_parts (made once,
+    # read by both, on threads): each start is the one made alone, the parts unchanged
+    from uniform2d.io import read_polygon
+    from uniform2d.optimize.seed import start_parts
+
+    plate = read_polygon(str(BENCH_DIR.parent / "plate_bolts.json"))
+    n = 500 - len(plate.vertices)
+    h = target_size(plate, n)
+    tried = variants(plate, n)
+    assert len({v[1] for v in tried}) == 2
+    for spacing, edge, layered in tried[-2:]:
+        parts = start_parts(plate, n, h, spacing, layered, True)
+        before = [None if a is None else a.copy() for a in parts]
+        alone = start(plate, n, h, (spacing, edge, layered), True)
+        shared = start(plate, n, h, (spacing, edge, layered), True, shared=parts)
+        for x, y in zip(alone, shared):
+            assert np.array_equal(x, y)
+        for x, y in zip(parts, before):
+            assert (x is None and y is None) or np.array_equal(x, y)

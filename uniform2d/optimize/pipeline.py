@@ -23,7 +23,7 @@ from .boundary import target_size
 from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
-from .seed import start, variants
+from .seed import start, start_parts, variants
 from .shift import shift_worst
 from .transition import SMALL_PIECE
 
@@ -41,7 +41,12 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     rows around small holes, the descent weighing the movable short edges
     (:func:`_finished`)."""
     tried = variants(polygon, n)
-    made = thread_map(lambda variant: start(polygon, n, h, variant, angled), tried)
+    # the rows of a spacing are the same for every lattice edge: made once
+    kinds = list(dict.fromkeys((c, lay) for c, _, lay in tried))
+    parts = thread_map(lambda k: start_parts(polygon, n, h, *k, angled), kinds)
+    shared = dict(zip(kinds, parts))
+    made = thread_map(lambda v: start(polygon, n, h, v, angled, shared=shared[v[0], v[2]]),
+                      tried)
     options = {**options, "movable_short": angled}
     if len(made) == 1:  # nothing to rank
         report("seed", 0, 1)
