@@ -1,6 +1,7 @@
 """uniform2d.threads: the optimiser's starts on several threads, the same bytes on any count."""
 
 import hashlib
+from pathlib import Path
 
 import pytest
 from support.benchmarks import benchmark_polygons
@@ -10,6 +11,8 @@ from uniform2d.errors import InvalidArgumentError
 from uniform2d.optimize.seed import variants
 from uniform2d.testing import check_mesh
 from uniform2d.threads import ENV, get_threads, set_threads, thread_map
+
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 def _digest(m) -> str:
@@ -62,3 +65,48 @@ def test_thread_count_from_the_call_the_environment_or_the_cores(monkeypatch, re
     monkeypatch.setenv(ENV, "many")
     with pytest.raises(InvalidArgumentError, match=ENV):
         get_threads()
+
+
+def test_in_background_gives_the_value_or_the_exception():
+    from uniform2d.threads import in_background
+
+    assert in_background(lambda: [x * x for x in range(4)]).result() == [0, 1, 4, 9]
+
+    def bad():
+        raise KeyError("seen by result()")
+
+    with pytest.raises(KeyError, match="seen by result"):
+        in_background(bad).result()
+
+
+def test_angle_attempt_ahead_only_with_small_holes_and_threads(restore_threads):
+    # the bolt plate's holes are small at 500 vertices (the attempt is then made
+    # on a thread of its own beside the first mesh), a square's are not
+    from uniform2d.io import read_polygon
+    from uniform2d.optimize import pipeline
+    from uniform2d.optimize.boundary import target_size
+
+    plate = read_polygon(str(DATA / "plate_bolts.json"))
+    n = 500 - len(plate.vertices)
+    h = target_size(plate, n)
+    assert pipeline._small_holes(plate, h)
+    assert not pipeline._small_holes(plate, 0.1 * h)  # the holes' edges beside h / 20
+    assert not pipeline._small_holes(benchmark_polygons()["square"], h)
+    set_threads(1)
+    assert pipeline._angle_attempt_ahead(plate, n, h, "balanced", {}) is None
+
+
+@pytest.mark.parametrize("total", [500, 2000])
+def test_bolt_plate_same_bytes_with_the_angle_attempt_ahead(total, restore_threads):
+    # two threads: the angle attempt runs beside the first mesh; one: after it
+    from uniform2d.io import read_polygon
+
+    plate = read_polygon(str(DATA / "plate_bolts.json"))
+    digests = []
+    for k in (2, 1):
+        set_threads(k)
+        m = uniform2d.uniform_mesh(plate, total - len(plate.vertices))
+        check_mesh(m.points, m.triangles, plate)
+        assert m.info["angle_attempt"]  # the attempt's mesh is the one kept
+        digests.append(_digest(m))
+    assert digests[0] == digests[1]

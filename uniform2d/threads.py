@@ -14,12 +14,13 @@ The count is, in order: what :func:`set_threads` set; the environment variable
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Callable, Iterable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 
 from .errors import InvalidArgumentError
 
-__all__ = ["ENV", "get_threads", "set_threads", "thread_map"]
+__all__ = ["ENV", "get_threads", "in_background", "set_threads", "thread_map"]
 
 #: The environment variable read when :func:`set_threads` was not called.
 ENV = "UNIFORM2D_THREADS"
@@ -77,3 +78,29 @@ def thread_map(fn: Callable, items: Iterable) -> list:
         return [fn(item) for item in items]
     with ThreadPoolExecutor(max_workers=k) as pool:
         return list(pool.map(fn, items))
+
+
+def in_background(fn: Callable) -> Future:
+    """``fn()`` started on a thread of its own, at once: its
+    :class:`~concurrent.futures.Future` (``result()`` waits for it and gives
+    its value, or raises what it raised).  For work that may be needed later
+    while this thread does other work (a thread is used whatever
+    :func:`get_threads` says: the caller decides whether to start it).
+
+    Examples
+    --------
+    >>> in_background(lambda: sum(range(10))).result()
+    45
+    """
+    done: Future = Future()
+
+    def run() -> None:
+        if not done.set_running_or_notify_cancel():
+            return
+        try:
+            done.set_result(fn())
+        except BaseException as exc:  # noqa: BLE001 -- handed to whoever asks for the result
+            done.set_exception(exc)
+
+    threading.Thread(target=run, name="uniform2d-background", daemon=True).start()
+    return done

@@ -159,12 +159,15 @@ class Candidates:
         cap = (2.0 * self.band + 2.0 * sp) if rows else 2.0 * sp
         dist = to_segments(P, self.sa, self.sb, cap)
         ok = dist >= 0.5 * sp
+        # a neighbour beyond 0.75 sp is all the tests below need to know of
+        # (the query returns inf for it, then): the trees' searches stop there
+        clear = 0.75 * sp
         if rows:  # rows lie within ~band of the boundary: test only near ones
             ok &= dist >= self.band + 0.5 * sp
             near = np.flatnonzero(ok & (dist < 2.0 * self.band + sp))
-            ok[near] = self.rtree.query(P[near])[0] >= 0.75 * sp
+            ok[near] = self.rtree.query(P[near], distance_upper_bound=clear)[0] >= clear
         if self.held is not None:
-            ok &= self.held.query(P)[0] >= 0.75 * sp
+            ok &= self.held.query(P, distance_upper_bound=clear)[0] >= clear
         return P[ok], dist[ok]
 
 

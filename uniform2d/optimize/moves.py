@@ -182,8 +182,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     arguments.  Every start is built in the kernel once (:meth:`KernelMesh.built`)
     and runs the first schedule of ``schedule.TRIALS``; the best
     ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE`` above
-    ``KEEP_MAX`` points) run the next, and so on; the
-    winner's kernel state goes on into the full schedule (overridden as
+    ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
+    rounds in two parts, the starts ranked after ``schedule.PRUNE_ROUNDS`` of
+    them and only those the next trial can take, and ``PRUNE_SPARE`` more,
+    running the rest: :func:`_trial_plan`); the winner's kernel state goes on into the full schedule (overridden as
     :func:`improve`'s) without being loaded again, from the stage
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
@@ -209,14 +211,13 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     del built
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
     keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
-    sizes = [len(alive)]
-    for _ in S.TRIALS[1:]:
-        sizes.append(max(1, math.ceil(keep * sizes[-1])))
-    total, done = sum(sizes), 0
+    plan = _trial_plan(len(alive), keep)
+    total, done = sum(size for _, size, _ in plan), 0
     if report is not None:
         report(done, total)
-    for sched, size in zip(S.TRIALS, sizes):
-        scored = thread_map(partial(_trial, sched=sched, obj=obj), alive[:size])
+    for sched, size, resumed in plan:
+        scored = thread_map(partial(_trial, sched=sched, obj=obj, resumed=resumed),
+                            alive[:size])
         done += len(scored)
         if report is not None:
             report(done, total)
@@ -234,13 +235,38 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     return i, *st.result(run)
 
 
-def _trial(alive, sched: S.Schedule, obj: int):
+def _trial_plan(starts: int, keep) -> list:
+    """The trials of :func:`improve_best` for ``starts`` starts: (schedule, how
+    many of the best run it, spring rounds an earlier part of it asked).  The
+    ``schedule.TRIALS`` with ``keep`` of the starts going on after each; the
+    first trial's spring rounds split at ``schedule.PRUNE_ROUNDS`` where that
+    leaves starts out (the starts a split drops are those no later trial
+    would have run)."""
+    sizes = [starts]
+    for _ in S.TRIALS[1:]:
+        sizes.append(max(1, math.ceil(keep * sizes[-1])))
+    plan = [(sched, size, 0) for sched, size in zip(S.TRIALS, sizes)]
+    first = S.TRIALS[0]
+    cut = sizes[1] + S.PRUNE_SPARE if len(sizes) > 1 else starts
+    if S.PRUNE_ROUNDS and first.spring_rounds > S.PRUNE_ROUNDS and cut < starts:
+        plan[:1] = [(first._replace(spring_rounds=S.PRUNE_ROUNDS), starts, 0),
+                    (first._replace(spring_rounds=first.spring_rounds - S.PRUNE_ROUNDS), cut,
+                     S.PRUNE_ROUNDS)]
+    return plan
+
+
+def _trial(alive, sched: S.Schedule, obj: int, resumed: int = 0):
     """One start's trial of :func:`improve_best`: (rank, index, state, progress)
     after running ``sched`` on it (its own kernel state: trials run at once on
-    threads, :func:`uniform2d.threads.thread_map`)."""
+    threads, :func:`uniform2d.threads.thread_map`).  ``resumed``: the spring
+    rounds the part of the trial before this one asked; a start whose spring
+    stopped before them (its moves below the tolerance) runs no more of them,
+    as one run of all the rounds would have stopped there too."""
     i, st, run = alive
     if st is None:
         return 0.0, i, st, run
+    if resumed and run.spring_rounds < resumed:
+        sched = sched._replace(spring_rounds=0)
     run = st.advance(sched, obj, run)
     return st.rank(obj), i, st, run
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
+from concurrent.futures import wait
 
 import numpy as np
 
@@ -13,7 +14,7 @@ from ..insert import min_distance_after
 from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
-from ..threads import thread_map
+from ..threads import get_threads, in_background, thread_map
 from ..tplus import tplus_if_feasible
 from ..validity import ensure_valid
 from . import schedule as S
@@ -22,8 +23,9 @@ from .boundary import target_size
 from .moves import improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
-from .seed import start, variants
+from .seed import start, start_parts, variants
 from .shift import shift_worst
+from .transition import SMALL_PIECE
 
 __all__ = ["optimize_mesh"]
 
@@ -39,7 +41,12 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     rows around small holes, the descent weighing the movable short edges
     (:func:`_finished`)."""
     tried = variants(polygon, n)
-    made = thread_map(lambda variant: start(polygon, n, h, variant, angled), tried)
+    # the rows of a spacing are the same for every lattice edge: made once
+    kinds = list(dict.fromkeys((c, lay) for c, _, lay in tried))
+    parts = thread_map(lambda k: start_parts(polygon, n, h, *k, angled), kinds)
+    shared = dict(zip(kinds, parts))
+    made = thread_map(lambda v: start(polygon, n, h, v, angled, shared=shared[v[0], v[2]]),
+                      tried)
     options = {**options, "movable_short": angled}
     if len(made) == 1:  # nothing to rank
         report("seed", 0, 1)
@@ -84,6 +91,30 @@ def _finished(polygon: Polygon, n: int, h: float, objective: str, options, repor
     # the kernel's own triangles (moves.finish_kept), checked here once
     ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
     return pts, tri, run, k, variant, moved, raised
+
+
+def _small_holes(polygon: Polygon, h: float) -> bool:
+    """Whether some hole of P has every edge shorter than ``SMALL_PIECE * h``:
+    the holes the angle attempt puts rows around
+    (:func:`~uniform2d.optimize.transition.transition_rows`), where the first
+    mesh's worst angle is poor (the bolt plate's at 500 to 8000 vertices)."""
+    E = polygon.edges
+    L = np.hypot(*(polygon.vertices[E[:, 1]] - polygon.vertices[E[:, 0]]).T)
+    offsets = polygon.ring_offsets
+    return any(L[offsets[r]:offsets[r + 1]].max() < SMALL_PIECE * h
+               for r in range(1, len(polygon.rings)))
+
+
+def _angle_attempt_ahead(polygon: Polygon, n: int, h: float, objective: str, options):
+    """The angle attempt (:func:`_finished` with ``angled``) started on a
+    thread of its own beside the first mesh, or None: where P has small holes
+    (:func:`_small_holes`, the first mesh's worst angle then poor and the
+    attempt made) and more than one thread is allowed.  It is the same mesh
+    whenever it is made: only the time it is made in changes."""
+    if get_threads() <= 1 or n + len(polygon.vertices) > ANGLES_MAX or not _small_holes(polygon, h):
+        return None
+    return in_background(lambda: _finished(polygon, n, h, objective, options, _quiet,
+                                           angled=True))
 
 
 def _quiet(phase: str, done: int, total: int) -> None:
@@ -191,13 +222,19 @@ def optimize_mesh(
     report("T+", 1, 1)
 
     h = target_size(polygon, n)
-    pts, tri, run, k, (spacing, edge, layered), moved, raised = _finished(
-        polygon, n, h, objective, options, report)
+    ahead = _angle_attempt_ahead(polygon, n, h, objective, options)
+    try:
+        pts, tri, run, k, (spacing, edge, layered), moved, raised = _finished(
+            polygon, n, h, objective, options, report)
+    finally:  # not left running beyond this call, whatever happens
+        if ahead is not None:
+            wait([ahead])
     q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
     angled = False
     if n + nV <= ANGLES_MAX and q_new.min_angle < ANGLE_FINE:
         log.info("uniform: worst angle %.1f deg; the angle attempt too", q_new.min_angle)
-        other = _finished(polygon, n, h, objective, options, _quiet, angled=True)
+        other = (ahead.result() if ahead is not None
+                 else _finished(polygon, n, h, objective, options, _quiet, angled=True))
         q_other = quality(other[0], other[1])
         if angle_attempt_wins(q_new, q_other):
             pts, tri, run, k, (spacing, edge, layered), moved, raised = other

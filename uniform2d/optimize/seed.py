@@ -21,7 +21,7 @@ from .lattice import Fit, seed_interior
 from .rows import boundary_rows
 from .transition import with_transition
 
-__all__ = ["variants", "start"]
+__all__ = ["start", "start_parts", "variants"]
 
 
 def variants(polygon: Polygon, n: int):
@@ -52,12 +52,11 @@ def variants(polygon: Polygon, n: int):
     return [(c, e, lay) for lay in layers for e in edges for c in spacings]
 
 
-def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False, lattice=None):
-    """The sites of one start (boundary points, then the lattice), the polygon edge of
-    each (-1 inside) and which stay put.  With ``transition``, rows around small
-    holes first (:mod:`~uniform2d.optimize.transition`, held in place);
-    ``lattice``: a shared lattice, as :func:`seed_interior`'s."""
-    spacing, edge, layered = variant
+def start_parts(polygon: Polygon, n: int, h: float, spacing: float, layered: bool,
+                transition: bool = False):
+    """What the starts of one boundary spacing and ``layered`` share, whatever
+    their lattice: (boundary points, their polygon edges, first rows or None,
+    rows around small holes or None), as :func:`start` makes them."""
     # points on the rings' edges and on the interior segment pieces (after them)
     a, d, L = polygon_edges(polygon, constraints=True)
     m = boundary_counts(L, spacing * h, n)
@@ -69,6 +68,22 @@ def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False,
     held = None
     if transition:
         held, rows = with_transition(polygon, m, h, rows)
+    return bpts, beid, rows, held
+
+
+def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False, lattice=None,
+          shared=None):
+    """The sites of one start (boundary points, then the lattice), the polygon edge of
+    each (-1 inside) and which stay put.  With ``transition``, rows around small
+    holes first (:mod:`~uniform2d.optimize.transition`, held in place);
+    ``lattice``: a shared lattice, as :func:`seed_interior`'s; ``shared``:
+    :func:`start_parts` for this start's spacing, ``layered`` and ``transition``
+    (made here if not given: the starts of two lattice edges share it)."""
+    spacing, edge, layered = variant
+    if shared is None:
+        shared = start_parts(polygon, n, h, spacing, layered, transition)
+    bpts, beid, rows, held = shared
+    a, d, _ = polygon_edges(polygon, constraints=True)
     # a large start's short schedule cannot close holes where lattice points
     # were dropped: it fills a few too few instead (Fit.BELOW)
     large = n + len(polygon.vertices) > schedule.LARGE

@@ -1,0 +1,108 @@
+"""The optimiser's trials (uniform2d.optimize.moves.improve_best): the first trial's
+spring rounds split at schedule.PRUNE_ROUNDS, the starts ranked after the first part.
+
+The split relies on a spring run going on where it stopped, bit for bit; the
+reference is one run of all the rounds on a second copy of the same start.
+"""
+
+import hashlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from support.benchmarks import benchmark_polygons
+
+import uniform2d
+from uniform2d.optimize import schedule as S
+from uniform2d.optimize.boundary import target_size
+from uniform2d.optimize.moves import KernelMesh, Progress, _trial_plan
+from uniform2d.optimize.objective import objective_code
+from uniform2d.optimize.seed import start, variants
+from uniform2d.testing import check_mesh
+
+BENCH = benchmark_polygons()
+BENCH_DIR = Path(__file__).resolve().parents[1] / "data" / "benchmarks"
+OBJ = objective_code("balanced")
+
+
+def _digest(m) -> str:
+    return hashlib.sha256(m.points.tobytes() + m.triangles.tobytes()).hexdigest()
+
+
+@pytest.mark.parametrize("name, n", [("star10", 200), ("square2holes", 3000)])
+def test_spring_rounds_in_two_parts_are_the_rounds_in_one(name, n):
+    # square2holes at 3000: deep lattice points frozen (the kernel's restricted passes)
+    p = BENCH[name]
+    h = target_size(p, n)
+    sites, edges, frozen, _ = start(p, n, h, variants(p, n)[0])
+    one = KernelMesh.built(p, sites, href=h, frozen=frozen, edges=edges)
+    two = KernelMesh.built(p, sites, href=h, frozen=frozen, edges=edges)
+    whole = S.TRIALS[0]
+    run1 = one.advance(whole, OBJ)
+    run2 = two.advance(whole._replace(spring_rounds=S.PRUNE_ROUNDS), OBJ)
+    assert run2.spring_rounds == S.PRUNE_ROUNDS
+    run2 = two.advance(whole._replace(spring_rounds=whole.spring_rounds - S.PRUNE_ROUNDS), OBJ,
+                       run2)
+    assert run1 == run2
+    assert np.array_equal(one.xy, two.xy)
+    assert one.rank(OBJ) == two.rank(OBJ)
+
+
+def test_trial_plan_splits_the_first_trial_only_where_it_leaves_starts_out():
+    plan = _trial_plan(12, S.KEEP_LARGE)
+    assert [size for _, size, _ in plan] == [12, 6 + S.PRUNE_SPARE, 6, 3]
+    assert plan[0][0].spring_rounds + plan[1][0].spring_rounds == S.TRIALS[0].spring_rounds
+    assert plan[1][2] == S.PRUNE_ROUNDS and plan[0][2] == 0
+    assert [sched for sched, _, _ in plan[2:]] == list(S.TRIALS[1:])
+    # two starts, one goes on: nothing to leave out
+    assert [(sched, size) for sched, size, _ in _trial_plan(2, S.KEEP_LARGE)] == list(
+        zip(S.TRIALS, [2, 1, 1]))
+
+
+@pytest.mark.parametrize("name, n", [("star10", 200), ("rect4x1", 1000)])
+def test_split_first_trial_finishes_the_same_mesh(name, n, monkeypatch):
+    # star10 at 200: its winner ranks seventh of 12 after 10 spring rounds;
+    # rect4x1 at 1000: fifth (the most of the benchmark polygons at that size)
+    p = BENCH[name]
+    pruned = uniform2d.uniform_mesh(p, n)
+    check_mesh(pruned.points, pruned.triangles, p)
+    monkeypatch.setattr(S, "PRUNE_ROUNDS", 0)
+    whole = uniform2d.uniform_mesh(p, n)
+    assert _digest(pruned) == _digest(whole)
+
+
+def test_a_start_whose_spring_stopped_runs_no_more_rounds():
+    p = BENCH["square"]
+    n = 100
+    h = target_size(p, n)
+    sites, edges, frozen, _ = start(p, n, h, variants(p, n)[0])
+    st = KernelMesh.built(p, sites, href=h, frozen=frozen, edges=edges)
+    from uniform2d.optimize.moves import _trial
+
+    stopped = Progress(3, 0, None)  # its spring stopped after 3 of the rounds asked
+    before = st.xy.copy()
+    _, _, _, run = _trial((0, st, stopped), S.TRIALS[0], OBJ, resumed=S.PRUNE_ROUNDS)
+    assert run == stopped
+    assert np.array_equal(st.xy, before)
+
+
+def test_starts_sharing_their_rows_leave_them_as_they_were():
+    # the two lattice edges' starts of one spacing share start_parts (made once,
+    # read by both, on threads): each start is the one made alone, the parts unchanged
+    from uniform2d.io import read_polygon
+    from uniform2d.optimize.seed import start_parts
+
+    plate = read_polygon(str(BENCH_DIR.parent / "plate_bolts.json"))
+    n = 500 - len(plate.vertices)
+    h = target_size(plate, n)
+    tried = variants(plate, n)
+    assert len({v[1] for v in tried}) == 2
+    for spacing, edge, layered in tried[-2:]:
+        parts = start_parts(plate, n, h, spacing, layered, True)
+        before = [None if a is None else a.copy() for a in parts]
+        alone = start(plate, n, h, (spacing, edge, layered), True)
+        shared = start(plate, n, h, (spacing, edge, layered), True, shared=parts)
+        for x, y in zip(alone, shared):
+            assert np.array_equal(x, y)
+        for x, y in zip(parts, before):
+            assert (x is None and y is None) or np.array_equal(x, y)
