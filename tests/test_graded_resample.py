@@ -110,3 +110,15 @@ def test_cli_refine_and_resample(tmp_path, capsys):
     kept = doc["info"]["resample"]["kept_vertices"]
     pts = u.read_mesh(out)[0]
     assert len(pts) == 300 + kept == doc["n_points"]
+
+
+def test_constraints_kept():
+    """A segment from a ring vertex and a fixed point: the ring vertex stays, the
+    segment is a chain of mesh edges, the fixed point a mesh point."""
+    p = wiggly_disk()
+    ring = p.rings[0]
+    q = u.Polygon(ring, [p.rings[1]], segments=[[ring[0], (0.5, 0.0)]], points=[(-0.5, 0.5)])
+    m = u.uniform_mesh(q, 400, size=graded, resample=TOL)
+    checked(m, 400)
+    for pt in (ring[0], (0.5, 0.0), (-0.5, 0.5)):
+        assert np.any(np.all(m.points == np.asarray(pt), axis=1))
