@@ -122,3 +122,11 @@ def test_constraints_kept():
     checked(m, 400)
     for pt in (ring[0], (0.5, 0.0), (-0.5, 0.5)):
         assert np.any(np.all(m.points == np.asarray(pt), axis=1))
+
+
+def test_deterministic():
+    p = wiggly_disk()
+    a = u.uniform_mesh(p, 150, size=graded, resample=TOL)
+    b = u.uniform_mesh(p, 150, size=graded, resample=TOL)
+    assert a.points.tobytes() == b.points.tobytes()
+    assert a.triangles.tobytes() == b.triangles.tobytes()
