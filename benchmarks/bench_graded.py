@@ -3,6 +3,7 @@
 Usage::
 
     python benchmarks/bench_graded.py [--vertices 2000] [--fe-vertices 2000 8000] [--no-fe]
+        [--resample TOL]
 
 Cases (each a polygon and a size field h):
 
@@ -84,10 +85,13 @@ def timed(f, *a, **k):
     return r, time.perf_counter() - t
 
 
-def uniformity(vertices: int) -> dict:
+def uniformity(vertices: int, resample: float | None = None) -> dict:
     print(f"Relative uniformity at {vertices} vertices (q = edge length / h(midpoint))")
     print(f"  {'case':15s}{'mesher':8s}{'vertices':>9s}{'max/min q':>11s}{'CV q':>8s}"
           f"{'min angle':>11s}{'time s':>8s}")
+    if resample is not None:
+        print(f"  (ours+rs: an extra row, the rings resampled at h's local spacing, "
+              f"resample={resample:g}, the same vertex count)")
     meshes = {}
     for name, (P, h) in cases().items():
         n = vertices - len(P.vertices)
@@ -96,9 +100,18 @@ def uniformity(vertices: int) -> dict:
         _, t_uni = timed(uniform2d.uniform_mesh, P, n)
         g, t_g = timed(gmsh_peer.graded_mesh, P, h, len(ours.points))
         meshes[name] = (P, h, ours)
-        for who, pts, tri, t in (("ours", ours.points, ours.triangles, t_ours),
-                                 ("gmsh", g.points, g.triangles, t_g)):
-            r = relative_measures(pts, tri, ours.size)
+        rows = [("ours", ours.points, ours.triangles, t_ours, ours.size),
+                ("gmsh", g.points, g.triangles, t_g, ours.size)]
+        if resample is not None:  # an extra row: rings resampled at the local spacing
+            n_rs = n
+            for _ in range(3):  # the kept vertices are not the input's: same total count
+                rs, t_rs = timed(uniform2d.uniform_mesh, P, n_rs, size=h, resample=resample)
+                if len(rs.points) == vertices:
+                    break
+                n_rs += vertices - len(rs.points)
+            rows.append(("ours+rs", rs.points, rs.triangles, t_rs, rs.size))
+        for who, pts, tri, t, size in rows:
+            r = relative_measures(pts, tri, size)
             print(f"  {name:15s}{who:8s}{len(pts):9d}{r.q_ratio:11.3f}{r.q_cv:8.4f}"
                   f"{min_angle(pts, tri):11.2f}{t:8.2f}")
         exact = len(ours.points) == vertices
@@ -214,8 +227,11 @@ def main() -> None:
     ap.add_argument("--vertices", type=int, default=2000)
     ap.add_argument("--fe-vertices", type=int, nargs="+", default=[2000, 8000])
     ap.add_argument("--no-fe", action="store_true")
+    ap.add_argument("--resample", type=float, default=None, metavar="TOL",
+                    help="add a row 'ours+rs': the rings resampled at the field's local "
+                    "spacing (uniform_mesh resample=TOL), same vertex count")
     args = ap.parse_args()
-    meshes = uniformity(args.vertices)
+    meshes = uniformity(args.vertices, args.resample)
     if not args.no_fe:
         fe(meshes, args.fe_vertices)
 

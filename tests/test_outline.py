@@ -194,12 +194,12 @@ def test_bad_arguments_of_resample_polygon_refused():
             resample_polygon(p, tolerance=0.1, **kwargs)
 
 
-def test_resample_with_parts_or_a_size_field_refused(tmp_path, capsys):
+def test_resample_with_parts_refused(tmp_path, capsys):
     p = wiggly_disk()
     with pytest.raises(InvalidArgumentError, match="resample"):
         u.uniform_mesh(p, 200, resample=0.1, parts=2)
-    with pytest.raises(InvalidArgumentError, match="resample"):
-        u.uniform_mesh(p, 200, resample=0.1, size=lambda xy: 0.1 + 0 * xy[:, 0])
+    with pytest.raises(InvalidArgumentError, match="parts"):  # parts and a field, resampled
+        u.uniform_mesh(p, 200, resample=0.1, parts=2, size=lambda xy: 0.1 + 0 * xy[:, 0])
     src = OUTLINES / "iceland.json"
     code, _, err = _cli(capsys, "mesh", src, "-n", "100", "--resample", "0.25", "--parts", "2",
                         "-o", tmp_path / "a.vtu")

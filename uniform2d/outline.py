@@ -57,7 +57,7 @@ from .ring_corners import ring_corners
 from .short_edges import SEVERE, SHORT_EDGE, short_edge_warning
 
 __all__ = ["COARSE_EDGE", "COARSE_SPACING", "CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled",
-           "is_coarse", "resample_polygon", "short_edge_warning"]
+           "is_coarse", "resample_polygon", "resample_weighted", "short_edge_warning"]
 
 log = logging.getLogger(__name__)
 
@@ -259,14 +259,24 @@ def _as_given(polygon: Polygon, h: float, tol: float) -> Resampled:
                      resampled=False)
 
 
+def resample_weighted(polygon: Polygon, spacing: float, tolerance: float, corner_angle: float,
+                      weights) -> Resampled:
+    """The rings sampled at ``spacing`` in the measure ``weights[r][e]`` x the length of
+    edge e of ring r (weights <= 1: pieces ``∫ w ds / spacing``), every input vertex
+    within ``tolerance * spacing`` of the rings, never widened and never as given
+    (:mod:`uniform2d.graded_outline` samples a size field's local spacing so)."""
+    _check(tolerance, corner_angle)
+    return _resample_at(polygon, spacing, tolerance, corner_angle, widen=False, weights=weights)
+
+
 def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
                  forced=None, c: float = 1.0, widen: bool = True, move: bool = False,
-                 caches=None) -> Resampled:
+                 caches=None, weights=None) -> Resampled:
     """The rings resampled at spacing ``c * h`` within ``tol * h``, made valid (see
     the module notes); the polygon as given if no constraint edge is shorter than
     ``COARSE_EDGE * h``.  ``forced`` (per ring, (k,) bool, updated): input vertices
     where runs must be split (found by an earlier call at another spacing)."""
-    if _shortest_edge(polygon) >= COARSE_EDGE * h:
+    if weights is None and _shortest_edge(polygon) >= COARSE_EDGE * h:
         return _as_given(polygon, h, tol)
     h0, tol0 = h, tol  # reported: the mesh spacing and the tolerance asked, a fraction of it
     h, tol = c * h, tol / c  # below: the sampling spacing, the tolerance a fraction of it
@@ -277,8 +287,8 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings] if forced is None else forced
     caches = [{} for _ in polygon.rings] if caches is None else caches
     for _ in range(_ROUNDS):
-        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r], widen)
-                 for r, ring in enumerate(polygon.rings)]
+        rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r], widen,
+                       None if weights is None else weights[r]) for r, ring in enumerate(polygon.rings)]
         samples = [g.sample(h, tol) for g in rings]
         try:
             poly = _rebuild(polygon, [s[0] for s in samples])
@@ -353,7 +363,7 @@ def _share_end(p, q) -> bool:
 class _Ring:
     """One ring's runs between kept vertices and its straightened arc measure."""
 
-    def __init__(self, ring, keep, corners, forced, h, tol, cache, merge=False):
+    def __init__(self, ring, keep, corners, forced, h, tol, cache, merge=False, weight=None):
         self.ring = ring
         self.cache = cache  # (start, edges[, pieces]) -> a run's measure or sampling
         self.kept = keep | corners
@@ -373,6 +383,8 @@ class _Ring:
             if key not in cache:
                 cache[key] = straightened_lengths(ring[idx], seg[idx[:-1]], tol * h)
             meas[idx[:-1]] = cache[key]
+        if weight is not None:  # a size field's local spacing: spacing / h on each edge
+            meas = meas * weight
         cum = np.concatenate([[0.0], np.cumsum(meas)])
         self.cum = cum
         self.ext = np.concatenate([cum[:-1], cum[-1] + cum])  # twice round

@@ -10,6 +10,7 @@ import numbers
 from .errors import InsufficientPointsError, InvalidArgumentError
 from .geometry import vertex_count
 from .graded import graded_mesh
+from .graded_outline import resample_for_field
 from .grading import as_field, count_for_field, field_integrals
 from .mesh import Mesh
 from .optimize import optimize_mesh
@@ -107,8 +108,11 @@ def uniform_mesh(
     spacing is meshed as given (``info["resample"]["resampled"]`` False); a
     coarse one (edges of a third to 0.6 of it, none shorter) is resampled with
     its boundary points at 1.05 spacings (``info["resample"]["boundary_spacing"]``,
-    :func:`uniform2d.outline.is_coarse`).  With
-    a size field or ``parts`` it is refused (not supported yet).  Without it
+    :func:`uniform2d.outline.is_coarse`).  With a size field the rings are
+    resampled at its local spacing and always, then meshed graded
+    (:func:`uniform2d.graded_outline.resample_for_field`; ``info["resample"]
+    ["spacing"]`` is then the finest local spacing on the rings).  With ``parts``
+    it is refused (not supported yet).  Without it
     (the default, the paper's mode) every vertex is kept; when that makes a
     uniform mesh impossible (an edge shorter than a third of the spacing)
     ``mesh.info["warning"]`` says so, and it is logged (a warning if the edge
@@ -124,14 +128,14 @@ def uniform_mesh(
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     field = as_field(polygon, size)
-    if resample is not None and (field is not None or parts is not None):
-        raise InvalidArgumentError("resample= works with a uniform mesh in one part: a size "
-                                   "field (graded mesh) or parts= with it is not supported yet")
+    if resample is not None and parts is not None:
+        raise InvalidArgumentError("resample= works with a mesh in one part: parts= with it "
+                                   "is not supported yet; drop one of them")
     if field is not None:
         if parts is not None:
             raise InvalidArgumentError("parts= makes a uniform mesh in parts; a size field "
                                        "(graded mesh) cannot be split yet: drop one of them")
-        return _graded(polygon, n, field, objective, progress)
+        return _graded(polygon, n, field, objective, progress, resample, corner_angle)
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     if resample is not None:
@@ -193,8 +197,10 @@ def _mesh_resampled(polygon, n, size, objective, progress, res, left) -> Mesh:
                 {**mesh.info, "resample": {**res.info(), "n": n_total}})
 
 
-def _graded(polygon: Polygon, n, field, objective: str, progress) -> Mesh:
-    """:func:`uniform_mesh` with a size field: n checked or implied, then graded_mesh."""
+def _graded(polygon: Polygon, n, field, objective: str, progress, tol=None,
+            corner_angle=CORNER_ANGLE) -> Mesh:
+    """:func:`uniform_mesh` with a size field: n checked or implied, the rings
+    resampled at the local spacing if ``tol`` is given, then graded_mesh."""
     integrals = field_integrals(polygon, field)
     what = f"n = {n}"
     if n is None:
@@ -207,8 +213,22 @@ def _graded(polygon: Polygon, n, field, objective: str, progress) -> Mesh:
             )
     n = _positive_count(n)
     check_point_count(n + len(polygon.vertices), what)
-    return graded_mesh(polygon, n, field, objective=objective, progress=progress,
+    if tol is None:
+        return graded_mesh(polygon, n, field, objective=objective, progress=progress,
+                           integrals=integrals)
+    res, left, integrals = resample_for_field(polygon, n, field, tolerance=tol,
+                                              corner_angle=corner_angle)
+    if left < 1:
+        raise InsufficientPointsError(
+            f"{what} leaves no point inside once the boundary is resampled at the size "
+            f"field's local spacing ({res.n_boundary} boundary points); ask for more points")
+    log.info("resampled outline at the local spacing: %d vertices kept, %d boundary points, "
+             "deviation %.3g (%.3f of the finest spacing %.4g)", res.n_kept, res.n_boundary,
+             res.deviation, res.deviation / res.spacing, res.spacing)
+    mesh = graded_mesh(res.polygon, left, field, objective=objective, progress=progress,
                        integrals=integrals)
+    return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
+                {**mesh.info, "resample": {**res.info(), "n": n}}, size=mesh.size)
 
 
 def _positive_count(n) -> int:

@@ -86,7 +86,8 @@ def add_parser(subparsers):
     p.add_argument("--resample", type=positive_float, metavar="TOL",
                    help="resample the outline at the mesh spacing, within TOL x spacing of it "
                    "(e.g. 0.05 or 0.25): for dense outlines (coastlines, CAD curves); corners, "
-                   "segment ends and fixed points stay, the other boundary points count in n")
+                   "segment ends and fixed points stay, the other boundary points count in n; with --refine or --size-field, at the field's "
+                   "local spacing")
     p.add_argument("--corner-angle", type=float, default=None, metavar="DEG",
                    help="with --resample: input vertices turning by more than DEG degrees stay "
                    "(default 30)")
@@ -286,7 +287,9 @@ def _mesh_one(polygon, args, progress=None):
         n_arg = steiner_for_vertices(polygon, args.vertices)
     field = field_from_args(polygon, args)
     if field is not None:
-        return uniform_mesh(polygon, n=n_arg, size=field, progress=progress)
+        extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
+        return uniform_mesh(polygon, n=n_arg, size=field, resample=args.resample,
+                            progress=progress, **extra)
     if args.method == "uniform":
         extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
         return uniform_mesh(polygon, n=n_arg, size=args.size, resample=args.resample,
@@ -415,10 +418,10 @@ def _check_count(args) -> None:
     """-n, --vertices, --size and the field options: what may go together (argparse
     keeps the first three apart)."""
     counted = args.n is not None or getattr(args, "vertices", None) is not None
-    if args.resample is not None and (args.method != "uniform" or has_field(args)
+    if args.resample is not None and (args.method != "uniform"
                                       or getattr(args, "parts", None) is not None):
-        raise ValueError("--resample works with --method uniform (the default) in one part, "
-                         "without a size field (--refine, --size-field, --parts)")
+        raise ValueError("--resample works with --method uniform (the default) in one part "
+                         "(not with --parts)")
     if args.corner_angle is not None and args.resample is None:
         raise ValueError("--corner-angle works with --resample only")
     if has_field(args):
