@@ -25,7 +25,7 @@ from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
 
-__all__ = ["uniform_mesh", "steiner_count_for_size"]
+__all__ = ["uniform_mesh", "steiner_count_for_size", "resampled_outline"]
 
 log = logging.getLogger(__name__)
 
@@ -165,22 +165,7 @@ def uniform_mesh(
 
 def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress) -> Mesh:
     """:func:`uniform_mesh` with ``resample=tol``: the rings resampled, then meshed."""
-    if size is not None:
-        steiner_count_for_size(polygon, size)  # the same checks of size
-    else:
-        _positive_count(n)
-    res, left = resample_polygon(polygon, n, size=size, tolerance=tol, corner_angle=corner_angle)
-    if res.resampled and is_coarse(polygon, res.spacing):  # see uniform2d.outline.COARSE_SPACING
-        res, left = resample_polygon(polygon, n, size=size, tolerance=tol, corner_angle=corner_angle,
-                                     boundary_spacing=COARSE_SPACING)
-    return _mesh_resampled(polygon, n, size, objective, progress, res, left)
-
-
-def _mesh_resampled(polygon, n, size, objective, progress, res, left) -> Mesh:
-    """The mesh of a resampled polygon (``res``, ``left`` Steiner points inside)."""
-    if not res.resampled:  # no edge too short for this spacing: the paper's mode, as given
-        res = dataclasses.replace(res, polygon=polygon)
-        left = n if size is None else steiner_count_for_size(polygon, size)
+    res, left = resampled_outline(polygon, n, size=size, resample=tol, corner_angle=corner_angle)
     n_total = left + res.n_boundary
     what = f"n = {n}" if size is None else f"size {size!r} (n = {n_total})"
     if left < 1:
@@ -195,6 +180,51 @@ def _mesh_resampled(polygon, n, size, objective, progress, res, left) -> Mesh:
     mesh = optimize_mesh(res.polygon, left, objective=objective, progress=progress)
     return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                 {**mesh.info, "resample": {**res.info(), "n": n_total}})
+
+
+def resampled_outline(polygon: Polygon, n: int | None = None, *, size=None, resample: float,
+                      corner_angle: float = CORNER_ANGLE):
+    """The outline ``uniform_mesh(polygon, n, size=size, resample=resample)`` meshes.
+
+    Cheap next to the mesh: it says how many input vertices stay vertices
+    (``n_kept``) before meshing, e.g. to ask for a total vertex count.
+
+    Returns
+    -------
+    uniform2d.outline.Resampled
+        The polygon the mesher gets (the input as given when no edge is too short
+        for the spacing: ``resampled`` False).
+    int
+        The Steiner points left for the interior.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    >>> res, left = resampled_outline(Polygon(np.c_[np.cos(t), np.sin(t)]), 500, resample=0.25)
+    >>> res.n_kept, res.n_boundary + left
+    (0, 500)
+    """
+    field = as_field(polygon, size)
+    if field is not None:
+        n = count_for_field(polygon, field) if n is None else _positive_count(n)
+        res, left, _ = resample_for_field(polygon, n, field, tolerance=resample,
+                                          corner_angle=corner_angle)
+        return res, left
+    if size is not None:
+        steiner_count_for_size(polygon, size)  # the same checks of size
+    else:
+        _positive_count(n)
+    res, left = resample_polygon(polygon, n, size=size, tolerance=resample,
+                                 corner_angle=corner_angle)
+    if res.resampled and is_coarse(polygon, res.spacing):  # see uniform2d.outline.COARSE_SPACING
+        res, left = resample_polygon(polygon, n, size=size, tolerance=resample,
+                                     corner_angle=corner_angle, boundary_spacing=COARSE_SPACING)
+    if not res.resampled:  # no edge too short for this spacing: the paper's mode, as given
+        res = dataclasses.replace(res, polygon=polygon)
+        left = n if size is None else steiner_count_for_size(polygon, size)
+    return res, left
 
 
 def _graded(polygon: Polygon, n, field, objective: str, progress, tol=None,

@@ -45,6 +45,7 @@ from ._common import (
 )
 from ._mesh_write import write_outputs
 from ._sizing import add_size_options, field_from_args, has_field
+from ._vertices import steiner_for_vertices, steiner_for_vertices_resampled
 
 log = logging.getLogger(__name__)
 
@@ -242,19 +243,6 @@ def _plan(args) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
     return plan
 
 
-def steiner_for_vertices(polygon, total: int) -> int:
-    """The Steiner count giving ``total`` mesh vertices: ``total - |V|``."""
-    from ..errors import InvalidArgumentError
-
-    nv = len(polygon.vertices)
-    if total <= nv:
-        raise InvalidArgumentError(
-            f"--vertices {total} leaves no point to add: the polygon has {nv} vertices of its "
-            f"own (ring vertices, segment ends and fixed points); give --vertices above {nv}, "
-            "or -n for the points to add")
-    return total - nv
-
-
 def _count(polygon, args) -> int:
     """n from -n or --size, checked against this machine's memory."""
     from ..errors import InsufficientPointsError
@@ -283,9 +271,13 @@ def _mesh_one(polygon, args, progress=None):
     from ..uniform import uniform_mesh
 
     n_arg = args.n
-    if getattr(args, "vertices", None) is not None:
-        n_arg = steiner_for_vertices(polygon, args.vertices)
     field = field_from_args(polygon, args)
+    if getattr(args, "vertices", None) is not None and args.resample is not None:
+        n_arg = steiner_for_vertices_resampled(
+            polygon, args.vertices, size=args.size if field is None else field,
+            resample=args.resample, corner_angle=args.corner_angle)
+    elif getattr(args, "vertices", None) is not None:
+        n_arg = steiner_for_vertices(polygon, args.vertices)
     if field is not None:
         extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
         return uniform_mesh(polygon, n=n_arg, size=field, resample=args.resample,
