@@ -31,7 +31,6 @@ The last line says whether ours beats Gmsh on both edge ratio and CV in every ca
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
 from pathlib import Path
@@ -40,6 +39,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 
+import _checkout  # noqa: E402, F401  (measure this checkout, not an installed uniform2d)
 import uniform2d  # noqa: E402
 from uniform2d.errors import InternalError, Uniform2dError  # noqa: E402
 from uniform2d.mesh_regions import polygon_vertices_first, triangle_regions  # noqa: E402

@@ -46,9 +46,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 
-import uniform2d
-from uniform2d.peers import gmsh_peer
-from uniform2d.relative import relative_measures
+import _checkout  # noqa: E402, F401  (measure this checkout, not an installed uniform2d)
+import uniform2d  # noqa: E402
+from uniform2d.peers import gmsh_peer  # noqa: E402
+from uniform2d.relative import relative_measures  # noqa: E402
 
 LSHAPE = uniform2d.Polygon([(0, 0), (1, 0), (1, 1), (-1, 1), (-1, -1), (0, -1)])
 

@@ -22,6 +22,7 @@ import subprocess
 import sys
 import tempfile
 import textwrap
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 
 SQUARE = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
 

@@ -36,6 +36,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 COAST = """
 import numpy as np
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 
 def coastline(k):
     '''A straight cut 360 long, (0, 0) -> (360, 0), and above it a coastline of k

@@ -68,6 +68,7 @@ import time
 
 import numpy as np
 
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 from surface.model_facts import model_facts
 from surface.models import MODELS
 

@@ -47,8 +47,9 @@ import tempfile
 import time
 from pathlib import Path
 
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 POLYGON = ROOT / "data" / "benchmarks" / "square2holes.json"

@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 import uniform2d as u
 from uniform2d.outline_band import feature_width
 from uniform2d.peers import gmsh_peer

@@ -42,6 +42,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 import bench_compile  # noqa: E402
 import bench_insert  # noqa: E402
 import bench_uniform as bu  # noqa: E402

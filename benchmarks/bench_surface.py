@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 from uniform2d.report.build import make_report
 
 HERE = Path(__file__).resolve().parent

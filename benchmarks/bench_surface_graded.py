@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 
+import _checkout  # noqa: E402, F401  (measure this checkout, not an installed uniform2d)
 import surface  # noqa: E402
 from surface.measure import unique_edges  # noqa: E402
 

@@ -55,6 +55,7 @@ from pathlib import Path
 
 import numpy as np
 
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 import uniform2d
 from uniform2d.io import read_polygon
 from uniform2d.optimize import optimize_mesh

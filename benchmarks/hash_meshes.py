@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 import uniform2d
 from uniform2d.io import read_polygon
 

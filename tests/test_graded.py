@@ -122,7 +122,7 @@ def test_scale_search_inverts_the_count(n):
 
 
 def test_without_n_the_field_is_absolute():
-    h = lambda p: 0.5 * corner(p)
+    h = lambda p: 0.5 * corner(p)  # noqa: E731
     m = uniform2d.uniform_mesh(LSHAPE, size=h)
     assert m.n_steiner == count_for_field(LSHAPE, as_field(LSHAPE, h))
     assert m.info["size_scale"] == pytest.approx(1.0, abs=0.01)
@@ -155,7 +155,7 @@ def test_constraints_and_regions(name, near):
 def test_relative_uniformity():
     """On a gently graded square the mesh follows h: q's spread is small, far below
     INSERT's start, and its mean is the scale the count asked for."""
-    h = lambda p: 0.05 + 0.1 * p[:, 0]
+    h = lambda p: 0.05 + 0.1 * p[:, 0]  # noqa: E731
     m = checked(uniform2d.uniform_mesh(SQUARE, 500, size=h), SQUARE, 500)
     q = m.quality().relative
     assert q.q_cv < 0.12 and q.q_ratio < 1.8 and 0.9 < q.q_mean < 1.1
@@ -185,7 +185,7 @@ def test_size_not_positive_names_the_place():
 
 def test_nan_outside_the_domain_is_filled():
     # a background interpolant is NaN outside its mesh: fine where there is no domain
-    h = lambda p: np.where((p[:, 0] < 0) | (p[:, 1] < 0), np.nan, 0.1)
+    h = lambda p: np.where((p[:, 0] < 0) | (p[:, 1] < 0), np.nan, 0.1)  # noqa: E731
     checked(uniform2d.uniform_mesh(SQUARE, 50, size=h), SQUARE, 50)
 
 
@@ -202,7 +202,7 @@ def test_raising_or_misshaped_callable():
 
 
 def test_range_refused_with_the_smallest_n():
-    h = lambda p: 1e-6 + np.hypot(p[:, 0], p[:, 1])
+    h = lambda p: 1e-6 + np.hypot(p[:, 0], p[:, 1])  # noqa: E731
     with pytest.raises(InvalidArgumentError, match=r"use n >= (\d+)") as info:
         uniform2d.uniform_mesh(SQUARE, 10, size=h)
     need = int(info.value.args[0].split("use n >= ")[1].split()[0])

@@ -15,10 +15,10 @@ pytest.importorskip("igl")
 pytest.importorskip("pymeshlab")
 trimesh = pytest.importorskip("trimesh")
 
-from surface import models
-from surface.model_facts import model_facts
-from surface.models import MODELS
-from uniform2d.errors import InvalidArgumentError
+from surface import models  # noqa: E402
+from surface.model_facts import model_facts  # noqa: E402
+from surface.models import MODELS  # noqa: E402
+from uniform2d.errors import InvalidArgumentError  # noqa: E402
 
 # name: (components, euler, boundary loops, genus per component)
 EXPECTED = {
