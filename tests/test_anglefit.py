@@ -96,3 +96,16 @@ def test_fine_meshes_left_alone(unfitted, monkeypatch):
     monkeypatch.setattr(anglefit, "FIT_BELOW", quality(m.points, m.triangles).min_angle)
     out = anglefit.fit_worst_angle(p, m.points, m.triangles, _edges_of(p, m.points))
     assert out[0] is m.points and out[1] is m.triangles and out[2] == 0
+
+
+def test_same_mesh_on_any_blas_thread_count(star10):
+    """The program's linear algebra (SciPy's BLAS) runs on one thread whatever
+    the process's BLAS threads: the same bytes on any machine."""
+    from threadpoolctl import threadpool_limits
+
+    p, m = star10
+    for threads in (1, 2):
+        with threadpool_limits(limits=threads, user_api="blas"):
+            again = uniform2d.uniform_mesh(p, 300)
+        assert again.points.tobytes() == m.points.tobytes()
+        assert again.triangles.tobytes() == m.triangles.tobytes()
