@@ -85,10 +85,11 @@ def _region(points, triangles, nV):
     return free, touched, e[np.isin(e, free).any(axis=1)]
 
 
-def _jacobian_map(points, free, edges, nV, d):
-    """(D, bounds): ``D`` (N, 2, k) the derivative of every point by the k
-    variables (interior points two, boundary points one: along the edge
-    vector ``d``), and the variables' bounds for a reach of one unit."""
+def _jacobian_map(points, free, edges, nV, d, unit):
+    """(D, reach): ``D`` (N, 2, k) the derivative of every point by the k
+    variables (interior points two, moves in ``unit``s; boundary points one,
+    along the edge vector ``d``), and the variables' bounds for a reach of
+    one length unit."""
     k = int(sum(1 if edges[v - nV] >= 0 else 2 for v in free))
     D = np.zeros((len(points), 2, k))
     reach = []
@@ -96,8 +97,8 @@ def _jacobian_map(points, free, edges, nV, d):
     for v in free:
         e = edges[v - nV]
         if e < 0:
-            D[v, 0, col] = D[v, 1, col + 1] = 1.0
-            reach += [1.0, 1.0]
+            D[v, 0, col] = D[v, 1, col + 1] = unit
+            reach += [1.0 / unit, 1.0 / unit]
             col += 2
         else:
             D[v, :, col] = d[e]
@@ -184,7 +185,10 @@ def _fit(polygon, points, triangles, edges, a, d):
     limits = (L_all.max() * (1 - MARGIN), L_all.min() * (1 + MARGIN),
               L_all.sum(axis=1).max() * (1 - MARGIN), mean,
               ((L - mean) ** 2).sum() * (1 - MARGIN))
-    D, reach = _jacobian_map(points, free, edges, nV, d)
+    # moves in a power of two near the longest edge: the program's numbers,
+    # and so the mesh, scale exactly with a power-of-two scaling of P
+    unit = float(np.ldexp(1.0, int(np.frexp(limits[0])[1])))
+    D, reach = _jacobian_map(points, free, edges, nV, d, unit)
     step = REACH * float(L.min())
     place, fun, jac = _program(points, T, E, D, limits)
     x0 = np.zeros(D.shape[2] + 1)
