@@ -9,7 +9,10 @@ all, and the benchmark polygons (``data/benchmarks``) at ``--n`` Steiner points.
 For each: ``uniform2d.uniform_mesh`` and Gmsh Frontal-Delaunay with its size
 bisected to the same vertex count (``bench_uniform.gmsh_tuned``), their worst
 angle, edge ratio and edge CV, and whether ours meets the goal of issue 34:
-worst angle at least Gmsh's, edge ratio and CV below Gmsh's.  ``--before DIR``
+worst angle at least Gmsh's, edge ratio and CV below Gmsh's.  Gmsh's vertex
+count moves in jumps with its size (``star10`` at 310 vertices: 304 or 326);
+where the bisection cannot hit ours exactly, the closest count is compared
+and the case says so.  ``--before DIR``
 also runs the uniform2d of another checkout (DIR on ``PYTHONPATH``, in a
 subprocess) on the same cases, for a before/after table in one run.
 """
@@ -77,7 +80,7 @@ def main(argv=None) -> int:
     print("| case | worst angle before / now / Gmsh | edge ratio before / now / Gmsh "
           "| edge CV before / now / Gmsh | goal met |")
     print("|---|---|---|---|---|")
-    met_all = True
+    met_all, uneven = True, 0
     for name, p, n in cases(args.total, args.n):
         pts, tri, _, _ = bu.gmsh_tuned(p, len(p.vertices) + n)
         g = uniform2d.quality(pts, tri)
@@ -87,8 +90,13 @@ def main(argv=None) -> int:
         b = before.get(name)
         cells = [_cell(b and b[i], x, y, d) for i, (x, y, d) in
                  enumerate(((a, g.min_angle, 2), (r, g.edge_ratio, 3), (c, g.cv_edge, 4)))]
+        if len(pts) != len(p.vertices) + n:  # Gmsh's counts jump: its closest one
+            name += f" (Gmsh {len(pts)} vertices, ours {len(p.vertices) + n})"
+            uneven += 1
         print(f"| {name} | {' | '.join(cells)} | {'yes' if met else 'no'} |", flush=True)
     print(f"\nevery case meets the goal: {'yes' if met_all else 'no'}")
+    if uneven:
+        print(f"{uneven} case(s) compared at Gmsh's closest vertex count, not ours (marked)")
     return 0
 
 

@@ -12,7 +12,7 @@ from support.benchmarks import benchmark_polygons
 
 import uniform2d
 from uniform2d.geometry import polygon_edges
-from uniform2d.optimize import shift
+from uniform2d.optimize import anglefit, shift
 from uniform2d.optimize.angles import MIN_GAIN
 from uniform2d.optimize.boundary import target_size
 from uniform2d.quality import quality
@@ -50,6 +50,7 @@ def unshifted(monkeypatch):
     """star10's mesh at n = 300 made without the shift."""
     p = POLYGONS["star10"]
     monkeypatch.setattr(shift, "SHIFT_BELOW", 0.0)
+    monkeypatch.setattr(anglefit, "FIT_BELOW", 0.0)  # the fit after the shift: left out too
     m = uniform2d.uniform_mesh(p, 300)
     monkeypatch.undo()
     return p, m

@@ -18,6 +18,7 @@ from ..threads import get_threads, in_background, thread_map
 from ..tplus import tplus_if_feasible
 from ..validity import ensure_valid
 from . import schedule as S
+from .anglefit import fit_worst_angle
 from .angles import ANGLE_FINE, ANGLES_MAX, angle_attempt_wins, raise_worst_angle
 from .boundary import target_size
 from .moves import improve_best, improve_kept
@@ -70,7 +71,7 @@ def _finished(polygon: Polygon, n: int, h: float, objective: str, options, repor
               angled: bool = False):
     """A finished mesh: the best start (:func:`_best_start`), relocation, the
     worst-angle pass, checked: (points, triangles, improve's info, k, variant,
-    relocations, angle rounds).  ``angled``: the angle attempt, with rows
+    relocations, angle rounds, the sites' polygon edges).  ``angled``: the angle attempt, with rows
     around small holes and the movable short edges weighed (see
     :func:`~uniform2d.optimize.angles.angle_attempt_wins`)."""
     nV = len(polygon.vertices)
@@ -90,7 +91,18 @@ def _finished(polygon: Polygon, n: int, h: float, objective: str, options, repor
             log.info("uniform: %d shift(s) for the worst angle", shifted)
     # the kernel's own triangles (moves.finish_kept), checked here once
     ensure_valid(pts, tri, polygon, len(pts) - nV, "uniform_mesh")
-    return pts, tri, run, k, variant, moved, raised
+    return pts, tri, run, k, variant, moved, raised, edges
+
+
+def _fitted(polygon: Polygon, pts, tri, edges, q):
+    """The chosen mesh after :func:`~uniform2d.optimize.anglefit.fit_worst_angle`,
+    checked if it moved: (points, triangles, quality, rounds kept)."""
+    pts, tri, fitted = fit_worst_angle(polygon, pts, tri, edges)
+    if fitted:
+        log.info("uniform: %d round(s) of the angle fit", fitted)
+        ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
+        q = quality(pts, tri)
+    return pts, tri, q, fitted
 
 
 def _small_holes(polygon: Polygon, h: float) -> bool:
@@ -224,7 +236,7 @@ def optimize_mesh(
     h = target_size(polygon, n)
     ahead = _angle_attempt_ahead(polygon, n, h, objective, options)
     try:
-        pts, tri, run, k, (spacing, edge, layered), moved, raised = _finished(
+        pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = _finished(
             polygon, n, h, objective, options, report)
     finally:  # not left running beyond this call, whatever happens
         if ahead is not None:
@@ -237,8 +249,9 @@ def optimize_mesh(
                  else _finished(polygon, n, h, objective, options, _quiet, angled=True))
         q_other = quality(other[0], other[1])
         if angle_attempt_wins(q_new, q_other):
-            pts, tri, run, k, (spacing, edge, layered), moved, raised = other
+            pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = other
             q_new, angled = q_other, True
+    pts, tri, q_new, fitted = _fitted(polygon, pts, tri, edges, q_new)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
 
@@ -256,6 +269,7 @@ def optimize_mesh(
         "relocated": moved,
         "angle_rounds": raised,
         "angle_attempt": angled,
+        "angle_fits": fitted,
         "start": (
             None
             if tp_info is None
