@@ -69,9 +69,8 @@ RESEED = 10.0
 #: optimiser's own, :data:`uniform2d.optimize.schedule.BAND`).
 RING_BAND = 12.0
 
-#: With the shared lattice, the cuts' band moves only within CUT_REACH h of
-#: the rings: beyond, it is that lattice exactly after the reseeding, as is
-#: the mesh around it (the freedom near the rings lets a cut's corner spread).
+#: With the shared lattice, the cuts' band moves only within CUT_REACH h of the
+#: rings: beyond, reseeded, it is that lattice exactly, as is the mesh around it.
 CUT_REACH = 27.0
 
 #: Secant steps of :func:`global_lattice`'s search on the spacing.
@@ -341,7 +340,8 @@ def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective:
     lattice, :func:`global_lattice`) the band within :data:`RESEED` h of the
     cuts is first made that lattice again (the mesh is triangulated anew, with
     ``n`` Steiner points: the parts may have taken their lattice's natural
-    count) and the band relaxed is :data:`RESEED` + 1 h wide.  ``times``
+    count); the band relaxed is then the rings' and, within :data:`CUT_REACH` h
+    of them, the cuts' :data:`RESEED` + 1 h (schedule :data:`uniform2d.seams.LIGHT`).  ``times``
     gets the seams' pass's own times (:func:`uniform2d.seams.relax_band`).
 
     Returns

@@ -2,7 +2,7 @@
 optimiser tile by tile, the same bytes wherever the tiles run.
 
 After a partitioned mesh is stitched (:mod:`uniform2d.partitioned`), the points
-along its cuts (and its rings) move again under the optimiser's full schedule,
+along its cuts (and its rings) move again under the optimiser's stages,
 with everything else frozen.  That band crosses the whole mesh, so it is cut
 into pieces that can run at once:
 
