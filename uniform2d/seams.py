@@ -375,7 +375,7 @@ def finish(polygon: Polygon, points, triangles, free, h: float, objective: str =
     spots = np.zeros(len(P), dtype=bool)
     if bad.any():
         r = np.nextafter(SPOT_RADIUS * h, np.inf)
-        d, _ = cKDTree(0.5 * (P[E[bad, 0]] + P[E[bad, 1]])).query(P, distance_upper_bound=r)
+        d, _ = cKDTree(0.5 * (P[E[bad, 0]] + P[E[bad, 1]])).query(P, distance_upper_bound=r, workers=-1)
         spots = (d <= r) & np.asarray(free)
     log.info("seams: %d edges beyond [%g, %g] h, %d points move again", int(bad.sum()), SHORT,
              LONG, int(spots.sum()))
