@@ -43,17 +43,17 @@ from .optimize.fill import fill_band_gaps
 from .optimize.lattice import Candidates, hex_lattice
 from .optimize.moves import improve_kept
 from .optimize.rows import boundary_rows, keep_clear
-from .optimize.schedule import schedule_for
+from .optimize.schedule import SCHEDULE, schedule_for
 from .optimize.seed import start
 from .partition import Partition, partition
 from .parts import allocate, stitch
 from .polygon import Polygon
-from .seams import relax_band
+from .seams import LIGHT, relax_band
 from .triangulation import triangulate
 from .validity import ensure_valid
 
-__all__ = ["BAND", "RESEED", "RING_KEEP", "global_lattice", "mesh_face", "mesh_faces", "part_counts",
-           "partitioned_mesh", "relax_seams", "seam_uniformity", "write_part", "write_pvtu"]
+__all__ = ["BAND", "CUT_REACH", "RESEED", "RING_KEEP", "global_lattice", "mesh_face", "mesh_faces",
+           "part_counts", "partitioned_mesh", "relax_seams", "seam_uniformity", "write_part", "write_pvtu"]
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +68,10 @@ RESEED = 10.0
 #: The band along the rings relaxed again after stitching (in h; the
 #: optimiser's own, :data:`uniform2d.optimize.schedule.BAND`).
 RING_BAND = 12.0
+
+#: With the shared lattice, the cuts' band moves only within CUT_REACH h of the
+#: rings: beyond, reseeded, it is that lattice exactly, as is the mesh around it.
+CUT_REACH = 27.0
 
 #: Secant steps of :func:`global_lattice`'s search on the spacing.
 _SPACING_STEPS = 6
@@ -235,7 +239,7 @@ def _lattice_edge(poly: Polygon, angle: float) -> int:
 def _within(sites, points, r: float) -> np.ndarray:
     """(k,) bool: which ``points`` are within ``r`` of one of ``sites``; the tree
     stops looking beyond r (at 1e7 points four times faster than a full query)."""
-    d, _ = cKDTree(np.asarray(sites)).query(points, distance_upper_bound=np.nextafter(r, np.inf))
+    d, _ = cKDTree(np.asarray(sites)).query(points, distance_upper_bound=np.nextafter(r, np.inf), workers=-1)
     return d <= r
 
 
@@ -336,7 +340,8 @@ def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective:
     lattice, :func:`global_lattice`) the band within :data:`RESEED` h of the
     cuts is first made that lattice again (the mesh is triangulated anew, with
     ``n`` Steiner points: the parts may have taken their lattice's natural
-    count) and the band relaxed is :data:`RESEED` + 1 h wide.  ``times``
+    count); the band relaxed is then the rings' and, within :data:`CUT_REACH` h
+    of them, the cuts' :data:`RESEED` + 1 h (schedule :data:`uniform2d.seams.LIGHT`).  ``times``
     gets the seams' pass's own times (:func:`uniform2d.seams.relax_band`).
 
     Returns
@@ -352,18 +357,23 @@ def relax_seams(polygon: Polygon, points, triangles, part: Partition, objective:
         sites = _reseed(polygon, P, part, lattice, len(P) - nV if n is None else n)
         P, triangles = triangulate(polygon, sites)
         width = RESEED + 1.0
-    free = _within(part.points[np.concatenate(part.cuts)], P, width * part.h)
-    if lattice is not None:  # and the rings' bands: a part's worst corner left them slack
+    cut = _within(part.points[np.concatenate(part.cuts)], P, width * part.h)
+    if lattice is None:
+        free = cut
+    else:  # and the rings' bands: a part's worst corner left them slack; the cut's
+        # band is the shared lattice beyond them, so it moves only near the rings
         sa, sb = keep_clear(polygon)
-        ring = (RING_BAND + 1.0) * part.h
-        free |= to_segments(P, sa, sb, ring) < ring
+        ring, reach = (RING_BAND + 1.0) * part.h, CUT_REACH * part.h
+        dr = to_segments(P, sa, sb, reach)
+        free = (dr < ring) | (cut & (dr < reach))
     free[:fixed] = False  # vertices and segment samples stay (first in both)
     seg = [ii[f.segment_edges] for faces, idx in zip(part.parts, part.index) for f, ii in zip(faces, idx)]
     seg = np.unique(np.sort(np.concatenate([np.zeros((0, 2), np.int64), *seg]), axis=1), axis=0)
+    sched = SCHEDULE if lattice is None else LIGHT
     if runner is not None:
-        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, runner, objective, times)
+        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, runner, objective, times, sched)
     with Runner() as run:
-        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, run, objective, times)
+        return relax_band(polygon, P, triangles, free, part.h, fixed, seg, run, objective, times, sched)
 
 
 def _plan(polygon: Polygon, n: int, parts: int, objective: str, shared: bool = False):

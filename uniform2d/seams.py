@@ -2,7 +2,7 @@
 optimiser tile by tile, the same bytes wherever the tiles run.
 
 After a partitioned mesh is stitched (:mod:`uniform2d.partitioned`), the points
-along its cuts (and its rings) move again under the optimiser's full schedule,
+along its cuts (and its rings) move again under the optimiser's stages,
 with everything else frozen.  That band crosses the whole mesh, so it is cut
 into pieces that can run at once:
 
@@ -46,7 +46,7 @@ from .optimize.objective import objective_code
 from .optimize.schedule import SCHEDULE
 from .polygon import Polygon
 
-__all__ = ["CONTEXT", "FINISH", "LONG", "OVERLAP", "ROUNDS", "SHORT", "SPOT_RADIUS", "TILE",
+__all__ = ["CONTEXT", "FINISH", "LIGHT", "LONG", "OVERLAP", "ROUNDS", "SHORT", "SPOT_RADIUS", "TILE",
            "finish", "relax_band", "relax_piece", "round_pieces"]
 
 log = logging.getLogger(__name__)
@@ -74,6 +74,10 @@ SPOT_RADIUS = 3.0
 #: Its schedule: the extremes' stages and the spread (the points are near
 #: their places already; springs would undo the pieces' balance).
 FINISH = SCHEDULE._replace(spring_rounds=0, exponents=(7, 8))
+#: The pieces' schedule where the band starts on a lattice (the shared one of
+#: :func:`uniform2d.partitioned.global_lattice`): fewer spring rounds and
+#: sweeps, all the stages (the extremes are set near the rings).
+LIGHT = SCHEDULE._replace(spring_rounds=20, sweeps=20, spread_sweeps=10)
 
 _PINCH_STEPS = 20
 
@@ -252,7 +256,7 @@ def _region(P, T, free, fixed, seg):
                    segments=[P[list(e)] for e in seg], points=P[lone] if lone else ())
 
 
-def _relax_component(P, T, free, fixed, seg, h: float, objective: str):
+def _relax_component(P, T, free, fixed, seg, h: float, objective: str, schedule):
     """Move one connected region's free points; returns (sites, new xy, triangles)."""
     ids = np.unique(T)
     loc = np.full(len(P), -1, dtype=np.int64)
@@ -272,7 +276,7 @@ def _relax_component(P, T, free, fixed, seg, h: float, objective: str):
     nV = len(pv)
     st = KernelMesh.from_mesh(poly, np.concatenate([poly.vertices, Pl[sites]]), sub[loc[T]],
                               href=h, frozen=~free[ids][sites])._replace(movable_short=True)
-    run = st.advance(SCHEDULE, objective_code(objective))
+    run = st.advance(schedule, objective_code(objective))
     pts, tri, _ = st.result(run)
     moved = pts[nV:]
     stay = ~free[ids][sites]
@@ -285,7 +289,8 @@ def _relax_component(P, T, free, fixed, seg, h: float, objective: str):
 
 def relax_piece(item, objective: str = "balanced"):
     """One piece of a round (:func:`round_pieces`'s item, then optionally the
-    objective): ``(moved, xy, triangles)``, the local numbers of its free
+    objective and the schedule, default :data:`~uniform2d.optimize.schedule.SCHEDULE`):
+    ``(moved, xy, triangles)``, the local numbers of its free
     points, where they went and the region's new triangles (local numbers).
 
     A module-level function of its item alone: local processes and Dask
@@ -306,9 +311,10 @@ def relax_piece(item, objective: str = "balanced"):
     """
     P, T, free, fixed, seg, h = item[:6]
     objective = item[6] if len(item) > 6 else objective
+    schedule = item[7] if len(item) > 7 else SCHEDULE
     moved, xy, tris = [], [], []
     for rows in _components(T, len(P)):
-        m, x, t = _relax_component(P, T[rows], free, fixed, seg, h, objective)
+        m, x, t = _relax_component(P, T[rows], free, fixed, seg, h, objective, schedule)
         moved.append(m)
         xy.append(x)
         tris.append(t)
@@ -316,7 +322,7 @@ def relax_piece(item, objective: str = "balanced"):
 
 
 def relax_band(polygon: Polygon, points, triangles, free, h: float, fixed: int, segments, runner,
-               objective: str = "balanced", times: dict | None = None):
+               objective: str = "balanced", times: dict | None = None, schedule=SCHEDULE):
     """``points`` (N, 2) and ``triangles`` (M, 3), a mesh of ``polygon``, with the
     ``free`` (N,) points moved: piece by piece in :data:`ROUNDS` rounds on
     ``runner`` (:class:`uniform2d._parallel.Runner`), then :func:`finish`.
@@ -324,7 +330,8 @@ def relax_band(polygon: Polygon, points, triangles, free, h: float, fixed: int, 
     the kernel's exact constrained Delaunay triangulation of the moved points.
     ``times``, if given, gets the seconds spent cutting the pieces out
     (``seams_cut``), running them (``seams_pieces``) and in :func:`finish`
-    (``seams_finish``).
+    (``seams_finish``).  ``schedule``: the pieces' (:data:`LIGHT` where the band
+    starts on a lattice).
     """
     clock = {"seams_cut": 0.0, "seams_pieces": 0.0}
     P = np.array(points, dtype=np.float64)
@@ -335,7 +342,7 @@ def relax_band(polygon: Polygon, points, triangles, free, h: float, fixed: int, 
     for rnd in range(ROUNDS):
         t0 = time.perf_counter()
         pieces = round_pieces(P, T[near], free, h, polygon.bounds[:2], rnd, fixed, segments)
-        items = [(*it, objective) for _, _, it in pieces]
+        items = [(*it, objective, schedule) for _, _, it in pieces]
         log.info("seams: round %d, %d pieces, %d free points", rnd, len(items),
                  int(sum(it[2].sum() for it in items)))
         t1 = time.perf_counter()
@@ -368,7 +375,7 @@ def finish(polygon: Polygon, points, triangles, free, h: float, objective: str =
     spots = np.zeros(len(P), dtype=bool)
     if bad.any():
         r = np.nextafter(SPOT_RADIUS * h, np.inf)
-        d, _ = cKDTree(0.5 * (P[E[bad, 0]] + P[E[bad, 1]])).query(P, distance_upper_bound=r)
+        d, _ = cKDTree(0.5 * (P[E[bad, 0]] + P[E[bad, 1]])).query(P, distance_upper_bound=r, workers=-1)
         spots = (d <= r) & np.asarray(free)
     log.info("seams: %d edges beyond [%g, %g] h, %d points move again", int(bad.sum()), SHORT,
              LONG, int(spots.sum()))
