@@ -105,6 +105,12 @@ def ordered_map(
         source = _pool(fn, items, min(jobs, len(items)), initializer)
     else:
         source = _serial(fn, items, initializer)
+    yield from _in_order(source, bar)
+
+
+def _in_order(source, bar) -> Iterator:
+    """The values of ``source``'s ``(index, value)`` pairs, which come in the
+    order they finish, yielded in index order."""
     done, following = {}, 0
     try:
         for i, value in source:
@@ -170,18 +176,7 @@ class Runner:
         """``fn(item)`` for every item, yielded in the order of ``items``
         (:func:`ordered_map`'s arguments)."""
         items = list(items)
-        source = self._source(fn, items)
-        done, following = {}, 0
-        try:
-            for i, value in source:
-                if bar is not None:
-                    bar.update()
-                done[i] = value
-                while following in done:
-                    yield done.pop(following)
-                    following += 1
-        finally:
-            source.close()
+        yield from _in_order(self._source(fn, items), bar)
 
 
 def _submit(ex, fn, items):
