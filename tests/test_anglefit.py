@@ -10,9 +10,9 @@ n = 300 had 41.45 deg.
 import numpy as np
 import pytest
 from support.benchmarks import benchmark_polygons
+from support.boundary_edges import edges_of
 
 import uniform2d
-from uniform2d.geometry import polygon_edges
 from uniform2d.optimize import anglefit
 from uniform2d.optimize.angles import MIN_GAIN
 from uniform2d.peers import base as peers
@@ -22,21 +22,6 @@ from uniform2d.testing import check_mesh
 POLYGONS = benchmark_polygons()
 #: Gmsh's worst angle on star10 tuned to 310 vertices (304 made), measured once.
 GMSH_STAR10 = 43.70
-
-
-def _edges_of(polygon, points):
-    """The polygon edge each site lies on exactly (-1: none), found independently
-    of the optimiser (a boundary site lies on its edge within rounding)."""
-    a, d, _ = polygon_edges(polygon, constraints=True)
-    nV = len(polygon.vertices)
-    out = np.full(len(points) - nV, -1)
-    for i, p in enumerate(points[nV:]):
-        w = p - a
-        cross = w[:, 0] * d[:, 1] - w[:, 1] * d[:, 0]
-        t = (w * d).sum(axis=1) / (d * d).sum(axis=1)
-        on = np.flatnonzero((np.abs(cross) <= 1e-12) & (t >= 0) & (t <= 1))
-        out[i] = on[0] if len(on) else -1
-    return out
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +59,7 @@ def unfitted():
 def test_fit_raises_worst_angle_with_edges_held(unfitted):
     p, m = unfitted
     nV = len(p.vertices)
-    edges = _edges_of(p, m.points)
+    edges = edges_of(p, m.points)
     pts0, tri0 = m.points.copy(), m.triangles.copy()
     q0 = quality(m.points, m.triangles)
     pts, tri, kept = anglefit.fit_worst_angle(p, m.points, m.triangles, edges)
@@ -82,7 +67,7 @@ def test_fit_raises_worst_angle_with_edges_held(unfitted):
     assert kept >= 1
     check_mesh(pts, tri, p)
     assert len(pts) == len(pts0) and np.array_equal(pts[:nV], p.vertices)
-    assert np.array_equal(_edges_of(p, pts), edges)  # boundary sites stayed on their edges
+    assert np.array_equal(edges_of(p, pts), edges)  # boundary sites stayed on their edges
     q = quality(pts, tri)
     assert q.min_angle >= q0.min_angle + kept * MIN_GAIN
     for k in ("edge_ratio", "longest_edge", "max_perimeter"):
@@ -94,7 +79,7 @@ def test_fine_meshes_left_alone(unfitted, monkeypatch):
     """A mesh whose worst angle is FIT_BELOW or more comes back as it is."""
     p, m = unfitted
     monkeypatch.setattr(anglefit, "FIT_BELOW", quality(m.points, m.triangles).min_angle)
-    out = anglefit.fit_worst_angle(p, m.points, m.triangles, _edges_of(p, m.points))
+    out = anglefit.fit_worst_angle(p, m.points, m.triangles, edges_of(p, m.points))
     assert out[0] is m.points and out[1] is m.triangles and out[2] == 0
 
 

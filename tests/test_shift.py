@@ -9,9 +9,9 @@ before the shift did not reach (42.86 deg).
 import numpy as np
 import pytest
 from support.benchmarks import benchmark_polygons
+from support.boundary_edges import edges_of
 
 import uniform2d
-from uniform2d.geometry import polygon_edges
 from uniform2d.optimize import anglefit, shift
 from uniform2d.optimize.angles import MIN_GAIN
 from uniform2d.optimize.boundary import target_size
@@ -20,21 +20,6 @@ from uniform2d.testing import check_mesh
 from uniform2d.threads import set_threads
 
 POLYGONS = benchmark_polygons()
-
-
-def _edges_of(polygon, points):
-    """The polygon edge each site lies on exactly (-1: none), found independently
-    of the optimiser (a boundary site lies on its edge within rounding)."""
-    a, d, _ = polygon_edges(polygon, constraints=True)
-    nV = len(polygon.vertices)
-    out = np.full(len(points) - nV, -1)
-    for i, p in enumerate(points[nV:]):
-        w = p - a
-        cross = w[:, 0] * d[:, 1] - w[:, 1] * d[:, 0]
-        t = (w * d).sum(axis=1) / (d * d).sum(axis=1)
-        on = np.flatnonzero((np.abs(cross) <= 1e-12) & (t >= 0) & (t <= 1))
-        out[i] = on[0] if len(on) else -1
-    return out
 
 
 def test_heptagon_short_reaches_gmsh_angle():
@@ -59,7 +44,7 @@ def unshifted(monkeypatch):
 def test_shift_raises_worst_angle_within_slack(unshifted):
     p, m = unshifted
     nV = len(p.vertices)
-    edges = _edges_of(p, m.points)
+    edges = edges_of(p, m.points)
     pts0, tri0 = m.points.copy(), m.triangles.copy()
     q0 = quality(m.points, m.triangles)
     assert q0.min_angle < shift.SHIFT_BELOW
@@ -71,7 +56,7 @@ def test_shift_raises_worst_angle_within_slack(unshifted):
     assert kept == 1
     check_mesh(pts, tri, p)
     assert len(pts) == len(pts0) and np.array_equal(pts[:nV], p.vertices)
-    assert np.array_equal(_edges_of(p, pts), e2)  # boundary sites stayed on their edges
+    assert np.array_equal(edges_of(p, pts), e2)  # boundary sites stayed on their edges
     assert np.array_equal(np.sort(e2), np.sort(edges))  # and every edge kept its count
     q = quality(pts, tri)
     assert q.min_angle >= q0.min_angle + MIN_GAIN
@@ -86,7 +71,7 @@ def test_fine_meshes_left_alone(unshifted, monkeypatch):
     frozen = np.zeros(len(m.points) - nV, bool)
     monkeypatch.setattr(shift, "SHIFT_BELOW", quality(m.points, m.triangles).min_angle)
     out = shift.shift_worst(p, m.points, m.triangles, frozen, "balanced", target_size(p, 300),
-                            {}, _edges_of(p, m.points))
+                            {}, edges_of(p, m.points))
     assert out[0] is m.points and out[1] is m.triangles and out[2] == 0
 
 
