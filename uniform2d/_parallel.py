@@ -37,9 +37,7 @@ def _pool(fn, items, jobs, initializer):
     ctx = multiprocessing.get_context("spawn")
     ex = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=initializer)
     try:
-        futures = {ex.submit(fn, item): i for i, item in enumerate(items)}
-        for fut in as_completed(futures):
-            yield futures[fut], fut.result()
+        yield from _submit(ex, fn, items)
     except BaseException:  # an interrupt or a failed worker: run nothing more
         ex.shutdown(wait=False, cancel_futures=True)
         raise

@@ -14,7 +14,6 @@ The count is, in order: what :func:`set_threads` set; the environment variable
 from __future__ import annotations
 
 import os
-import threading
 from collections.abc import Callable, Iterable
 from concurrent.futures import Future, ThreadPoolExecutor
 
@@ -92,15 +91,8 @@ def in_background(fn: Callable) -> Future:
     >>> in_background(lambda: sum(range(10))).result()
     45
     """
-    done: Future = Future()
-
-    def run() -> None:
-        if not done.set_running_or_notify_cancel():
-            return
-        try:
-            done.set_result(fn())
-        except BaseException as exc:  # noqa: BLE001 -- handed to whoever asks for the result
-            done.set_exception(exc)
-
-    threading.Thread(target=run, name="uniform2d-background", daemon=True).start()
-    return done
+    pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="uniform2d-background")
+    try:
+        return pool.submit(fn)
+    finally:
+        pool.shutdown(wait=False)  # the task still runs; the thread ends with it

@@ -140,15 +140,8 @@ def uniform_mesh(
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     if resample is not None:
         return _resampled_mesh(polygon, n, size, resample, corner_angle, objective, progress)
-    what = f"n = {n}"
-    if n is None:
-        n = steiner_count_for_size(polygon, size)
-        what = f"size {size!r} (n = {n})"
-        if n < 1:
-            raise InsufficientPointsError(
-                f"size {size!r} is larger than the polygon needs: it asks for no Steiner "
-                "points; use a smaller size"
-            )
+    n, what = _count(n, lambda: steiner_count_for_size(polygon, size), f"size {size!r}",
+                     "use a smaller size")
     if isinstance(n, numbers.Integral) and not isinstance(n, bool):
         check_point_count(n + len(polygon.vertices), what)
     if parts is not None:
@@ -232,15 +225,8 @@ def _graded(polygon: Polygon, n, field, objective: str, progress, tol=None,
     """:func:`uniform_mesh` with a size field: n checked or implied, the rings
     resampled at the local spacing if ``tol`` is given, then graded_mesh."""
     integrals = field_integrals(polygon, field)
-    what = f"n = {n}"
-    if n is None:
-        n = count_for_field(polygon, field)
-        what = f"the size field (n = {n})"
-        if n < 1:
-            raise InsufficientPointsError(
-                "the size field is larger than the polygon needs: it asks for no Steiner "
-                "points; use smaller sizes or give n"
-            )
+    n, what = _count(n, lambda: count_for_field(polygon, field), "the size field",
+                     "use smaller sizes or give n")
     n = _positive_count(n)
     check_point_count(n + len(polygon.vertices), what)
     if tol is None:
@@ -259,6 +245,18 @@ def _graded(polygon: Polygon, n, field, objective: str, progress, tol=None,
                        integrals=integrals)
     return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                 {**mesh.info, "resample": {**res.info(), "n": n}}, size=mesh.size)
+
+
+def _count(n, implied, source: str, fix: str) -> tuple:
+    """(n, how it was asked for): ``n`` as given, else ``implied()`` from
+    ``source`` (a size or a size field), refused if that asks for no point."""
+    if n is not None:
+        return n, f"n = {n}"
+    n = implied()
+    if n < 1:
+        raise InsufficientPointsError(
+            f"{source} is larger than the polygon needs: it asks for no Steiner points; {fix}")
+    return n, f"{source} (n = {n})"
 
 
 def _positive_count(n) -> int:
