@@ -193,3 +193,27 @@ def test_cli_resample_corners(tmp_path, capsys):
     assert main(["mesh", str(src), "-n", "200", "--resample", "0.25", "--resample-corners",
                  "merge", "-o", str(out)]) == 0
     assert out.exists()
+
+
+def test_moved_heights_bounds_the_hausdorff_distance_to_the_spanned_input():
+    """moved_heights (even_out's check) is at least the Hausdorff distance between
+    a moved ring edge and the input path it spans (shapely), and close to it."""
+    from uniform2d.ring_slide import moved_heights
+
+    ring = zigzag_ring(k=300, seed=4)
+    ext = measure(ring)
+    k = len(ring)
+    idx = np.arange(0, k, 10)
+    S, A = ext[idx], ring[idx]
+    rng = np.random.default_rng(5)
+    e = np.arange(len(S))
+    X = A + 0.05 * rng.standard_normal(A.shape)
+    Y = np.roll(A, -1, axis=0) + 0.05 * rng.standard_normal(A.shape)
+    got = moved_heights(ring, ext, S, A, e, X, Y)
+    for q in e:
+        path = shapely.LineString(np.vstack([A[q], ring[idx[q] + 1:idx[q] + 10],
+                                             A[(q + 1) % len(A)]]))
+        edge = shapely.LineString([X[q], Y[q]])
+        d = shapely.hausdorff_distance(path, edge, densify=0.01)
+        step = np.hypot(*(Y[q] - X[q])) / 32
+        assert d <= got[q] + 1e-12 and got[q] <= d + step
