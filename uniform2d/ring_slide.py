@@ -41,6 +41,8 @@ EVEN = 0.75
 _BISECT = 24
 #: Points of a moved edge at which its distance to the input is measured, less one.
 _SAMPLES = 32
+#: A move of :func:`even_out` lengthens a point's shorter edge by at least this many spacings.
+_GAIN = 0.01
 #: Fractions of the way to that point tried in turn where the whole way leaves the tolerance.
 _STEPS = (1.0, 0.5, 0.25)
 
@@ -255,15 +257,17 @@ def even_out(inputs, samples, rings, limit: float, reach: float, sweeps: int = S
         r = len(A)
         idx = np.arange(r)
         prv, nxt = (idx - 1) % r, (idx + 1) % r
+        stale = np.ones(r, dtype=bool)  # points to try: not tried since a neighbour moved
         for _ in range(sweeps):
             moved = False
             for parity in (0, 1):
                 L = np.hypot(*(P[nxt] - P).T)
                 short = np.minimum(L, L[prv])
-                sel = np.flatnonzero(movable & (idx % 2 == parity) & ((idx < r - 1) | (r % 2 == 0))
-                                     & (short < EVEN * reach))
+                sel = np.flatnonzero(movable & stale & (idx % 2 == parity)
+                                     & ((idx < r - 1) | (r % 2 == 0)) & (short < EVEN * reach))
                 if not len(sel):
                     continue
+                stale[sel] = False
                 chord = P[nxt[sel]] - P[prv[sel]]
                 step = (0.5 * (L[sel] - L[prv[sel]]) / np.hypot(*chord.T))[:, None] * chord
                 for f in _STEPS:
@@ -271,11 +275,12 @@ def even_out(inputs, samples, rings, limit: float, reach: float, sweeps: int = S
                     d1 = moved_heights(ring, ext, S, A, prv[sel], P[prv[sel]], T)
                     d2 = moved_heights(ring, ext, S, A, sel, T, P[nxt[sel]])
                     gain = np.minimum(np.hypot(*(T - P[prv[sel]]).T),
-                                      np.hypot(*(P[nxt[sel]] - T).T)) > short[sel]
+                                      np.hypot(*(P[nxt[sel]] - T).T)) > short[sel] + _GAIN * reach
                     ok = gain & (d1 <= limit) & (d2 <= limit)
                     if ok.any():
                         P[sel[ok]] = T[ok]
                         worst = max(worst, float(np.maximum(d1, d2)[ok].max()))
+                        stale[np.concatenate([sel[ok], prv[sel[ok]], nxt[sel[ok]]])] = True
                         moved = True
                     sel, step = sel[~ok], step[~ok]
                     if not len(sel):
