@@ -24,8 +24,12 @@ layer does for its domains (the same dynamic programme, :mod:`.chord_sampling`):
   outline (both ways) is at most :attr:`Resampled.deviation`;
 - with ``widen`` (the default), :mod:`.outline_band` then drops samples where a
   ring edge is much shorter than h and the tolerance allows, and, at the spacing
-  found, moves samples off the outline within the tolerance (measured both ways)
-  to widen features narrower than h (piers, notches, necks);
+  found, slides samples along the outline to even out ring edges
+  (:mod:`.ring_slide`), moves samples off the outline within the tolerance
+  (measured both ways) to widen features narrower than h (piers, notches, necks),
+  then moves those with a ring edge under 0.75 h, within the tolerance, to
+  lengthen it; with ``corners="merge"``, a corner with a sample under 0.6 h away
+  merges with it into one point on the outline (:mod:`.corner_merge`);
 - a polygon whose constraint edges are all at least :data:`COARSE_EDGE` of the
   spacing is returned as given; a *coarse* one (:func:`is_coarse`) is resampled,
   by :func:`uniform2d.uniform_mesh` at :data:`COARSE_SPACING` times h;
@@ -51,12 +55,15 @@ import shapely
 from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
 from .geometry import point_segment_distance, size_for_count, vertex_count
-from .outline_band import REACH, merge_short_edges, widen_rings
+from .outline_band import REACH, merge_short_edges, narrowest, widen_rings
 from .polygon import Polygon
 from .ring_corners import ring_corners
+from .ring_crossings import crossing_edges
+from .corner_merge import CORNERS, corner_policy, merge_corners
+from .ring_slide import crowded, even_out, slide_samples
 from .short_edges import SEVERE, SHORT_EDGE, short_edge_warning
 
-__all__ = ["COARSE_EDGE", "COARSE_SPACING", "CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled",
+__all__ = ["COARSE_EDGE", "COARSE_SPACING", "CORNERS", "CORNER_ANGLE", "SEVERE", "SHORT_EDGE", "Resampled",
            "is_coarse", "resample_polygon", "resample_weighted", "short_edge_warning"]
 
 log = logging.getLogger(__name__)
@@ -146,7 +153,8 @@ class Resampled:
 
 def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | None = None,
                      tolerance: float, corner_angle: float = CORNER_ANGLE,
-                     boundary_spacing: float = 1.0, widen: bool = True) -> tuple[Resampled, int]:
+                     boundary_spacing: float = 1.0, widen: bool = True,
+                     corners: str = "keep") -> tuple[Resampled, int]:
     """Resample ``polygon``'s rings for a mesh of ``n`` Steiner points (or edge ``size``).
 
     The spacing h is that of an equilateral mesh of the resampled polygon with
@@ -156,8 +164,14 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     The rings are sampled at ``boundary_spacing`` times h (n stays exact: the
     boundary points count in it).  With ``widen`` (the default), features
     narrower than the spacing are then widened within the tolerance
-    (:mod:`uniform2d.outline_band`): the boundary points placed by the
+    (:mod:`uniform2d.outline_band`) and ring edges evened out
+    (:mod:`uniform2d.ring_slide`): the boundary points placed by the
     resampling then lie within the tolerance of the outline, not on it.
+    ``corners`` (with ``widen``): ``"keep"`` every corner, or ``"merge"`` a
+    corner with a boundary point less than 0.6 h away into one point on the
+    outline between them, where the tolerance holds
+    (:func:`uniform2d.corner_merge.merge_corners`); segment ends and fixed
+    points never merge.
 
     Returns
     -------
@@ -176,6 +190,7 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     (0, 300, True)
     """
     _check(tolerance, corner_angle)
+    drop = corner_policy(corners)
     if isinstance(boundary_spacing, bool) or not (
             isinstance(boundary_spacing, numbers.Real) and 0.5 <= boundary_spacing <= 2):
         raise InvalidArgumentError(
@@ -189,7 +204,8 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
         raise InvalidArgumentError(f"size must be a positive finite number, got {size!r}")
     extra = len(polygon.vertices) - polygon.n_ring_vertices
     if size is not None:
-        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c, widen=widen, move=widen)
+        r = _resample_at(polygon, float(size), tolerance, corner_angle, c=c, widen=widen, move=widen,
+                         drop_corners=drop)
         q = r.polygon
         N = vertex_count(q.area, q.perimeter, float(size), q.n_holes)
         return r, max(0, round(N) - r.n_kept) - r.n_boundary
@@ -202,14 +218,16 @@ def resample_polygon(polygon: Polygon, n: int | None = None, *, size: float | No
     forced = [np.zeros(len(ring), dtype=bool) for ring in polygon.rings]
     for _ in range(_ITERATIONS):
         caches = [{} for _ in polygon.rings]  # runs sampled at this spacing
-        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c, widen, caches=caches)
+        r = _resample_at(polygon, h, tolerance, corner_angle, forced, c, widen, caches=caches,
+                         drop_corners=drop)
         q = r.polygon
         h_next = size_for_count(q.area, q.perimeter, n + r.n_kept, q.n_holes)
         if not math.isfinite(h_next) or abs(h_next - h) <= 2e-3 * h:
             break
         h = h_next
     if widen and r.resampled:  # narrow features widened once, at the spacing found
-        r = _resample_at(polygon, r.spacing, tolerance, corner_angle, forced, c, widen, True, caches)
+        r = _resample_at(polygon, r.spacing, tolerance, corner_angle, forced, c, widen, True, caches,
+                         drop_corners=drop)
     return r, n - r.n_boundary
 
 
@@ -271,7 +289,7 @@ def resample_weighted(polygon: Polygon, spacing: float, tolerance: float, corner
 
 def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
                  forced=None, c: float = 1.0, widen: bool = True, move: bool = False,
-                 caches=None, weights=None) -> Resampled:
+                 caches=None, weights=None, drop_corners=False) -> Resampled:
     """The rings resampled at spacing ``c * h`` within ``tol * h``, made valid (see
     the module notes); the polygon as given if no constraint edge is shorter than
     ``COARSE_EDGE * h``.  ``forced`` (per ring, (k,) bool, updated): input vertices
@@ -288,13 +306,14 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
     caches = [{} for _ in polygon.rings] if caches is None else caches
     for _ in range(_ROUNDS):
         rings = [_Ring(ring, keep[off[r]:off[r + 1]], corners[r], forced[r], h, tol, caches[r], widen,
-                       None if weights is None else weights[r]) for r, ring in enumerate(polygon.rings)]
+                       None if weights is None else weights[r], widen and drop_corners, move)
+                 for r, ring in enumerate(polygon.rings)]
         samples = [g.sample(h, tol) for g in rings]
         try:
             poly = _rebuild(polygon, [s[0] for s in samples])
         except InvalidPolygonError as exc:
             log.info("resampled rings invalid at spacing %.6g (%s); splitting there", h, exc)
-            crossing = _crossing_edges(polygon, samples)
+            crossing = crossing_edges(polygon, samples)
             added = 0
             for r, edges in crossing.items():
                 at = rings[r].split_points(samples[r][3], edges)
@@ -317,8 +336,15 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
 def _widened(polygon: Polygon, poly: Polygon, rings, samples, h: float, limit: float):
     """``poly`` widened (:func:`uniform2d.outline_band.widen_rings`) if its rings
     do not cross, and the deviation."""
-    out = widen_rings([(g.ring, g.ext) for g in rings],
-                      [(s[0], ~s[1], s[2], s[3]) for s in samples], REACH * h, limit)
+    inputs = [(g.ring, g.ext) for g in rings]
+    band = [(s[0], ~s[1], s[2], s[3]) for s in samples]
+    out = widen_rings(inputs, band, REACH * h, limit)
+    moved, dev = even_out(inputs, band, out[0], limit, h)
+    if narrowest(moved, REACH * h)[0] >= narrowest(out[0], REACH * h)[0]:
+        try:
+            return _rebuild(polygon, moved), max(out[1], dev)
+        except InvalidPolygonError:
+            pass
     try:
         return _rebuild(polygon, out[0]), out[1]
     except InvalidPolygonError:
@@ -330,47 +356,22 @@ def _rebuild(polygon: Polygon, rings) -> Polygon:
                    regions=polygon.region_seeds)
 
 
-def _crossing_edges(polygon: Polygon, samples) -> dict:
-    """Per ring, the sampled edges (index of their first point) that cross or
-    touch another edge of the rings or segments (not their neighbours)."""
-    segs, owner = [], []
-    for r, (pts, _, _, _) in enumerate(samples):
-        segs.append(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
-        owner += [(r, i, len(pts)) for i in range(len(pts))]
-    V = polygon.vertices
-    E = polygon.segment_edges
-    segs.append(np.stack([V[E[:, 0]], V[E[:, 1]]], axis=1).reshape(-1, 2, 2))
-    owner += [(-1, i, 0) for i in range(len(E))]
-    lines_xy = np.concatenate(segs)
-    lines = shapely.linestrings(lines_xy)
-    a, b = shapely.STRtree(lines).query(lines, predicate="intersects")
-    out: dict = {}
-    for i, j in zip(a.tolist(), b.tolist()):
-        ri, pi, ni = owner[i]
-        rj, pj, _ = owner[j]
-        if i == j or ri < 0 or (ri == rj and (pj - pi) % ni in (1, ni - 1)):
-            continue
-        if rj < 0 and _share_end(lines_xy[i], lines_xy[j]):  # a segment's junction
-            continue
-        out.setdefault(ri, set()).add(pi)
-    return {r: np.array(sorted(k)) for r, k in out.items()}
-
-
-def _share_end(p, q) -> bool:
-    return any(np.array_equal(a, b) for a in p for b in q)
-
-
 class _Ring:
     """One ring's runs between kept vertices and its straightened arc measure."""
 
-    def __init__(self, ring, keep, corners, forced, h, tol, cache, merge=False, weight=None):
+    def __init__(self, ring, keep, corners, forced, h, tol, cache, merge=False, weight=None,
+                 drop_corners=False, slide=False):
         self.ring = ring
         self.cache = cache  # (start, edges[, pieces]) -> a run's measure or sampling
         self.kept = keep | corners
-        self.n_corners = int((corners & ~keep).sum())
+        self.corner = corners & ~keep
+        self.n_corners = int(self.corner.sum())
+        # corners a short-edge merge may drop (never segment ends, fixed points, splits)
+        self.loose = self.corner & ~forced if drop_corners else np.zeros(len(ring), dtype=bool)
         starts = np.flatnonzero(self.kept | forced)  # forced: run ends that count in n
         self.ends = self.kept | forced
         self.merge = merge
+        self.slide = slide
         self.closed = not len(starts)
         self.starts = starts if len(starts) else np.array([0])
         k = len(ring)
@@ -408,7 +409,16 @@ class _Ring:
         if self.merge:  # kept, forced and single-edge run ends stay (see outline_band)
             on = np.where(vert >= 0, self.ends[vert % k], False)
             sel = merge_short_edges(self.ring, self.ext, S, pts, ~on, h, tol * h)
-            S, vert, pts = S[sel], vert[sel], pts[sel]
+            S, vert, pts, on = S[sel], vert[sel], pts[sel], on[sel]
+            if self.loose.any():  # resample_corners="merge" (uniform2d.corner_merge)
+                loose = np.where(vert >= 0, self.loose[vert % k], False)
+                sel, S, pts, merged = merge_corners(self.ring, self.ext, S, pts, loose, ~on, h,
+                                                    tol * h)
+                vert = np.where(merged, -1, vert)  # a merged point is no input vertex
+                S, vert, pts, on = S[sel], vert[sel], pts[sel], (on | merged)[sel]
+                self.n_corners = int(self.corner[vert[vert >= 0] % k].sum())
+            if self.slide:  # at the spacing found (uniform2d.ring_slide)
+                S, pts = slide_samples(self.ring, self.ext, S, pts, ~on & ~crowded(pts, h), tol * h)
         kept = np.zeros(len(S), dtype=bool)
         kept[vert >= 0] = self.kept[vert[vert >= 0] % k]
         return pts, kept, self._deviation(S, pts, per_edge=True), S

@@ -12,6 +12,7 @@ from .geometry import vertex_count
 from .graded import graded_mesh
 from .graded_outline import resample_for_field
 from .grading import as_field, count_for_field, field_integrals
+from .corner_merge import corner_policy
 from .mesh import Mesh
 from .optimize import optimize_mesh
 from .outline import (
@@ -55,6 +56,7 @@ def uniform_mesh(
     size=None,
     resample: float | None = None,
     corner_angle: float = CORNER_ANGLE,
+    resample_corners: str = "keep",
     objective: str = "balanced",
     progress=None,
     parts: int | None = None,
@@ -100,7 +102,13 @@ def uniform_mesh(
     (:func:`uniform2d.outline.resample_polygon`): corners turning by more than
     ``corner_angle`` degrees, and ring vertices that segments or fixed points
     touch, stay; the other input ring vertices go, and the boundary points that
-    replace them count in n.  So ``len(mesh.points)`` is n plus the kept vertices,
+    replace them count in n (they are slid along the outline to even out the ring
+    edges, within the tolerance: :mod:`uniform2d.ring_slide`).
+    ``resample_corners="merge"`` lets a corner with a ring point less than 0.6
+    spacings away merge with it into one point on the outline between them where
+    the tolerance still holds (:mod:`uniform2d.corner_merge`: that corner is then
+    followed within the tolerance, not kept as a vertex; the default ``"keep"``
+    keeps every corner).  So ``len(mesh.points)`` is n plus the kept vertices,
     ``mesh.polygon`` is the resampled polygon (``mesh.n_steiner`` counts the points
     beyond its vertices), and ``mesh.info["resample"]`` says the tolerance, the
     deviation reached (a length, and as a fraction of the spacing), the kept
@@ -128,6 +136,10 @@ def uniform_mesh(
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
     field = as_field(polygon, size)
+    if corner_policy(resample_corners) and (resample is None or field is not None):
+        raise InvalidArgumentError(
+            "resample_corners='merge' works with resample= and a uniform size only (it "
+            "merges corners of the resampled outline); add resample=TOL or drop it")
     if resample is not None and parts is not None:
         raise InvalidArgumentError("resample= works with a mesh in one part: parts= with it "
                                    "is not supported yet; drop one of them")
@@ -139,7 +151,8 @@ def uniform_mesh(
     if (n is None) == (size is None):
         raise InvalidArgumentError("give exactly one of n (number of Steiner points) and size")
     if resample is not None:
-        return _resampled_mesh(polygon, n, size, resample, corner_angle, objective, progress)
+        return _resampled_mesh(polygon, n, size, resample, corner_angle, objective, progress,
+                               resample_corners)
     n, what = _count(n, lambda: steiner_count_for_size(polygon, size), f"size {size!r}",
                      "use a smaller size")
     if isinstance(n, numbers.Integral) and not isinstance(n, bool):
@@ -156,9 +169,11 @@ def uniform_mesh(
     return mesh
 
 
-def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress) -> Mesh:
+def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
+                    corners="keep") -> Mesh:
     """:func:`uniform_mesh` with ``resample=tol``: the rings resampled, then meshed."""
-    res, left = resampled_outline(polygon, n, size=size, resample=tol, corner_angle=corner_angle)
+    res, left = resampled_outline(polygon, n, size=size, resample=tol, corner_angle=corner_angle,
+                                  resample_corners=corners)
     n_total = left + res.n_boundary
     what = f"n = {n}" if size is None else f"size {size!r} (n = {n_total})"
     if left < 1:
@@ -176,7 +191,7 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress) ->
 
 
 def resampled_outline(polygon: Polygon, n: int | None = None, *, size=None, resample: float,
-                      corner_angle: float = CORNER_ANGLE):
+                      corner_angle: float = CORNER_ANGLE, resample_corners: str = "keep"):
     """The outline ``uniform_mesh(polygon, n, size=size, resample=resample)`` meshes.
 
     Cheap next to the mesh: it says how many input vertices stay vertices
@@ -201,6 +216,9 @@ def resampled_outline(polygon: Polygon, n: int | None = None, *, size=None, resa
     """
     field = as_field(polygon, size)
     if field is not None:
+        if corner_policy(resample_corners):
+            raise InvalidArgumentError("resample_corners='merge' works with a uniform size "
+                                       "only, not a size field; drop it")
         n = count_for_field(polygon, field) if n is None else _positive_count(n)
         res, left, _ = resample_for_field(polygon, n, field, tolerance=resample,
                                           corner_angle=corner_angle)
@@ -210,10 +228,11 @@ def resampled_outline(polygon: Polygon, n: int | None = None, *, size=None, resa
     else:
         _positive_count(n)
     res, left = resample_polygon(polygon, n, size=size, tolerance=resample,
-                                 corner_angle=corner_angle)
+                                 corner_angle=corner_angle, corners=resample_corners)
     if res.resampled and is_coarse(polygon, res.spacing):  # see uniform2d.outline.COARSE_SPACING
         res, left = resample_polygon(polygon, n, size=size, tolerance=resample,
-                                     corner_angle=corner_angle, boundary_spacing=COARSE_SPACING)
+                                     corner_angle=corner_angle, boundary_spacing=COARSE_SPACING,
+                                     corners=resample_corners)
     if not res.resampled:  # no edge too short for this spacing: the paper's mode, as given
         res = dataclasses.replace(res, polygon=polygon)
         left = n if size is None else steiner_count_for_size(polygon, size)

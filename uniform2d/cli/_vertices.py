@@ -17,7 +17,7 @@ def steiner_for_vertices(polygon, total: int) -> int:
 
 
 def steiner_for_vertices_resampled(polygon, total: int, *, size, resample: float,
-                                   corner_angle=None) -> int:
+                                   corner_angle=None, resample_corners=None) -> int:
     """The Steiner count giving ``total`` vertices when the rings are resampled.
 
     A resampled mesh has n + (input vertices kept) vertices, and which input
@@ -27,6 +27,8 @@ def steiner_for_vertices_resampled(polygon, total: int, *, size, resample: float
     from ..uniform import resampled_outline
 
     extra = {} if corner_angle is None else {"corner_angle": corner_angle}
+    if resample_corners is not None:
+        extra["resample_corners"] = resample_corners
     # a dense outline may have more vertices than asked for: most go
     n = max(1, total - len(polygon.vertices))
     seen = set()

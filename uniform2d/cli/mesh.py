@@ -92,6 +92,10 @@ def add_parser(subparsers):
     p.add_argument("--corner-angle", type=float, default=None, metavar="DEG",
                    help="with --resample: input vertices turning by more than DEG degrees stay "
                    "(default 30)")
+    p.add_argument("--resample-corners", choices=("keep", "merge"), default=None,
+                   help="with --resample: 'keep' every corner (default), or 'merge' a corner "
+                   "with a ring point closer than 0.6 spacings into one point on the outline "
+                   "between them, within the tolerance (fewer short boundary edges)")
     p.add_argument("--method", choices=METHODS, default="uniform",
                    help="'uniform': uniform2d.uniform_mesh (recommended, default); "
                    "'paper': the paper's T+ (uniform2d.tplus)")
@@ -275,7 +279,8 @@ def _mesh_one(polygon, args, progress=None):
     if getattr(args, "vertices", None) is not None and args.resample is not None:
         n_arg = steiner_for_vertices_resampled(
             polygon, args.vertices, size=args.size if field is None else field,
-            resample=args.resample, corner_angle=args.corner_angle)
+            resample=args.resample, corner_angle=args.corner_angle,
+            resample_corners=args.resample_corners)
     elif getattr(args, "vertices", None) is not None:
         n_arg = steiner_for_vertices(polygon, args.vertices)
     if field is not None:
@@ -284,6 +289,8 @@ def _mesh_one(polygon, args, progress=None):
                             progress=progress, **extra)
     if args.method == "uniform":
         extra = {} if args.corner_angle is None else {"corner_angle": args.corner_angle}
+        if args.resample_corners is not None:
+            extra["resample_corners"] = args.resample_corners
         return uniform_mesh(polygon, n=n_arg, size=args.size, resample=args.resample,
                             progress=progress, **extra)
     return tplus(polygon, _count(polygon, args))
@@ -416,6 +423,11 @@ def _check_count(args) -> None:
                          "(not with --parts)")
     if args.corner_angle is not None and args.resample is None:
         raise ValueError("--corner-angle works with --resample only")
+    if args.resample_corners is not None and args.resample is None:
+        raise ValueError("--resample-corners works with --resample only")
+    if args.resample_corners == "merge" and has_field(args):
+        raise ValueError("--resample-corners merge works with a uniform size only (not with "
+                         "--refine or --size-field)")
     if has_field(args):
         if args.method != "uniform":
             raise ValueError("--refine and --size-field need --method uniform (the paper's T+ "
