@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
-from concurrent.futures import wait
+from concurrent.futures import Future, wait
 
 import numpy as np
 
@@ -176,6 +176,19 @@ def _reference(polygon: Polygon, n: int, start):
     return tp.info, quality(tp.points, tp.triangles), tp.info.get("d_n")
 
 
+def _reference_ahead(polygon: Polygon, n: int, start) -> Future | None:
+    """:func:`_reference` (T+ and its measures, or d_n alone) started on a
+    thread of its own beside the optimisation, or None (then made at once):
+    where T+ is to be made here (``start`` None), more than one thread is
+    allowed and the mesh has at most ``schedule.LARGE`` points (beyond, T+'s
+    arrays would stand beside the optimiser's at its peak).  Nothing of the
+    optimisation reads it before the end, and it is the same whenever it is
+    made: the core the optimiser's serial stages leave idle makes it."""
+    if start is not None or get_threads() <= 1 or n + len(polygon.vertices) > S.LARGE:
+        return None
+    return in_background(lambda: _reference(polygon, n, None))
+
+
 def _tplus_again(polygon: Polygon, n: int, start) -> Mesh:
     """The T+ :func:`_reference` compared with: the caller's, or made again
     (T+ is deterministic: the same mesh)."""
@@ -230,7 +243,8 @@ def optimize_mesh(
     nV = len(polygon.vertices)
     report = _reporter(progress)
     report("T+", 0, 1)
-    tp_info, q_tp, d_n = _reference(polygon, n, start)
+    reference = _reference_ahead(polygon, n, start)
+    made = _reference(polygon, n, start) if reference is None else None
     report("T+", 1, 1)
 
     h = target_size(polygon, n)
@@ -239,8 +253,8 @@ def optimize_mesh(
         pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = _finished(
             polygon, n, h, objective, options, report)
     finally:  # not left running beyond this call, whatever happens
-        if ahead is not None:
-            wait([ahead])
+        wait([f for f in (ahead, reference) if f is not None])
+    tp_info, q_tp, d_n = made if reference is None else reference.result()
     q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
     angled = False
     if n + nV <= ANGLES_MAX and q_new.min_angle < ANGLE_FINE:
