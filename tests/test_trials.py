@@ -50,7 +50,9 @@ def test_spring_rounds_in_two_parts_are_the_rounds_in_one(name, n):
 
 def test_trial_plan_splits_the_first_trial_only_where_it_leaves_starts_out():
     plan = _trial_plan(12, S.KEEP_LARGE)
-    assert [size for _, size, _ in plan] == [12, 6 + S.PRUNE_SPARE, 6, 3]
+    assert [size for _, size, _ in plan] == [12, 5 + S.PRUNE_SPARE, 5, 3]
+    # one fraction for every trial (meshes of up to KEEP_MAX points)
+    assert [size for _, size, _ in _trial_plan(12, S.KEEP)] == [12, 8 + S.PRUNE_SPARE, 8, 6]
     assert plan[0][0].spring_rounds + plan[1][0].spring_rounds == S.TRIALS[0].spring_rounds
     assert plan[1][2] == S.PRUNE_ROUNDS and plan[0][2] == 0
     assert [sched for sched, _, _ in plan[2:]] == list(S.TRIALS[1:])
@@ -69,6 +71,23 @@ def test_split_first_trial_finishes_the_same_mesh(name, n, monkeypatch):
     monkeypatch.setattr(S, "PRUNE_ROUNDS", 0)
     whole = uniform2d.uniform_mesh(p, n)
     assert _digest(pruned) == _digest(whole)
+
+
+@pytest.mark.parametrize("name, n", [("rect4x1", 1000), ("star10", 1000)])
+def test_narrower_trials_of_large_meshes_keep_the_winner(name, n, monkeypatch):
+    # rect4x1 at 1000: its winner ranks fifth of 12 after 10 spring rounds and
+    # fourth after the spring trial; star10 at 1000: third after the p = 8 one
+    # (the most of the benchmark polygons): KEEP_LARGE's 6, 5 and 3 starts keep
+    # it, the same mesh as with half of the starts going on after each trial
+    from fractions import Fraction
+
+    p = BENCH[name]
+    narrow = uniform2d.uniform_mesh(p, n)
+    check_mesh(narrow.points, narrow.triangles, p)
+    assert len(narrow.points) == len(p.vertices) + n
+    monkeypatch.setattr(S, "KEEP_LARGE", Fraction(1, 2))
+    half = uniform2d.uniform_mesh(p, n)
+    assert _digest(narrow) == _digest(half)
 
 
 def test_a_start_whose_spring_stopped_runs_no_more_rounds():

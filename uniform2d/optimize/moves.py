@@ -181,8 +181,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
     arguments.  Every start is built in the kernel once (:meth:`KernelMesh.built`)
     and runs the first schedule of ``schedule.TRIALS``; the best
-    ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE`` above
-    ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
+    ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE``'s, one
+    fraction a trial, above ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
     rounds in two parts, the starts ranked after ``schedule.PRUNE_ROUNDS`` of
     them and only those the next trial can take, and ``PRUNE_SPARE`` more,
     running the rest: :func:`_trial_plan`); the winner's kernel state goes on into the full schedule (overridden as
@@ -238,13 +238,14 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
 def _trial_plan(starts: int, keep) -> list:
     """The trials of :func:`improve_best` for ``starts`` starts: (schedule, how
     many of the best run it, spring rounds an earlier part of it asked).  The
-    ``schedule.TRIALS`` with ``keep`` of the starts going on after each; the
-    first trial's spring rounds split at ``schedule.PRUNE_ROUNDS`` where that
-    leaves starts out (the starts a split drops are those no later trial
-    would have run)."""
+    ``schedule.TRIALS`` with ``keep`` of the starts going on after each (a
+    fraction, or one per trial after the first); the first trial's spring
+    rounds split at ``schedule.PRUNE_ROUNDS`` where that leaves starts out
+    (the starts a split drops are those no later trial would have run)."""
+    keeps = keep if isinstance(keep, tuple) else (keep,) * (len(S.TRIALS) - 1)
     sizes = [starts]
-    for _ in S.TRIALS[1:]:
-        sizes.append(max(1, math.ceil(keep * sizes[-1])))
+    for k in keeps:
+        sizes.append(max(1, math.ceil(k * sizes[-1])))
     plan = [(sched, size, 0) for sched, size in zip(S.TRIALS, sizes)]
     first = S.TRIALS[0]
     cut = sizes[1] + S.PRUNE_SPARE if len(sizes) > 1 else starts
