@@ -125,3 +125,26 @@ def test_starts_sharing_their_rows_leave_them_as_they_were():
             assert np.array_equal(x, y)
         for x, y in zip(parts, before):
             assert (x is None and y is None) or np.array_equal(x, y)
+
+
+def test_the_winner_of_a_medium_mesh_goes_on_with_the_medium_schedule(monkeypatch):
+    # above MEDIUM points the winner of the trials goes on with SCHEDULE_MEDIUM
+    # (a shorter second spring run); improve() and smaller meshes keep SCHEDULE
+    assert S.schedule_for(S.MEDIUM + 1, False, winner=True) == S.SCHEDULE_MEDIUM
+    assert S.schedule_for(S.MEDIUM, False, winner=True) == S.SCHEDULE
+    assert S.schedule_for(S.MEDIUM + 1, False) == S.SCHEDULE
+    assert S.schedule_for(S.MEDIUM + 1, True, winner=True) == S.SCHEDULE_GRADED
+    assert S.schedule_for(S.LARGE + 1, False, winner=True) == S.SCHEDULE_LARGE
+    assert S.SCHEDULE_MEDIUM.spring_rounds < S.SCHEDULE.spring_rounds
+    p = BENCH["lshape"]
+    n = S.MEDIUM + 100
+    medium = uniform2d.uniform_mesh(p, n)
+    check_mesh(medium.points, medium.triangles, p)
+    assert len(medium.points) == len(p.vertices) + n
+    trials = S.TRIALS[0].spring_rounds
+    assert medium.info["relax_iterations"] <= trials + S.SCHEDULE_MEDIUM.spring_rounds
+    monkeypatch.setattr(S, "MEDIUM", 10**9)  # the full schedule after all
+    full = uniform2d.uniform_mesh(p, n)
+    check_mesh(full.points, full.triangles, p)
+    assert medium.info["relax_iterations"] < full.info["relax_iterations"]
+    assert _digest(medium) != _digest(full)

@@ -148,10 +148,11 @@ class Progress(NamedTuple):
     value: float | None = None
 
 
-def default_schedule(n_points: int, graded: bool, **overrides) -> S.Schedule:
+def default_schedule(n_points: int, graded: bool, winner: bool = False,
+                     **overrides) -> S.Schedule:
     """:func:`~uniform2d.optimize.schedule.schedule_for` with the fields of
     ``overrides`` that are not None put in."""
-    return S.schedule_for(n_points, graded)._replace(
+    return S.schedule_for(n_points, graded, winner)._replace(
         **{k: v for k, v in overrides.items() if v is not None}
     )
 
@@ -185,8 +186,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     fraction a trial, above ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
     rounds in two parts, the starts ranked after ``schedule.PRUNE_ROUNDS`` of
     them and only those the next trial can take, and ``PRUNE_SPARE`` more,
-    running the rest: :func:`_trial_plan`); the winner's kernel state goes on into the full schedule (overridden as
-    :func:`improve`'s) without being loaded again, from the stage
+    running the rest: :func:`_trial_plan`); the winner's kernel state goes on into the full schedule
+    (``schedule_for``'s with ``winner``, overridden as :func:`improve`'s) without being loaded again, from the stage
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
     the long ones on the few that can win.  ``report(done, total)``, if given, is
@@ -227,8 +228,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     del alive, scored  # the losers' kernel states go now
     if st is None:
         return i, *finish(polygon, None, run)
-    sched = default_schedule(len(st.xy), False, spring_rounds=spring_rounds, sweeps=sweeps,
-                             exponents=exponents, spread_sweeps=spread_sweeps)
+    sched = default_schedule(len(st.xy), False, True, spring_rounds=spring_rounds,
+                             sweeps=sweeps, exponents=exponents, spread_sweeps=spread_sweeps)
     if exponents is None:
         sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
     run = st.advance(sched, obj, run)
