@@ -75,8 +75,8 @@ CV_SLACK = 1e-3
 #: within the fraction NEAR_LENGTH of their limit (SLSQP's time grows with
 #: the constraints times the variables squared); where its result breaks one
 #: left out, the program with all of them runs instead.
-NEAR_ANGLE = 20.0
-NEAR_LENGTH = 0.1
+NEAR_ANGLE = 10.0
+NEAR_LENGTH = 0.05
 #: The constraints are met with this relative margin, so that rounding in the
 #: program's last step cannot lengthen the longest edge.
 MARGIN = 1e-9
