@@ -51,6 +51,12 @@ def test_spring_rounds_in_two_parts_are_the_rounds_in_one(name, n):
 def test_trial_plan_splits_the_first_trial_only_where_it_leaves_starts_out():
     plan = _trial_plan(12, S.KEEP_LARGE)
     assert [size for _, size, _ in plan] == [12, 5 + S.PRUNE_SPARE, 5, 3]
+    large = _trial_plan(12, S.KEEP_LARGE, S.PRUNE_ROUNDS_LARGE)
+    assert [(sched.spring_rounds, resumed) for sched, _, resumed in large[:2]] == [
+        (S.PRUNE_ROUNDS_LARGE, 0), (S.TRIALS[0].spring_rounds - S.PRUNE_ROUNDS_LARGE,
+                                    S.PRUNE_ROUNDS_LARGE)]
+    assert [(sched, size) for sched, size, _ in _trial_plan(12, S.KEEP_LARGE, 0)] == list(
+        zip(S.TRIALS, [12, 5, 3]))  # 0: no split
     # one fraction for every trial (meshes of up to KEEP_MAX points)
     assert [size for _, size, _ in _trial_plan(12, S.KEEP)] == [12, 8 + S.PRUNE_SPARE, 8, 6]
     assert plan[0][0].spring_rounds + plan[1][0].spring_rounds == S.TRIALS[0].spring_rounds
@@ -69,6 +75,7 @@ def test_split_first_trial_finishes_the_same_mesh(name, n, monkeypatch):
     pruned = uniform2d.uniform_mesh(p, n)
     check_mesh(pruned.points, pruned.triangles, p)
     monkeypatch.setattr(S, "PRUNE_ROUNDS", 0)
+    monkeypatch.setattr(S, "PRUNE_ROUNDS_LARGE", 0)
     whole = uniform2d.uniform_mesh(p, n)
     assert _digest(pruned) == _digest(whole)
 

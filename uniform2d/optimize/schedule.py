@@ -99,6 +99,13 @@ AFTER_TRIALS = 5
 #: eighth below (8 go on): the same winner, the same mesh, for 20-30 % fewer
 #: spring rounds in the first trial.
 PRUNE_ROUNDS = 10
+#: Above KEEP_MAX points the split comes after PRUNE_ROUNDS_LARGE rounds: there
+#: the winner ranks at most fourth of 12 after 5 rounds on the same cases (6
+#: go on), and every mesh of bench_uniform, bench_constrained and
+#: bench_angles is the same, bytes and all, with 5 as with 10 for every
+#: size; below KEEP_MAX the margin is gone after 5 (heptagon_short's winner at
+#: n = 200 ranks ninth of 12, 9 go on).
+PRUNE_ROUNDS_LARGE = 5
 PRUNE_SPARE = 1
 #: Above KEEP_MAX points fewer of the starts go on after each trial: the best
 #: KEEP_LARGE[k] of them after trial k (ceil, at least one; the spring trial's
