@@ -133,3 +133,30 @@ def test_near_rows_hold_the_binding_ones(unfitted):
     assert tuple(T[np.argmax(per)]) in set(map(tuple, tp)) and len(tp) < len(T)
     corners, hi, lo, tp = anglefit._rows(m.points, T, E, limits, A.min(), False)
     assert len(corners) == 3 * len(T) and len(hi) == len(lo) == len(E) and len(tp) == len(T)
+
+
+def test_a_near_program_breaking_a_left_out_constraint_gives_way_to_the_full_one(
+        unfitted, monkeypatch):
+    """With next to nothing stated (no angle but the worst, no edge or
+    perimeter limit) the near program's moves break constraints it left out:
+    each round then runs the full program, and the fit is the full one's."""
+    p, m = unfitted
+    edges = edges_of(p, m.points)
+    ran = []
+    program = anglefit._program
+
+    def counted(points, T, E, D, limits, rows=None):
+        if rows is not None:
+            ran.append(len(rows[0]) == 3 * len(T))
+        return program(points, T, E, D, limits, rows)
+
+    monkeypatch.setattr(anglefit, "_program", counted)
+    monkeypatch.setattr(anglefit, "NEAR_ANGLE", 0.0)
+    monkeypatch.setattr(anglefit, "NEAR_LENGTH", -1.0)
+    fallback = anglefit.fit_worst_angle(p, m.points, m.triangles, edges)
+    assert True in ran and False in ran  # near programs, then full ones
+    monkeypatch.setattr(anglefit, "NEAR_ANGLE", 180.0)
+    monkeypatch.setattr(anglefit, "NEAR_LENGTH", 1.0)
+    full = anglefit.fit_worst_angle(p, m.points, m.triangles, edges)
+    assert fallback[2] == full[2] >= 1
+    assert np.array_equal(fallback[0], full[0]) and np.array_equal(fallback[1], full[1])
