@@ -221,8 +221,9 @@ def optimize_mesh(
 ) -> Mesh:
     """The most uniform mesh with exactly ``n`` Steiner points (see :mod:`uniform2d.optimize`).
 
-    ``start`` is the T+ mesh to beat (computed if not given, and then made
-    again only if it is returned); ``options`` go to
+    ``start`` is the T+ mesh to beat (computed if not given, beside the
+    optimisation where more than one thread is allowed, see
+    :func:`_reference_ahead`, and then made again only if it is returned); ``options`` go to
     :func:`~uniform2d.optimize.improve`.  If n is too small for T+
     (:func:`uniform2d.tplus` raises
     :class:`~uniform2d.errors.InsufficientPointsError`), there is nothing to
