@@ -179,8 +179,11 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
                  spread_sweeps=None, movable_short: bool = False):
     """:func:`improve` from the best of several starts, found by successive halving.
 
-    ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
-    arguments.  Every start is built in the kernel once (:meth:`KernelMesh.built`)
+    ``starts`` is an iterable of ``(sites, edges, frozen)``, as :func:`improve`'s
+    arguments, or of those starts built already (:meth:`KernelMesh.built` with
+    ``href`` and ``movable_short``, as here; None for no sites: the caller's
+    threads can build each as soon as it is made; an iterator leaves the
+    kernel states to this function alone, which drops the losers' as it goes).  Every start is built in the kernel once (:meth:`KernelMesh.built`)
     and runs the first schedule of ``schedule.TRIALS``; the best
     ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE``'s, one
     fraction a trial, above ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
@@ -205,9 +208,13 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     few MB each), not for many starts of a huge mesh.
     """
     obj = objective_code(objective)
-    built = thread_map(lambda s: KernelMesh.built(polygon, s[0], href=href, frozen=s[2],
-                                                  edges=s[1], movable_short=movable_short),
-                       starts)
+    def loaded(s):  # a start the caller built already stays as it is
+        if s is None or isinstance(s, KernelMesh):
+            return s
+        return KernelMesh.built(polygon, s[0], href=href, frozen=s[2], edges=s[1],
+                                movable_short=movable_short)
+
+    built = thread_map(loaded, starts)
     alive = [(i, st, Progress()) for i, st in enumerate(built)]
     del built
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)

@@ -21,7 +21,7 @@ from . import schedule as S
 from .anglefit import fit_worst_angle
 from .angles import ANGLE_FINE, ANGLES_MAX, angle_attempt_wins, raise_worst_angle
 from .boundary import target_size
-from .moves import improve_best, improve_kept
+from .moves import KernelMesh, improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
 from .seed import start, start_parts, variants
@@ -46,8 +46,23 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     kinds = list(dict.fromkeys((c, lay) for c, _, lay in tried))
     parts = thread_map(lambda k: start_parts(polygon, n, h, *k, angled), kinds)
     shared = dict(zip(kinds, parts))
-    made = thread_map(lambda v: start(polygon, n, h, v, angled, shared=shared[v[0], v[2]]),
-                      tried)
+    ranked = len(tried) > 1
+
+    def made_and_built(v):
+        # each start built in the kernel on the thread that made it: one
+        # start's Python (the lattice) runs beside another's build (nogil)
+        made = start(polygon, n, h, v, angled, shared=shared[v[0], v[2]])
+        if not ranked:
+            return made, None
+        return made, KernelMesh.built(polygon, made[0], href=h, frozen=made[2], edges=made[1],
+                                      movable_short=angled)
+
+    both = thread_map(made_and_built, tried)
+    made = [m for m, _ in both]
+    # handed on as an iterator: improve_best alone holds the kernel states,
+    # and lets the losers' go as the trials drop them
+    kernels = iter([b for _, b in both])
+    del both
     options = {**options, "movable_short": angled}
     if len(made) == 1:  # nothing to rank
         report("seed", 0, 1)
@@ -60,7 +75,7 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
         i = 0
     else:
         i, pts, tri, run = improve_best(
-            polygon, [(s, e, f) for s, e, f, _ in made], objective=objective, href=h,
+            polygon, kernels, objective=objective, href=h,
             report=lambda done, total: _seed_then_relax(report, done, total), **options,
         )
     report("relaxation", 1, 1)
