@@ -94,3 +94,69 @@ def test_same_mesh_on_any_blas_thread_count(star10):
             again = uniform2d.uniform_mesh(p, 300)
         assert again.points.tobytes() == m.points.tobytes()
         assert again.triangles.tobytes() == m.triangles.tobytes()
+
+
+def test_near_constraints_reach_what_all_of_them_reach(unfitted, monkeypatch):
+    """The program stating only the constraints near binding at its start
+    (NEAR_ANGLE, NEAR_LENGTH) raises the worst angle as far as the one stating
+    all of them, breaking none of those it left out."""
+    p, m = unfitted
+    edges = edges_of(p, m.points)
+    near = anglefit.fit_worst_angle(p, m.points, m.triangles, edges)
+    monkeypatch.setattr(anglefit, "NEAR_ANGLE", 180.0)
+    monkeypatch.setattr(anglefit, "NEAR_LENGTH", 1.0)  # every constraint stated
+    full = anglefit.fit_worst_angle(p, m.points, m.triangles, edges)
+    assert near[2] == full[2] >= 1
+    check_mesh(near[0], near[1], p)
+    qn, qf = quality(near[0], near[1]), quality(full[0], full[1])
+    assert abs(qn.min_angle - qf.min_angle) < 1e-3
+    for k in ("edge_ratio", "longest_edge", "max_perimeter", "cv_edge"):
+        assert getattr(qn, k) <= getattr(qf, k) * (1 + 1e-6)
+
+
+def test_near_rows_hold_the_binding_ones(unfitted):
+    """The rows the near program states include the worst angle, the longest
+    and the shortest edge and the largest perimeter of the region; without
+    ``near`` every row."""
+    p, m = unfitted
+    nV = len(p.vertices)
+    free, T, E = anglefit._region(m.points, m.triangles, nV)
+    q = m.points[T]
+    A, _ = anglefit._angles_and_gradients(q)
+    L = np.hypot(*(m.points[E[:, 0]] - m.points[E[:, 1]]).T)
+    per = np.hypot(*(q - q[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
+    limits = (L.max(), L.min(), per.max(), L.mean(), 0.0)
+    corners, hi, lo, tp = anglefit._rows(m.points, T, E, limits, A.min(), True)
+    assert int(np.argmin(A)) in corners and len(corners) < len(A)
+    assert tuple(E[np.argmax(L)]) in set(map(tuple, hi)) and len(hi) < len(E)
+    assert tuple(E[np.argmin(L)]) in set(map(tuple, lo)) and len(lo) < len(E)
+    assert tuple(T[np.argmax(per)]) in set(map(tuple, tp)) and len(tp) < len(T)
+    corners, hi, lo, tp = anglefit._rows(m.points, T, E, limits, A.min(), False)
+    assert len(corners) == 3 * len(T) and len(hi) == len(lo) == len(E) and len(tp) == len(T)
+
+
+def test_a_near_program_breaking_a_left_out_constraint_gives_way_to_the_full_one(
+        unfitted, monkeypatch):
+    """With next to nothing stated (no angle but the worst, no edge or
+    perimeter limit) the near program's moves break constraints it left out:
+    each round then runs the full program, and the fit is the full one's."""
+    p, m = unfitted
+    edges = edges_of(p, m.points)
+    ran = []
+    program = anglefit._program
+
+    def counted(points, T, E, D, limits, rows=None):
+        if rows is not None:
+            ran.append(len(rows[0]) == 3 * len(T))
+        return program(points, T, E, D, limits, rows)
+
+    monkeypatch.setattr(anglefit, "_program", counted)
+    monkeypatch.setattr(anglefit, "NEAR_ANGLE", 0.0)
+    monkeypatch.setattr(anglefit, "NEAR_LENGTH", -1.0)
+    fallback = anglefit.fit_worst_angle(p, m.points, m.triangles, edges)
+    assert True in ran and False in ran  # near programs, then full ones
+    monkeypatch.setattr(anglefit, "NEAR_ANGLE", 180.0)
+    monkeypatch.setattr(anglefit, "NEAR_LENGTH", 1.0)
+    full = anglefit.fit_worst_angle(p, m.points, m.triangles, edges)
+    assert fallback[2] == full[2] >= 1
+    assert np.array_equal(fallback[0], full[0]) and np.array_equal(fallback[1], full[1])

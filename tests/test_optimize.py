@@ -214,6 +214,28 @@ def test_balanced_ranks_the_starts_by_the_edge_cv_too(monkeypatch):
     assert va < 1.05 * vb
 
 
+def test_hex_lattice_is_every_lattice_point_in_the_box_row_by_row():
+    """The lattice's points, bit for bit and in order, are those of the plain
+    formula over a wide range of rows and columns that fall in the box."""
+    import math
+
+    from uniform2d.optimize import lattice
+
+    for bounds, sp, angle, origin in (((0.0, 0.0, 3.0, 1.0), 0.21, 0.3, (3.0, 1.0)),
+                                      ((-1.5, 0.25, 0.5, 2.0), 0.13, -2.1, (0.1, -0.3))):
+        xmin, ymin, xmax, ymax = bounds
+        c, s, dy = math.cos(angle), math.sin(angle), sp * math.sqrt(3.0) / 2
+        want = []
+        for j in range(-80, 81):
+            for i in range(-80, 81):
+                u, v = (i + 0.5 * (j & 1)) * sp, j * dy
+                x, y = origin[0] + c * u - s * v, origin[1] + s * u + c * v
+                if xmin <= x <= xmax and ymin <= y <= ymax:
+                    want.append((x, y))
+        got = lattice.hex_lattice(bounds, sp, angle, origin)
+        assert len(want) > 50 and got.tobytes() == np.array(want).tobytes()
+
+
 def test_hex_lattice_does_not_depend_on_its_row_blocks(monkeypatch):
     """The lattice is made LATTICE_ROWS rows at a time: the same points, in the same
     order, as rows one at a time or all at once; spacing and rotation as asked."""

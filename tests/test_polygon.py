@@ -75,6 +75,20 @@ def test_min_vertex_distance_and_edges():
     assert P.edges.tolist() == [[0, 1], [1, 2], [2, 3], [3, 0]]
 
 
+def test_edges_made_once_are_handed_out_as_fresh_arrays():
+    # the edges are made once (the optimiser reads them a hundred times a
+    # mesh); a caller that writes into what it got changes nothing of P's
+    P = Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(1, 1), (1, 2), (2, 2), (2, 1)]],
+                segments=[[(3, 0.5), (3, 3.5)]])
+    E, C = P.edges, P.constraint_edges
+    assert E.tolist() == [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]]
+    assert C.tolist() == E.tolist() + P.segment_edges.tolist() and len(C) == len(E) + 1
+    E[:] = -1
+    C[:] = -1
+    assert P.edges.min() == 0 and P.constraint_edges.min() == 0
+    assert P.edges is not P.edges
+
+
 @pytest.mark.parametrize(
     "outer, holes, fragments",
     [

@@ -110,3 +110,28 @@ def test_bolt_plate_same_bytes_with_the_angle_attempt_ahead(total, restore_threa
         assert m.info["angle_attempt"]  # the attempt's mesh is the one kept
         digests.append(_digest(m))
     assert digests[0] == digests[1]
+
+
+def test_reference_ahead_only_with_threads_and_the_same_info(restore_threads):
+    # T+ (the reference the mesh must beat) is made on a thread of its own
+    # beside the optimisation on two threads, at once on one: the same mesh
+    # and the same T+ figures either way
+    from uniform2d.optimize import pipeline
+    from uniform2d.optimize.schedule import LARGE
+
+    p = benchmark_polygons()["lshape"]
+    set_threads(1)
+    assert pipeline._reference_ahead(p, 400, None) is None
+    one = uniform2d.uniform_mesh(p, 400)
+    set_threads(2)
+    tp = uniform2d.tplus(p, 400)
+    assert pipeline._reference_ahead(p, 400, tp) is None  # the caller's T+: nothing to make
+    assert pipeline._reference_ahead(p, LARGE, None) is None  # T+ not beside a large run
+    ahead = pipeline._reference_ahead(p, 400, None)
+    info, q, d_n = ahead.result()
+    assert (info, d_n) == (tp.info, tp.info["d_n"]) and q.min_angle == tp.quality().min_angle
+    two = uniform2d.uniform_mesh(p, 400)
+    check_mesh(two.points, two.triangles, p)
+    assert len(two.points) == len(p.vertices) + 400
+    assert _digest(one) == _digest(two)
+    assert one.info["start"] == two.info["start"] and one.info["start"] is not None

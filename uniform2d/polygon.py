@@ -162,7 +162,8 @@ class Polygon:
     """
 
     __slots__ = ("_rings", "_vertices", "_offsets", "_area", "_perimeter", "_segments",
-                 "_points", "_segment_edges", "_segment_ids", "_fixed", "_seeds", "_regions")  # fmt: skip
+                 "_points", "_segment_edges", "_segment_ids", "_fixed", "_seeds", "_regions",
+                 "_edges", "_constraint_edges")  # fmt: skip
 
     def __init__(self, outer, holes=(), *, segments=(), points=(), regions=()):
         outer_ring = _as_ring(outer, "outer ring")
@@ -212,6 +213,9 @@ class Polygon:
         self._vertices.setflags(write=False)
         self._offsets = np.cumsum([0] + [len(r) for r in rings])
         self._offsets.setflags(write=False)
+        # made once: the optimiser asks for them a hundred times a mesh
+        self._edges = self._ring_edges()
+        self._constraint_edges = np.concatenate([self._edges, self._segment_edges], axis=0)
         self._seeds = _regions.region_seeds(regions)
         self._regions = _regions.build(self, self._seeds) if self._seeds else None
 
@@ -309,7 +313,7 @@ class Polygon:
     def constraint_edges(self) -> np.ndarray:
         """Ring edges then segment pieces, (E + S, 2) int64: every edge the mesh
         must contain."""
-        return np.concatenate([self.edges, self._segment_edges], axis=0)
+        return self._constraint_edges.copy()
 
     @property
     def region_seeds(self) -> tuple:
@@ -346,6 +350,9 @@ class Polygon:
     @property
     def edges(self) -> np.ndarray:
         """Boundary edges as (E, 2) int64 indices into :attr:`vertices`, interior on the left."""
+        return self._edges.copy()
+
+    def _ring_edges(self) -> np.ndarray:
         out = []
         for r in range(len(self._rings)):
             a, b = self._offsets[r], self._offsets[r + 1]

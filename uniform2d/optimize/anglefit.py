@@ -13,7 +13,9 @@ edge) so that the smallest angle ``t`` of the triangles around them is largest
 the mesh's edges as constraints: no edge longer than the longest edge or
 shorter than the shortest one, no perimeter above the largest, and the spread
 of the moved edges about the mesh's mean edge length not larger than before.
-The moved points are triangulated afresh (the exact constrained Delaunay
+The program states first only the constraints near binding at its start
+(:data:`NEAR_ANGLE`, :data:`NEAR_LENGTH`), and all of them only where its
+result breaks one left out.  The moved points are triangulated afresh (the exact constrained Delaunay
 triangulation) and the round is kept only if the worst angle rose by
 ``MIN_GAIN`` and none of the edge ratio, longest edge and largest perimeter
 grew and the edge CV grew by at most ``CV_SLACK``.
@@ -68,6 +70,13 @@ REACH = 0.3
 #: moved edges is held about the old mean length, which itself moves a
 #: little).
 CV_SLACK = 1e-3
+#: The program states first only the constraints near binding at its start:
+#: the angles within NEAR_ANGLE degrees of the worst, the edges and perimeters
+#: within the fraction NEAR_LENGTH of their limit (SLSQP's time grows with
+#: the constraints times the variables squared); where its result breaks one
+#: left out, the program with all of them runs instead.
+NEAR_ANGLE = 10.0
+NEAR_LENGTH = 0.05
 #: The constraints are met with this relative margin, so that rounding in the
 #: program's last step cannot lengthen the longest edge.
 MARGIN = 1e-9
@@ -128,13 +137,34 @@ def _corners(T):
     return np.concatenate([T[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
 
 
-def _program(points, T, E, D, limits):
+def _rows(points, T, E, limits, t0, near: bool):
+    """The constraints the program states: (angle rows into :func:`_corners`
+    of T, edges held below the longest, edges held above the shortest,
+    triangles whose perimeter is held).  With ``near`` only those near
+    binding at the start (module docstring: :data:`NEAR_ANGLE`,
+    :data:`NEAR_LENGTH`); else all."""
+    lmax, lmin, pmax, _, _ = limits
+    corners = np.arange(3 * len(T))
+    if not near:
+        return corners, E, E, T
+    q = points[T]
+    A, _ = _angles_and_gradients(q)
+    L = np.hypot(*(points[E[:, 0]] - points[E[:, 1]]).T)
+    per = np.hypot(*(q - q[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
+    return (corners[A <= t0 + NEAR_ANGLE], E[L >= lmax * (1 - NEAR_LENGTH)],
+            E[L <= lmin * (1 + NEAR_LENGTH)], T[per >= pmax * (1 - NEAR_LENGTH)])
+
+
+def _program(points, T, E, D, limits, rows=None):
     """(place, constraints, their Jacobian) of the program in the variables x
     (the moves, then t): every angle of T at least t, the edges E and
     perimeters of T within ``limits`` = (longest, shortest, largest
-    perimeter, mean length, spread), all scaled to be of order one."""
+    perimeter, mean length, spread), all scaled to be of order one.
+    ``rows``: :func:`_rows`, the angles, edges and perimeters stated (all
+    if None; the spread is of every edge of E)."""
     lmax, lmin, pmax, mean, spread = limits
-    corners = _corners(T)
+    angle_rows, E_hi, E_lo, T_per = rows if rows is not None else (None, E, E, T)
+    corners = _corners(T) if angle_rows is None else _corners(T)[angle_rows]
     s = 100.0 / lmax
 
     def place(x):
@@ -143,29 +173,43 @@ def _program(points, T, E, D, limits):
     def through(idx, g):  # gradients by points (m, j, 2) -> by the variables (m, k)
         return np.einsum("mjc,mjck->mk", g, D[idx])
 
+    def lengths(P, edges):
+        return np.hypot(*(P[edges[:, 0]] - P[edges[:, 1]]).T)
+
     def fun(x):
         P = place(x)
         q = P[T]
         A, _ = _angles_and_gradients(q)
-        L = np.hypot(*(P[E[:, 0]] - P[E[:, 1]]).T)
-        per = np.hypot(*(q - q[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
-        return np.concatenate([A - x[-1], (lmax - L) * s, (L - lmin) * s, (pmax - per) * s,
+        if angle_rows is not None:
+            A = A[angle_rows]
+        L = lengths(P, E)
+        qp = P[T_per]
+        per = np.hypot(*(qp - qp[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
+        return np.concatenate([A - x[-1], (lmax - lengths(P, E_hi)) * s,
+                               (lengths(P, E_lo) - lmin) * s, (pmax - per) * s,
                                [(spread - ((L - mean) ** 2).sum()) * s * s]])
+
+    def length_gradients(P, edges):
+        dE = P[edges[:, 0]] - P[edges[:, 1]]
+        u = dE / np.hypot(*dE.T)[:, None]
+        return through(edges, np.stack([u, -u], axis=1))
 
     def jac(x):
         P = place(x)
         q = P[T]
         _, gA = _angles_and_gradients(q)
+        if angle_rows is not None:
+            gA = gA[angle_rows]
         JA = np.concatenate([through(corners, gA), -np.ones((len(corners), 1))], axis=1)
-        dE = P[E[:, 0]] - P[E[:, 1]]
-        L = np.hypot(*dE.T)
-        u = dE / L[:, None]
-        gL = through(E, np.stack([u, -u], axis=1))
-        side = q - q[:, [1, 2, 0]]
+        L = lengths(P, E)
+        gL = length_gradients(P, E)
+        qp = P[T_per]
+        side = qp - qp[:, [1, 2, 0]]
         unit = side / np.hypot(*side.transpose(2, 0, 1))[..., None]
-        gP = through(T, unit - unit[:, [2, 0, 1]])
+        gP = through(T_per, unit - unit[:, [2, 0, 1]])
         gS = np.einsum("m,mk->k", 2.0 * (L - mean), gL)[None]
-        rest = np.concatenate([-gL * s, gL * s, -gP * s, -gS * s * s])
+        rest = np.concatenate([-length_gradients(P, E_hi) * s, length_gradients(P, E_lo) * s,
+                               -gP * s, -gS * s * s])
         return np.concatenate([JA, np.concatenate([rest, np.zeros((len(rest), 1))], axis=1)])
 
     return place, fun, jac
@@ -190,21 +234,37 @@ def _fit(polygon, points, triangles, edges, a, d):
     unit = float(np.ldexp(1.0, int(np.frexp(limits[0])[1])))
     D, reach = _jacobian_map(points, free, edges, nV, d, unit)
     step = REACH * float(L.min())
-    place, fun, jac = _program(points, T, E, D, limits)
     x0 = np.zeros(D.shape[2] + 1)
     x0[-1] = float(min_angles(points, T).min())
     bounds = [(-step * r, step * r) for r in reach] + [(None, x0[-1] + RISE)]
-    # SLSQP's BLAS sums in another order on more threads: one thread, the same
-    # bytes on any machine
-    with threadpool_limits(limits=1, user_api="blas"):
-        res = minimize(lambda x: -x[-1], x0, jac=lambda x: np.r_[np.zeros(len(x) - 1), -1.0],
-                       bounds=bounds, method="SLSQP", options={"maxiter": ITERATIONS},
-                       constraints=[{"type": "ineq", "fun": fun, "jac": jac}])
+    # first the constraints near binding alone, then, if the result breaks one
+    # left out, all of them
+    for near in (True, False):
+        rows = _rows(points, T, E, limits, x0[-1], near)
+        place, fun, jac = _program(points, T, E, D, limits, rows)
+        # SLSQP's BLAS sums in another order on more threads: one thread, the
+        # same bytes on any machine
+        with threadpool_limits(limits=1, user_api="blas"):
+            res = minimize(lambda x: -x[-1], x0,
+                           jac=lambda x: np.r_[np.zeros(len(x) - 1), -1.0], bounds=bounds,
+                           method="SLSQP", options={"maxiter": ITERATIONS},
+                           constraints=[{"type": "ineq", "fun": fun, "jac": jac}])
+        if not near or _meets_all(points, T, E, D, limits, rows, res.x):
+            break
     P = place(res.x)
     for v in free[edges[free - nV] >= 0]:  # on its edge as the kernel places a sliding point
         e = edges[v - nV]
         P[v] = a[e] + (float((P[v] - a[e]) @ d[e]) / float(d[e] @ d[e])) * d[e]
     return P[nV:]
+
+
+def _meets_all(points, T, E, D, limits, rows, x) -> bool:
+    """Whether moves ``x`` break none of the constraints of the full program
+    that the near one (``rows``) left out further than the near one's own
+    worst (SLSQP's last iterate may miss its constraints by a rounding)."""
+    full = _program(points, T, E, D, limits)[1](x)
+    near = _program(points, T, E, D, limits, rows)[1](x)
+    return bool(full.min() >= min(0.0, near.min()))
 
 
 def _kept(q0, q) -> bool:

@@ -48,9 +48,10 @@ def hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
     j0, j1 = math.floor(V.min() / dy) - 2, math.ceil(V.max() / dy) + 2
     i0, i1 = math.floor(U.min() / spacing) - 2, math.ceil(U.max() / spacing) + 2
     out = []
+    i = np.arange(i0, i1 + 1)[None, :]
     for jb in range(j0, j1 + 1, LATTICE_ROWS):
-        j, i = np.meshgrid(np.arange(jb, min(jb + LATTICE_ROWS, j1 + 1)), np.arange(i0, i1 + 1),
-                           indexing="ij")
+        # a column of rows against a row of columns: the grid by broadcasting
+        j = np.arange(jb, min(jb + LATTICE_ROWS, j1 + 1))[:, None]
         u = (i + 0.5 * (j & 1)) * spacing
         v = j * dy
         x = origin[0] + c * u - s * v

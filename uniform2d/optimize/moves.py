@@ -148,10 +148,11 @@ class Progress(NamedTuple):
     value: float | None = None
 
 
-def default_schedule(n_points: int, graded: bool, **overrides) -> S.Schedule:
+def default_schedule(n_points: int, graded: bool, winner: bool = False,
+                     **overrides) -> S.Schedule:
     """:func:`~uniform2d.optimize.schedule.schedule_for` with the fields of
     ``overrides`` that are not None put in."""
-    return S.schedule_for(n_points, graded)._replace(
+    return S.schedule_for(n_points, graded, winner)._replace(
         **{k: v for k, v in overrides.items() if v is not None}
     )
 
@@ -178,15 +179,18 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
                  spread_sweeps=None, movable_short: bool = False):
     """:func:`improve` from the best of several starts, found by successive halving.
 
-    ``starts`` is a sequence of ``(sites, edges, frozen)``, as :func:`improve`'s
-    arguments.  Every start is built in the kernel once (:meth:`KernelMesh.built`)
+    ``starts`` is an iterable of ``(sites, edges, frozen)``, as :func:`improve`'s
+    arguments, or of those starts built already (:meth:`KernelMesh.built` with
+    ``href`` and ``movable_short``, as here; None for no sites: the caller's
+    threads can build each as soon as it is made; an iterator leaves the
+    kernel states to this function alone, which drops the losers' as it goes).  Every start is built in the kernel once (:meth:`KernelMesh.built`)
     and runs the first schedule of ``schedule.TRIALS``; the best
-    ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE`` above
-    ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
-    rounds in two parts, the starts ranked after ``schedule.PRUNE_ROUNDS`` of
+    ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE``'s, one
+    fraction a trial, above ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
+    rounds in two parts, the starts ranked after ``schedule.PRUNE_ROUNDS`` (``PRUNE_ROUNDS_LARGE``) of
     them and only those the next trial can take, and ``PRUNE_SPARE`` more,
-    running the rest: :func:`_trial_plan`); the winner's kernel state goes on into the full schedule (overridden as
-    :func:`improve`'s) without being loaded again, from the stage
+    running the rest: :func:`_trial_plan`); the winner's kernel state goes on into the full schedule
+    (``schedule_for``'s with ``winner``, overridden as :func:`improve`'s) without being loaded again, from the stage
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
     the long ones on the few that can win.  ``report(done, total)``, if given, is
@@ -204,14 +208,19 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     few MB each), not for many starts of a huge mesh.
     """
     obj = objective_code(objective)
-    built = thread_map(lambda s: KernelMesh.built(polygon, s[0], href=href, frozen=s[2],
-                                                  edges=s[1], movable_short=movable_short),
-                       starts)
+    def loaded(s):  # a start the caller built already stays as it is
+        if s is None or isinstance(s, KernelMesh):
+            return s
+        return KernelMesh.built(polygon, s[0], href=href, frozen=s[2], edges=s[1],
+                                movable_short=movable_short)
+
+    built = thread_map(loaded, starts)
     alive = [(i, st, Progress()) for i, st in enumerate(built)]
     del built
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
-    keep = S.KEEP if n_points <= S.KEEP_MAX else S.KEEP_LARGE
-    plan = _trial_plan(len(alive), keep)
+    small = n_points <= S.KEEP_MAX
+    plan = _trial_plan(len(alive), S.KEEP if small else S.KEEP_LARGE,
+                       S.PRUNE_ROUNDS if small else S.PRUNE_ROUNDS_LARGE)
     total, done = sum(size for _, size, _ in plan), 0
     if report is not None:
         report(done, total)
@@ -227,31 +236,33 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     del alive, scored  # the losers' kernel states go now
     if st is None:
         return i, *finish(polygon, None, run)
-    sched = default_schedule(len(st.xy), False, spring_rounds=spring_rounds, sweeps=sweeps,
-                             exponents=exponents, spread_sweeps=spread_sweeps)
+    sched = default_schedule(len(st.xy), False, True, spring_rounds=spring_rounds,
+                             sweeps=sweeps, exponents=exponents, spread_sweeps=spread_sweeps)
     if exponents is None:
         sched = sched._replace(exponents=tuple(k for k in sched.exponents if k >= S.AFTER_TRIALS))
     run = st.advance(sched, obj, run)
     return i, *st.result(run)
 
 
-def _trial_plan(starts: int, keep) -> list:
+def _trial_plan(starts: int, keep, prune: int | None = None) -> list:
     """The trials of :func:`improve_best` for ``starts`` starts: (schedule, how
     many of the best run it, spring rounds an earlier part of it asked).  The
-    ``schedule.TRIALS`` with ``keep`` of the starts going on after each; the
-    first trial's spring rounds split at ``schedule.PRUNE_ROUNDS`` where that
-    leaves starts out (the starts a split drops are those no later trial
-    would have run)."""
+    ``schedule.TRIALS`` with ``keep`` of the starts going on after each (a
+    fraction, or one per trial after the first); the first trial's spring
+    rounds split after ``prune`` of them (default ``schedule.PRUNE_ROUNDS``;
+    0: no split) where that leaves starts out (the starts a split drops are
+    those no later trial would have run)."""
+    prune = S.PRUNE_ROUNDS if prune is None else prune
+    keeps = keep if isinstance(keep, tuple) else (keep,) * (len(S.TRIALS) - 1)
     sizes = [starts]
-    for _ in S.TRIALS[1:]:
-        sizes.append(max(1, math.ceil(keep * sizes[-1])))
+    for k in keeps:
+        sizes.append(max(1, math.ceil(k * sizes[-1])))
     plan = [(sched, size, 0) for sched, size in zip(S.TRIALS, sizes)]
     first = S.TRIALS[0]
     cut = sizes[1] + S.PRUNE_SPARE if len(sizes) > 1 else starts
-    if S.PRUNE_ROUNDS and first.spring_rounds > S.PRUNE_ROUNDS and cut < starts:
-        plan[:1] = [(first._replace(spring_rounds=S.PRUNE_ROUNDS), starts, 0),
-                    (first._replace(spring_rounds=first.spring_rounds - S.PRUNE_ROUNDS), cut,
-                     S.PRUNE_ROUNDS)]
+    if prune and first.spring_rounds > prune and cut < starts:
+        plan[:1] = [(first._replace(spring_rounds=prune), starts, 0),
+                    (first._replace(spring_rounds=first.spring_rounds - prune), cut, prune)]
     return plan
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
-from concurrent.futures import wait
+from concurrent.futures import Future, wait
 
 import numpy as np
 
@@ -21,7 +21,7 @@ from . import schedule as S
 from .anglefit import fit_worst_angle
 from .angles import ANGLE_FINE, ANGLES_MAX, angle_attempt_wins, raise_worst_angle
 from .boundary import target_size
-from .moves import improve_best, improve_kept
+from .moves import KernelMesh, improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .relocate import relocate
 from .seed import start, start_parts, variants
@@ -46,8 +46,23 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     kinds = list(dict.fromkeys((c, lay) for c, _, lay in tried))
     parts = thread_map(lambda k: start_parts(polygon, n, h, *k, angled), kinds)
     shared = dict(zip(kinds, parts))
-    made = thread_map(lambda v: start(polygon, n, h, v, angled, shared=shared[v[0], v[2]]),
-                      tried)
+    ranked = len(tried) > 1
+
+    def made_and_built(v):
+        # each start built in the kernel on the thread that made it: one
+        # start's Python (the lattice) runs beside another's build (nogil)
+        made = start(polygon, n, h, v, angled, shared=shared[v[0], v[2]])
+        if not ranked:
+            return made, None
+        return made, KernelMesh.built(polygon, made[0], href=h, frozen=made[2], edges=made[1],
+                                      movable_short=angled)
+
+    both = thread_map(made_and_built, tried)
+    made = [m for m, _ in both]
+    # handed on as an iterator: improve_best alone holds the kernel states,
+    # and lets the losers' go as the trials drop them
+    kernels = iter([b for _, b in both])
+    del both
     options = {**options, "movable_short": angled}
     if len(made) == 1:  # nothing to rank
         report("seed", 0, 1)
@@ -60,7 +75,7 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
         i = 0
     else:
         i, pts, tri, run = improve_best(
-            polygon, [(s, e, f) for s, e, f, _ in made], objective=objective, href=h,
+            polygon, kernels, objective=objective, href=h,
             report=lambda done, total: _seed_then_relax(report, done, total), **options,
         )
     report("relaxation", 1, 1)
@@ -176,6 +191,19 @@ def _reference(polygon: Polygon, n: int, start):
     return tp.info, quality(tp.points, tp.triangles), tp.info.get("d_n")
 
 
+def _reference_ahead(polygon: Polygon, n: int, start) -> Future | None:
+    """:func:`_reference` (T+ and its measures, or d_n alone) started on a
+    thread of its own beside the optimisation, or None (then made at once):
+    where T+ is to be made here (``start`` None), more than one thread is
+    allowed and the mesh has at most ``schedule.LARGE`` points (beyond, T+'s
+    arrays would stand beside the optimiser's at its peak).  Nothing of the
+    optimisation reads it before the end, and it is the same whenever it is
+    made: the core the optimiser's serial stages leave idle makes it."""
+    if start is not None or get_threads() <= 1 or n + len(polygon.vertices) > S.LARGE:
+        return None
+    return in_background(lambda: _reference(polygon, n, None))
+
+
 def _tplus_again(polygon: Polygon, n: int, start) -> Mesh:
     """The T+ :func:`_reference` compared with: the caller's, or made again
     (T+ is deterministic: the same mesh)."""
@@ -208,8 +236,9 @@ def optimize_mesh(
 ) -> Mesh:
     """The most uniform mesh with exactly ``n`` Steiner points (see :mod:`uniform2d.optimize`).
 
-    ``start`` is the T+ mesh to beat (computed if not given, and then made
-    again only if it is returned); ``options`` go to
+    ``start`` is the T+ mesh to beat (computed if not given, beside the
+    optimisation where more than one thread is allowed, see
+    :func:`_reference_ahead`, and then made again only if it is returned); ``options`` go to
     :func:`~uniform2d.optimize.improve`.  If n is too small for T+
     (:func:`uniform2d.tplus` raises
     :class:`~uniform2d.errors.InsufficientPointsError`), there is nothing to
@@ -230,7 +259,8 @@ def optimize_mesh(
     nV = len(polygon.vertices)
     report = _reporter(progress)
     report("T+", 0, 1)
-    tp_info, q_tp, d_n = _reference(polygon, n, start)
+    reference = _reference_ahead(polygon, n, start)
+    made = _reference(polygon, n, start) if reference is None else None
     report("T+", 1, 1)
 
     h = target_size(polygon, n)
@@ -239,8 +269,8 @@ def optimize_mesh(
         pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = _finished(
             polygon, n, h, objective, options, report)
     finally:  # not left running beyond this call, whatever happens
-        if ahead is not None:
-            wait([ahead])
+        wait([f for f in (ahead, reference) if f is not None])
+    tp_info, q_tp, d_n = made if reference is None else reference.result()
     q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
     angled = False
     if n + nV <= ANGLES_MAX and q_new.min_angle < ANGLE_FINE:

@@ -31,6 +31,19 @@ SCHEDULE_LARGE = Schedule(30, 25, (4, 5), 5)
 #: targets are about the spread (CV) more than the extremes.  Shorter stages and
 #: a longer spread stage buy the same CV for less time.
 SCHEDULE_GRADED = Schedule(60, 25, (2, 3, 4, 5, 6), 30)
+#: The winner of the trials (:func:`uniform2d.optimize.moves.improve_best`) in
+#: meshes of more than MEDIUM points, up to LARGE: its trials ran 40 spring
+#: rounds and two short descent stages already, and there a second spring
+#: run of 20 rounds, stages of up to 25 sweeps and 10 spread sweeps reach what
+#: 60, 40 and 20 do within 0.3 % (geometric means of every measure of
+#: bench_uniform at 1000 and 10000, of bench_constrained at 1000 and
+#: bench_angles at 1500 and the bolt plate at 2000 and 8000; the worst angle
+#: of none lower) for a quarter less of the serial schedule's time.  Without
+#: the second spring run rect4x1's edge ratio at n = 1000 is 7 % worse.
+#: Smaller meshes keep SCHEDULE: their worst angle (the angle fit's start)
+#: moves with the schedule.
+SCHEDULE_MEDIUM = Schedule(20, 25, (4, 5, 6, 7, 8), 10)
+MEDIUM = 1000
 #: Point counts (|V| + n) above which fewer starts are tried
 #: (:func:`uniform2d.optimize.seed.variants`: above SMALL fewer, above LARGE
 #: one) and, above LARGE, SCHEDULE_LARGE is used.
@@ -86,14 +99,30 @@ AFTER_TRIALS = 5
 #: eighth below (8 go on): the same winner, the same mesh, for 20-30 % fewer
 #: spring rounds in the first trial.
 PRUNE_ROUNDS = 10
+#: Above KEEP_MAX points the split comes after PRUNE_ROUNDS_LARGE rounds: there
+#: the winner ranks at most fourth of 12 after 5 rounds on the same cases (6
+#: go on), and every mesh of bench_uniform, bench_constrained and
+#: bench_angles is the same, bytes and all, with 5 as with 10 for every
+#: size; below KEEP_MAX the margin is gone after 5 (heptagon_short's winner at
+#: n = 200 ranks ninth of 12, 9 go on).
+PRUNE_ROUNDS_LARGE = 5
 PRUNE_SPARE = 1
-#: Above KEEP_MAX points only the best KEEP_LARGE of the starts go on after each
-#: trial: on the benchmark and bundled polygons at 400 to 3000 Steiner points
-#: the same start wins as with KEEP, and at 10000 (two starts, one goes on) the
-#: figures stay within 0.5 %.  In smaller meshes the winner can rank lower
-#: early (the star's at n = 200 is fifth after two trials).
+#: Above KEEP_MAX points fewer of the starts go on after each trial: the best
+#: KEEP_LARGE[k] of them after trial k (ceil, at least one; the spring trial's
+#: split then leaves all but those and PRUNE_SPARE out after PRUNE_ROUNDS).
+#: On the benchmark, constrained and bolt-plate polygons at 1000 to 2000
+#: points (21 cases) the winner ranks at most fifth of 12 after 10 spring
+#: rounds, fourth of 7 after the spring trial and third of 6 after the p = 8
+#: one; with the spring trial unsplit, rect4x1's at n = 1000 ranks fifth
+#: after it: 12, then 6, 5 and 3 starts run the trials instead of 12, 7, 6
+#: and 3, the same winner on all of them (same bytes on every case of
+#: bench_uniform, bench_constrained and bench_angles).  Four after the spring
+#: trial would keep those winners too but not rect4x1's unsplit one.  At
+#: 10000 (two starts, one goes on) nothing changes.  In smaller meshes the
+#: winner can rank lower early (the star's at n = 200 is fifth after two
+#: trials): KEEP there.
 KEEP_MAX = 500
-KEEP_LARGE = Fraction(1, 2)
+KEEP_LARGE = (Fraction(5, 12), Fraction(3, 5))
 #: With ``"balanced"``, the short run ranks the starts by its objective value
 #: times the edge CV to this power: the start fixes the mesh's structure, and
 #: with it the CV the moves can reach (on a rectangle, a lattice aligned with a
@@ -114,8 +143,12 @@ RELOCATE_RADIUS = 4.0
 RELOCATE = {"spring_rounds": 20, "sweeps": 20, "exponents": (3, 4, 5, 6), "spread_sweeps": 10}
 
 
-def schedule_for(n_points: int, graded: bool) -> Schedule:
-    """The default schedule for a mesh of ``n_points`` points, with or without a size field."""
+def schedule_for(n_points: int, graded: bool, winner: bool = False) -> Schedule:
+    """The default schedule for a mesh of ``n_points`` points, with or without a
+    size field; ``winner``: for the winner of the optimiser's trials
+    (SCHEDULE_MEDIUM above MEDIUM points)."""
     if n_points > LARGE:
         return SCHEDULE_LARGE
-    return SCHEDULE_GRADED if graded else SCHEDULE
+    if graded:
+        return SCHEDULE_GRADED
+    return SCHEDULE_MEDIUM if winner and n_points > MEDIUM else SCHEDULE
