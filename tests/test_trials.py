@@ -139,6 +139,8 @@ def test_the_winner_of_a_medium_mesh_goes_on_with_the_medium_schedule(monkeypatc
     # (a shorter second spring run); improve() and smaller meshes keep SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, False, winner=True) == S.SCHEDULE_MEDIUM
     assert S.schedule_for(S.MEDIUM, False, winner=True) == S.SCHEDULE
+    assert S.schedule_for(S.SMALL, False, winner=True) == S.SCHEDULE_MEDIUM
+    assert S.schedule_for(S.SMALL + 1, False, winner=True) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, False) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, True, winner=True) == S.SCHEDULE_GRADED
     assert S.schedule_for(S.LARGE + 1, False, winner=True) == S.SCHEDULE_LARGE

@@ -32,7 +32,7 @@ SCHEDULE_LARGE = Schedule(30, 25, (4, 5), 5)
 #: a longer spread stage buy the same CV for less time.
 SCHEDULE_GRADED = Schedule(60, 25, (2, 3, 4, 5, 6), 30)
 #: The winner of the trials (:func:`uniform2d.optimize.moves.improve_best`) in
-#: meshes of more than MEDIUM points, up to LARGE: its trials ran 40 spring
+#: meshes of more than MEDIUM points, up to SMALL: its trials ran 40 spring
 #: rounds and two short descent stages already, and there a second spring
 #: run of 20 rounds, stages of up to 25 sweeps and 10 spread sweeps reach what
 #: 60, 40 and 20 do within 0.3 % (geometric means of every measure of
@@ -41,7 +41,9 @@ SCHEDULE_GRADED = Schedule(60, 25, (2, 3, 4, 5, 6), 30)
 #: of none lower) for a quarter less of the serial schedule's time.  Without
 #: the second spring run rect4x1's edge ratio at n = 1000 is 7 % worse.
 #: Smaller meshes keep SCHEDULE: their worst angle (the angle fit's start)
-#: moves with the schedule.
+#: moves with the schedule.  Above SMALL points, where fewer starts are tried,
+#: the shorter run lets one polygon's longest edge grow by more than 1 %, so
+#: they keep SCHEDULE too.
 SCHEDULE_MEDIUM = Schedule(20, 25, (4, 5, 6, 7, 8), 10)
 MEDIUM = 1000
 #: Point counts (|V| + n) above which fewer starts are tried
@@ -146,9 +148,9 @@ RELOCATE = {"spring_rounds": 20, "sweeps": 20, "exponents": (3, 4, 5, 6), "sprea
 def schedule_for(n_points: int, graded: bool, winner: bool = False) -> Schedule:
     """The default schedule for a mesh of ``n_points`` points, with or without a
     size field; ``winner``: for the winner of the optimiser's trials
-    (SCHEDULE_MEDIUM above MEDIUM points)."""
+    (SCHEDULE_MEDIUM above MEDIUM points, up to SMALL)."""
     if n_points > LARGE:
         return SCHEDULE_LARGE
     if graded:
         return SCHEDULE_GRADED
-    return SCHEDULE_MEDIUM if winner and n_points > MEDIUM else SCHEDULE
+    return SCHEDULE_MEDIUM if winner and MEDIUM < n_points <= SMALL else SCHEDULE
