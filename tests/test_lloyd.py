@@ -38,3 +38,46 @@ def test_density_power_four_follows_the_size():
     # with 1 / h² the edges grow like sqrt(h): q falls where h is large
     assert s2 < -0.15
     assert abs(s4) < 0.5 * abs(s2)
+
+
+def _reference_centroids(P, T, field, power):
+    """The cells' weighted centroids in plain numpy, sub-triangle by sub-triangle."""
+    num = np.zeros((len(P), 2))
+    den = np.zeros(len(P))
+    for tri in T:
+        a, b, c = P[tri]
+        d = 2 * (a[0] * (b[1] - c[1]) + b[0] * (c[1] - a[1]) + c[0] * (a[1] - b[1]))
+        sa, sb, sc = a @ a, b @ b, c @ c
+        cc = np.array([sa * (b[1] - c[1]) + sb * (c[1] - a[1]) + sc * (a[1] - b[1]),
+                       sa * (c[0] - b[0]) + sb * (a[0] - c[0]) + sc * (b[0] - a[0])]) / d
+        for k in range(3):
+            v, w1, w2 = tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]
+            p = P[v]
+            for x, y in ((0.5 * (p + P[w1]), cc), (cc, 0.5 * (p + P[w2]))):
+                g = (p + x + y) / 3
+                area = 0.5 * ((x[0] - p[0]) * (y[1] - p[1]) - (x[1] - p[1]) * (y[0] - p[0]))
+                w = area / field(g[None])[0] ** power
+                num[v] += w * g
+                den[v] += w
+    return num / den[:, None]
+
+
+def test_compiled_centroids_match_numpy():
+    from uniform2d._kernel.cells import weighted_centroids
+
+    start = insert(STRIP, 60, size=FIELD).points[len(STRIP.vertices):]
+    P, T = triangulate(STRIP, start, None)
+    got = weighted_centroids(P, T, FIELD.x, FIELD.y, FIELD.values, 4)
+    assert np.allclose(got, _reference_centroids(P, T, FIELD, 4), rtol=1e-12, atol=1e-12)
+    # a vertex in no triangle has no centroid
+    lone = weighted_centroids(np.vstack([P, [[9.0, 9.0]]]), T, FIELD.x, FIELD.y, FIELD.values, 4)
+    assert np.isnan(lone[-1]).all() and np.isfinite(lone[:-1]).all()
+
+
+def test_lloyd_is_deterministic_and_keeps_fixed_points():
+    start = insert(STRIP, 200, size=FIELD).points[len(STRIP.vertices):]
+    on = (start[:, 1] <= 0) | (start[:, 1] >= 1) | (start[:, 0] <= 0) | (start[:, 0] >= 4)
+    a = weighted_lloyd(STRIP, start, on, FIELD, iterations=10, power=4)
+    b = weighted_lloyd(STRIP, start, on, FIELD, iterations=10, power=4)
+    assert a.tobytes() == b.tobytes()
+    assert np.array_equal(a[on], start[on]) and not np.array_equal(a[~on], start[~on])

@@ -140,3 +140,44 @@ def test_rows_around_a_hole_take_the_count_their_circumference_asks():
         asks = 2 * np.pi * rm / float(h(np.array([[rm, 0.0]]))[0])
         assert ring.sum() > 24
         assert abs(ring.sum() - asks) <= 1.0
+
+
+@pytest.mark.parametrize("poly,h", [(Polygon([(0, 0), (4, 0), (4, 2), (0, 2)]), ramp),
+                                    (HOLED, ramp)])
+def test_front_of_the_active_points_is_the_front_of_all(poly, h):
+    """frontal_seed triangulates only the points on an open triangle: round by round
+    the front it finds (its apexes) is the one of all the points' triangulation."""
+    from scipy.spatial import Delaunay
+
+    from uniform2d.optimize.packing import _clear, _front, _greedy, _shape
+
+    field = as_field(poly, h)
+    s = scale_for_count(poly, field, 400)
+    size = field.scaled(s)
+    b, _ = boundary_sites(poly, field, s, 400)
+    shape, lines = _shape(poly)
+    P = np.concatenate([poly.vertices, b])
+    n0 = len(P)
+    active = np.ones(n0, bool)
+    for _ in range(12):
+        act = np.flatnonzero(active)
+        closed = cKDTree(P[~active]) if (~active).any() else None
+        mine, hc, on_open = _front(P, act, Delaunay(P[act]), size, shape, n0, closed)
+        full, _, _ = _front(P, np.arange(len(P)), Delaunay(P), size, shape, n0, None)
+        assert len(mine) == len(full)
+        if poly.n_holes == 0:  # no ring respaced: the same apexes, up to rounding and
+            # the diagonal Qhull picks among four cocircular points (lattice rows
+            # meeting at a corner)
+            d, _ = cKDTree(full).query(mine)
+            assert np.mean(d < 1e-12) >= 0.97
+        active[act] = False
+        active[on_open] = True
+        ok = shapely.contains_xy(shape, mine[:, 0], mine[:, 1])
+        ok[ok] = _clear(mine[ok], hc[ok], P, size(P), lines, size)
+        keep = np.flatnonzero(ok)
+        if not len(keep):
+            break
+        keep = keep[_greedy(mine[keep], hc[keep])]
+        P = np.concatenate([P, mine[keep]])
+        active = np.concatenate([active, np.ones(len(keep), bool)])
+    assert (~active).sum() > n0 // 2  # the rows left points behind the front

@@ -21,7 +21,7 @@ import itertools
 
 import numpy as np
 import shapely
-from scipy.spatial import Delaunay, cKDTree
+from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ..geometry import polygon_edges
 from ..insert import insert_on_edges
@@ -55,11 +55,15 @@ def _shape(polygon: Polygon):
     return shapely.Polygon(rings[0], rings[1:]), lines
 
 
-def _front(P, tri, size, shape, n0: int = 0):
-    """Apexes on the front edges of the Delaunay triangulation ``tri`` of ``P``
-    (its first ``n0`` points the boundary's), rings respaced
-    (:func:`_respace_rings`): (candidates (k, 2), their h)."""
-    S = tri.simplices
+def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
+    """Apexes on the front edges of the Delaunay triangulation ``tri`` of the
+    points ``P[act]`` (the first ``n0`` of ``P`` the boundary's), rings respaced
+    (:func:`_respace_rings`): (candidates (k, 2), their h, the points of ``act``
+    on an open triangle).  ``closed``: a KD-tree of the points left out of
+    ``act`` (:func:`frontal_seed`), or None; a triangle whose circumcircle holds
+    one is not a triangle of all the points' Delaunay triangulation, and counts
+    as filled."""
+    S = act[tri.simplices]
     A, B, C = P[S[:, 0]], P[S[:, 1]], P[S[:, 2]]
     cen = (A + B + C) / 3.0
     inside = shapely.contains_xy(shape, cen[:, 0], cen[:, 1])
@@ -67,6 +71,8 @@ def _front(P, tri, size, shape, n0: int = 0):
     area2 = np.abs((B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0]))
     R = a * b * c / np.maximum(2.0 * area2, 1e-300)
     filled = inside & (R <= FILLED * size(cen))
+    if closed is not None:
+        filled[inside] |= closed.query(_circumcentres(A[inside], B[inside], C[inside]))[0] < R[inside]
     open_ = inside & ~filled
     out, ends = [], []
     for k in range(3):  # edge opposite vertex k
@@ -92,7 +98,16 @@ def _front(P, tri, size, shape, n0: int = 0):
     cand = np.concatenate(out)
     if len(cand):
         cand = _respace_rings(cand, np.concatenate(ends), size, n0)
-    return cand, size(cand)
+    return cand, size(cand), np.unique(S[open_])
+
+
+def _circumcentres(a, b, c) -> np.ndarray:
+    """(k, 2) circumcentres of the triangles (a, b, c), each (k, 2)."""
+    b, c = b - a, c - a
+    d = 2.0 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
+    bb, cc = (b * b).sum(1), (c * c).sum(1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return a + np.column_stack([c[:, 1] * bb - b[:, 1] * cc, b[:, 0] * cc - c[:, 0] * bb]) / d[:, None]
 
 
 def _loops(ends: np.ndarray) -> list:
@@ -219,16 +234,32 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     """
     shape, lines = _shape(polygon)
     P = np.concatenate([polygon.vertices, np.asarray(sites, dtype=np.float64).reshape(-1, 2)])
+    hP = size(P)
     n0 = len(P)
+    # a point on no open triangle is behind the front for good: the rounds
+    # triangulate only the others (the front's triangles are the same; see _front)
+    active = np.ones(n0, dtype=bool)
     for _ in range(MAX_ROUNDS):
-        cand, hc = _front(P, Delaunay(P), size, shape, n0)
+        act = np.flatnonzero(active)
+        if len(act) < 3:
+            break
+        closed = None if len(act) == len(P) else cKDTree(P[~active])
+        try:
+            tri = Delaunay(P[act])
+        except QhullError:  # the active points all on a line: triangulate them all
+            act, closed, tri = np.arange(len(P)), None, Delaunay(P)
+        cand, hc, on_open = _front(P, act, tri, size, shape, n0, closed)
+        active[act] = False
+        active[on_open] = True
         ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
-        ok[ok] = _clear(cand[ok], hc[ok], P, size(P), lines, size)
+        ok[ok] = _clear(cand[ok], hc[ok], P, hP, lines, size)
         idx = np.flatnonzero(ok)
         if not len(idx):
             break
         keep = idx[_greedy(cand[idx], hc[idx])]
         P = np.concatenate([P, cand[keep]])
+        hP = np.concatenate([hP, hc[keep]])
+        active = np.concatenate([active, np.ones(len(keep), dtype=bool)])
     return P[n0:]
 
 
