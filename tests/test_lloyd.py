@@ -10,6 +10,7 @@ from uniform2d import Polygon, SizeField
 from uniform2d.geometry import unique_edges
 from uniform2d.insert import insert
 from uniform2d.optimize.lloyd import weighted_lloyd
+from uniform2d.testing import check_mesh
 from uniform2d.triangulation import triangulate
 
 STRIP = Polygon([(0, 0), (4, 0), (4, 1), (0, 1)])
@@ -81,3 +82,26 @@ def test_lloyd_is_deterministic_and_keeps_fixed_points():
     b = weighted_lloyd(STRIP, start, on, FIELD, iterations=10, power=4)
     assert a.tobytes() == b.tobytes()
     assert np.array_equal(a[on], start[on]) and not np.array_equal(a[~on], start[~on])
+
+
+def test_lloyd_in_the_kernel_is_lloyd_with_a_fresh_triangulation_each_time():
+    """The kernel moves the points and flips (no rebuild); the reference triangulates
+    anew every iteration and takes the numpy centroids: the same sites (from the
+    graded rows, whose points keep off the boundary: no move is refused)."""
+    from uniform2d.graded import boundary_sites
+    from uniform2d.grading import scale_for_count
+    from uniform2d.optimize.packing import rows_start
+
+    s = scale_for_count(STRIP, FIELD, 150)
+    b, e = boundary_sites(STRIP, FIELD, s, 150)
+    start, on = rows_start(STRIP, 150, FIELD, s, b, e)
+    got = weighted_lloyd(STRIP, start, on, FIELD, iterations=8, omega=1.5, power=4)
+    S = start.copy()
+    for _ in range(8):
+        P, T = triangulate(STRIP, S, None)
+        c = _reference_centroids(P, T, FIELD, 4)[len(STRIP.vertices):]
+        S[~on] += 1.5 * (c[~on] - S[~on])
+    assert np.allclose(got, S, rtol=0, atol=1e-9)
+    assert np.array_equal(got[on], start[on])
+    P, T = triangulate(STRIP, got, None)
+    check_mesh(P, T, STRIP, n_steiner=150)

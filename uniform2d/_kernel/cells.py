@@ -1,13 +1,22 @@
-"""Weighted centroids of the Voronoi cells within a mesh: the step of Lloyd's
-iterations (:mod:`uniform2d.optimize.lloyd`), one compiled pass over the triangles.
+"""Lloyd's iterations on the kernel's mesh (:mod:`uniform2d.optimize.lloyd`): the
+weighted centroids of the Voronoi cells within the mesh, one compiled pass over
+the triangles, and the moves towards them.
+
+The moves are the spring rounds' (:mod:`.spring`): all free vertices at once,
+those that would invert a triangle undone (exact), then Lawson flips make the
+mesh the constrained Delaunay triangulation of its points again (see
+:mod:`.relax`), so no iteration builds a triangulation afresh.
 """
 
 import numpy as np
 from ._jit import njit
 
+from .cdt import snap
 from .rank import _right_of
+from .spring import _commit
+from .star import FREE, legalize_live, live_slots
 
-__all__ = ["grid_size", "weighted_centroids"]
+__all__ = ["grid_size", "lloyd", "weighted_centroids"]
 
 
 @njit(cache=True, inline="always")
@@ -50,11 +59,17 @@ def weighted_centroids(xy, tri, gx, gy, gv, power):
     (v, mid(v, a), c) and (v, c, mid(v, b)), c the circumcentre, with signed
     areas (obtuse triangles add up right).  NaN for a vertex in no triangle.
     """
-    n = xy.shape[0]
+    return _centroids(xy, xy.shape[0], tri.ravel(), tri.shape[0], gx, gy, gv, power)
+
+
+@njit(cache=True, error_model="numpy")
+def _centroids(xy, n, tv, nt, gx, gy, gv, power):
+    """:func:`weighted_centroids` of the first n points and the nt triangles of
+    the flat vertex list tv (3 per triangle)."""
     num = np.zeros((n, 2))
     den = np.zeros(n)
-    for t in range(tri.shape[0]):
-        a, b, c = tri[t, 0], tri[t, 1], tri[t, 2]
+    for t in range(nt):
+        a, b, c = tv[3 * t], tv[3 * t + 1], tv[3 * t + 2]
         bx, by = xy[b, 0] - xy[a, 0], xy[b, 1] - xy[a, 1]
         cx, cy = xy[c, 0] - xy[a, 0], xy[c, 1] - xy[a, 1]
         d = 2.0 * (bx * cy - by * cx)
@@ -62,7 +77,7 @@ def weighted_centroids(xy, tri, gx, gy, gv, power):
         ox = xy[a, 0] + (cy * bb - by * cc) / d
         oy = xy[a, 1] + (bx * cc - cx * bb) / d
         for k in range(3):
-            v, w1, w2 = tri[t, k], tri[t, (k + 1) % 3], tri[t, (k + 2) % 3]
+            v, w1, w2 = tv[3 * t + k], tv[3 * t + (k + 1) % 3], tv[3 * t + (k + 2) % 3]
             px, py = xy[v, 0], xy[v, 1]
             m1x, m1y = 0.5 * (px + xy[w1, 0]), 0.5 * (py + xy[w1, 1])
             m2x, m2y = 0.5 * (px + xy[w2, 0]), 0.5 * (py + xy[w2, 1])
@@ -73,3 +88,37 @@ def weighted_centroids(xy, tri, gx, gy, gv, power):
         out[v, 0] = num[v, 0] / den[v]
         out[v, 1] = num[v, 1] / den[v]
     return out
+
+
+@njit(cache=True, error_model="numpy")
+def lloyd(m, role, gx, gy, gv, power, iters, omega):
+    """``iters`` Lloyd iterations on the Tri ``m``: every FREE vertex (``role``)
+    moves ``omega`` times the way to its cell's centroid for the density
+    1 / h**power (h the grid (gx, gy, gv), in the Tri's coordinates), all at
+    once; a move that would invert a triangle is undone with the others of that
+    triangle, and the mesh is legalised.  Returns the moves made."""
+    n = m.nv
+    xy = m.xy
+    alive, slots, movers = live_slots(m, role, False)
+    new = np.empty((n, 2))
+    newt = np.zeros(n)
+    hv = np.ones(n)
+    moved = np.zeros(n, np.bool_)
+    todo = np.empty(64, np.int32)
+    made = 0
+    for _ in range(iters):
+        C = _centroids(xy, n, m.tv, m.nt, gx, gy, gv, power)
+        for v in movers:
+            moved[v] = False
+            if role[v] != FREE or not (np.isfinite(C[v, 0]) and np.isfinite(C[v, 1])):
+                continue
+            x = xy[v, 0] + omega * (C[v, 0] - xy[v, 0])
+            y = xy[v, 1] + omega * (C[v, 1] - xy[v, 1])
+            new[v, 0], new[v, 1] = snap(m, x, y)
+            moved[v] = new[v, 0] != xy[v, 0] or new[v, 1] != xy[v, 1]
+        _commit(m, role, newt, new, newt, moved, hv, 0.0, slots, movers)
+        for v in movers:
+            if moved[v]:
+                made += 1
+        todo, slots, _, _, _ = legalize_live(m, moved, todo, alive, slots, todo, np.int64(-1))
+    return made

@@ -13,23 +13,24 @@ following h.
 The Voronoi cell of a vertex v is taken within the mesh: in every triangle
 (v, a, b) around it, the two triangles (v, mid(v, a), c) and (v, c, mid(v, b))
 with c the circumcentre (signed areas, so that obtuse triangles add up
-correctly), each weighted by its area times ρ at its centroid.  A point whose
-centroid falls outside P stays; ``fixed`` points (the boundary and segment
-points) stay.  Each iteration moves ``omega`` times the way to the centroid
-(over-relaxation: it converges in fewer iterations) and triangulates again
-(:func:`uniform2d.triangulation.load`, exact) with the sites' edges found
-once (a free site only moves to places strictly inside P).
+correctly), each weighted by its area times ρ at its centroid; ``fixed``
+points (the boundary and segment points) stay.  Each iteration moves every
+free point ``omega`` times the way to its centroid at once (over-relaxation:
+it converges in fewer iterations), in the kernel's mesh, built once
+(:class:`~uniform2d.optimize.moves.KernelMesh`): a move that would invert a
+triangle is not made (so no point leaves P), and flips keep the mesh the
+exact constrained Delaunay triangulation of its points
+(:func:`uniform2d._kernel.cells.lloyd`).
 """
 
 from __future__ import annotations
 
 import numpy as np
-import shapely
 
 from ..polygon import Polygon
 from ..sites import site_edges
-from .._kernel.cells import weighted_centroids
-from ..triangulation import load, unload
+from .._kernel.cells import lloyd
+from .moves import KernelMesh
 
 __all__ = ["weighted_lloyd"]
 
@@ -71,23 +72,14 @@ def weighted_lloyd(polygon: Polygon, sites, fixed, size, *, iterations: int = 30
     [[0.5, 0.5]]
     """
     S, edges = site_edges(polygon, sites)
-    S = S.copy()
-    # sites on the boundary stay on their edge; the others are placed as interior
-    # points (only places strictly inside P are taken), so no site is classified
-    # by distance again
-    free = ~np.asarray(fixed, dtype=bool) & (edges < 0)
-    off = polygon.ring_offsets
-    rings = [polygon.vertices[off[r]:off[r + 1]] for r in range(len(polygon.rings))]
-    shape = shapely.Polygon(rings[0], rings[1:])
-    nV = len(polygon.vertices)
-    V = polygon.vertices
-    for _ in range(iterations):
-        # the exact CDT, not checked: only the moves' result is a mesh
-        T = unload(load(polygon, S, edges=edges)).astype(np.int64)
-        P = np.concatenate([V, S])
-        target = weighted_centroids(P, T, size.x, size.y, size.values, power)[nV:]
-        cand = S + omega * (target - S)
-        ok = free & np.isfinite(cand).all(axis=1)
-        ok[ok] = shapely.contains_xy(shape, cand[ok, 0], cand[ok, 1])
-        S[ok] = cand[ok]
-    return S
+    # sites on the boundary stay on their edge (and by index: no site is
+    # classified by distance again); the others move inside P
+    stay = np.asarray(fixed, dtype=bool) | (edges >= 0)
+    if len(S) == 0 or stay.all() or iterations <= 0:
+        return S.copy()
+    st = KernelMesh.built(polygon, S, edges=edges, frozen=stay)
+    grid = size.transformed(1.0 / st.scale, -st.centre / st.scale)
+    lloyd(st.m, st.role, grid.x, grid.y, grid.values, int(power), int(iterations), float(omega))
+    out, _ = st.sites()
+    out[stay] = S[stay]
+    return out

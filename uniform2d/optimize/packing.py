@@ -135,6 +135,21 @@ def _loops(ends: np.ndarray) -> list:
     return loops
 
 
+def _clockwise(loops: list, P: np.ndarray) -> list:
+    """The loops (lists of indices into P) of three points or more turning clockwise."""
+    loops = [c for c in loops if len(c) >= 3]
+    if not loops:
+        return []
+    idx = np.concatenate(loops)
+    lens = np.array([len(c) for c in loops])
+    first = np.cumsum(lens) - lens
+    after = np.arange(1, len(idx) + 1)
+    after[first + lens - 1] = first  # each loop's last point is followed by its first
+    x, y = P[idx, 0], P[idx, 1]
+    area2 = np.add.reduceat(x * y[after] - y * x[after], first)
+    return [c for c, a in zip(loops, area2.tolist()) if a < 0]
+
+
 def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
     """``cand`` (the apexes of the front edges ``ends``, in order) with the apexes of
     every front ring growing outward around a hole (a closed chain turning
@@ -144,13 +159,11 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
     for more (or fewer).  The first ring, on the boundary points (indices below
     ``n0``), only gains points: with fewer, the polygon's vertices, which
     cannot move, would meet long edges (the spacing test drops apexes there)."""
-    out = [c[None, :] for c in cand]
+    new = {}  # a respaced ring's points, at its chain's first place
+    drop = np.zeros(len(cand), dtype=bool)
     t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
-    for chain in _loops(ends):
+    for chain in _clockwise(_loops(ends), cand):
         a = cand[chain]
-        x, y = a[:, 0], a[:, 1]
-        if len(a) < 3 or float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) >= 0:
-            continue
         d = np.roll(a, -1, axis=0) - a
         mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
         inv = (1.0 / size(mids.reshape(-1, 2))).reshape(len(a), -1).mean(axis=1)
@@ -162,10 +175,16 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
         goal = cum[-1] * np.arange(m) / m
         seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
         frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
-        out[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
-        for e in chain[1:]:
-            out[e] = out[e][:0]
-    return np.concatenate(out) if out else cand
+        new[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
+        drop[chain] = True
+    if not new:
+        return cand
+    out, prev = [], 0
+    for i in sorted(new):
+        out += [cand[prev:i][~drop[prev:i]], new[i]]
+        prev = i + 1
+    out.append(cand[prev:][~drop[prev:]])
+    return np.concatenate(out)
 
 
 def _clear(cand, hc, P, hP, lines, size) -> np.ndarray:
