@@ -43,6 +43,8 @@ FILLED = 0.75
 APEX_ITERATIONS = 2
 #: Samples of the size per gap of a ring respaced by :func:`_respace_rings`.
 RING_SAMPLES = 4
+#: Where a respaced ring's first point goes, in gaps from its chain's first apex.
+RING_PHASE = 0.0
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
 
@@ -172,7 +174,7 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
         m = int(np.rint(cum[-1]))
         if m == len(a) or (m < len(a) and bool(np.all(ends[chain] < n0))):
             continue
-        goal = cum[-1] * np.arange(m) / m
+        goal = cum[-1] * (np.arange(m) + RING_PHASE) / m
         seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
         frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
         new[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
