@@ -105,3 +105,26 @@ def test_lloyd_in_the_kernel_is_lloyd_with_a_fresh_triangulation_each_time():
     assert np.array_equal(got[on], start[on])
     P, T = triangulate(STRIP, got, None)
     check_mesh(P, T, STRIP, n_steiner=150)
+
+
+def test_compiled_grid_size_is_the_fields_bilinear():
+    """The cells' lookup starts from where a point would be on an even grid: on an
+    uneven one, and outside the grid (clamped), the very values of SizeField."""
+    from numba import njit
+
+    from uniform2d._kernel.cells import grid_size
+
+    @njit
+    def sizes(gx, gy, gv, P):
+        out = np.empty(len(P))
+        for k in range(len(P)):
+            out[k] = grid_size(gx, gy, gv, P[k, 0], P[k, 1])
+        return out
+
+    rng = np.random.default_rng(7)
+    for x in (np.linspace(-1.0, 3.0, 41), np.array([-1.0, -0.9, 0.0, 0.05, 2.0, 3.0])):
+        y = np.array([0.0, 0.1, 0.15, 1.0, 4.0])
+        f = SizeField(x, y, rng.uniform(0.1, 2.0, (len(y), len(x))))
+        P = np.column_stack([rng.uniform(-2, 4, 2000), rng.uniform(-1, 5, 2000)])
+        P = np.vstack([P, np.column_stack([np.repeat(x, len(y)), np.tile(y, len(x))])])
+        assert sizes(f.x, f.y, f.values, P).tobytes() == f(P).tobytes()

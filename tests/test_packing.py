@@ -181,3 +181,22 @@ def test_front_of_the_active_points_is_the_front_of_all(poly, h):
         P = np.concatenate([P, mine[keep]])
         active = np.concatenate([active, np.ones(len(keep), bool)])
     assert (~active).sum() > n0 // 2  # the rows left points behind the front
+
+
+def test_only_rings_around_a_hole_are_respaced():
+    """A clockwise front loop around a hole gets round(∮ ds / h) points; the same loop
+    around no hole (an island of filled triangles ahead of a front) keeps its apexes."""
+    from uniform2d.optimize.packing import _respace_rings
+
+    k = 12
+    ang = -2 * np.pi * np.arange(k) / k  # clockwise
+    cand = np.column_stack([np.cos(ang), np.sin(ang)])
+    ends = np.column_stack([np.arange(k), (np.arange(k) + 1) % k]) + 100  # not boundary points
+    perimeter = np.sum(np.linalg.norm(np.roll(cand, -1, axis=0) - cand, axis=1))
+    field = SizeField.constant((-2, -2, 2, 2), perimeter / 20)
+    ring = _respace_rings(cand, ends, field, 0, np.array([[0.0, 0.1]]))
+    assert len(ring) == 20
+    assert np.allclose(np.linalg.norm(np.diff(np.vstack([ring, ring[:1]]), axis=0), axis=1)[:-1],
+                       perimeter / 20, rtol=0.1)
+    for holes in (np.array([[5.0, 5.0]]), np.empty((0, 2))):
+        assert np.array_equal(_respace_rings(cand, ends, field, 0, holes), cand)

@@ -12,11 +12,25 @@ import numpy as np
 from ._jit import njit
 
 from .cdt import snap
-from .rank import _right_of
 from .spring import _commit
 from .star import FREE, legalize_live, live_slots
 
 __all__ = ["grid_size", "lloyd", "weighted_centroids"]
+
+
+@njit(cache=True, inline="always")
+def _cell(g, x):
+    """The largest i <= len(g) - 2 with g[i] <= x (0 if none), for sorted g: what
+    :func:`.rank._right_of` minus one, clamped, gives, found from where x would be
+    on an even grid (the fields' grids are; others take a few more steps)."""
+    last = g.shape[0] - 2
+    i = int((x - g[0]) / (g[-1] - g[0]) * (last + 1))
+    i = min(max(i, 0), last)
+    while i > 0 and g[i] > x:
+        i -= 1
+    while i < last and g[i + 1] <= x:
+        i += 1
+    return i
 
 
 @njit(cache=True, inline="always")
@@ -25,8 +39,8 @@ def grid_size(gx, gy, gv, x, y):
     formula of :func:`.rank.size_at` and ``uniform2d.sizefield`` on bare arrays."""
     x = min(max(x, gx[0]), gx[-1])
     y = min(max(y, gy[0]), gy[-1])
-    i = min(max(_right_of(gx, x) - 1, 0), gx.shape[0] - 2)
-    j = min(max(_right_of(gy, y) - 1, 0), gy.shape[0] - 2)
+    i = _cell(gx, x)
+    j = _cell(gy, y)
     tx = (x - gx[i]) / (gx[i + 1] - gx[i])
     ty = (y - gy[j]) / (gy[j + 1] - gy[j])
     return (

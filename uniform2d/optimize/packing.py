@@ -99,7 +99,7 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
         ends.append(np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1)))
     cand = np.concatenate(out)
     if len(cand):
-        cand = _respace_rings(cand, np.concatenate(ends), size, n0)
+        cand = _respace_rings(cand, np.concatenate(ends), size, n0, _hole_points(shape))
     return cand, size(cand), np.unique(S[open_])
 
 
@@ -152,7 +152,26 @@ def _clockwise(loops: list, P: np.ndarray) -> list:
     return [c for c, a in zip(loops, area2.tolist()) if a < 0]
 
 
-def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
+def _hole_points(shape) -> np.ndarray:
+    """(k, 2) one vertex of each hole of the shapely polygon ``shape``."""
+    return np.array([r.coords[0] for r in shape.interiors], dtype=np.float64).reshape(-1, 2)
+
+
+def _around_holes(loops: list, P: np.ndarray, holes: np.ndarray) -> list:
+    """The loops (lists of indices into P) that enclose one of the points ``holes``
+    (a ring around a hole, not a filled island ahead of the front)."""
+    out = []
+    for c in loops:
+        a = P[c]
+        lo, hi = a.min(axis=0), a.max(axis=0)
+        inbox = np.all((holes > lo) & (holes < hi), axis=1)
+        if inbox.any() and shapely.contains_xy(shapely.Polygon(a), *holes[inbox].T).any():
+            out.append(c)
+    return out
+
+
+def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0,
+                   holes=None) -> np.ndarray:
     """``cand`` (the apexes of the front edges ``ends``, in order) with the apexes of
     every front ring growing outward around a hole (a closed chain turning
     clockwise, the open side outside) replaced by ``round(∮ ds / h)`` points
@@ -160,11 +179,18 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
     keeps a ring's count from row to row, where h growing with the radius asks
     for more (or fewer).  The first ring, on the boundary points (indices below
     ``n0``), only gains points: with fewer, the polygon's vertices, which
-    cannot move, would meet long edges (the spacing test drops apexes there)."""
+    cannot move, would meet long edges (the spacing test drops apexes there).
+    With ``holes`` (a point of each hole) only the rings around one of them are
+    respaced, not the islands of filled triangles ahead of a front."""
     new = {}  # a respaced ring's points, at its chain's first place
     drop = np.zeros(len(cand), dtype=bool)
     t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
-    for chain in _clockwise(_loops(ends), cand):
+    if holes is not None and not len(holes):
+        return cand
+    loops = _clockwise(_loops(ends), cand)
+    if holes is not None:
+        loops = _around_holes(loops, cand, holes)
+    for chain in loops:
         a = cand[chain]
         d = np.roll(a, -1, axis=0) - a
         mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
