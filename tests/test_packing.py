@@ -161,7 +161,7 @@ def test_front_of_the_active_points_is_the_front_of_all(poly, h):
     active = np.ones(n0, bool)
     for _ in range(12):
         act = np.flatnonzero(active)
-        closed = cKDTree(P[~active]) if (~active).any() else None
+        closed = (lambda X, t=cKDTree(P[~active]): t.query(X)[0]) if (~active).any() else None
         mine, hc, on_open = _front(P, act, Delaunay(P[act]), size, shape, n0, closed)
         full, _, _ = _front(P, np.arange(len(P)), Delaunay(P), size, shape, n0, None)
         assert len(mine) == len(full)
@@ -200,3 +200,24 @@ def test_only_rings_around_a_hole_are_respaced():
                        perimeter / 20, rtol=0.1)
     for holes in (np.array([[5.0, 5.0]]), np.empty((0, 2))):
         assert np.array_equal(_respace_rings(cand, ends, field, 0, holes), cand)
+
+
+def test_grown_point_set_answers_as_one_tree():
+    """_Grown keeps two KD-trees (one rebuilt now and then): its nearest distances
+    and ball pairs are those of one tree over all its points, at every size."""
+    from uniform2d.optimize.packing import _Grown
+
+    rng = np.random.default_rng(3)
+    g = _Grown(np.empty((0, 2)))
+    P = np.empty((0, 2))
+    X = rng.random((50, 2))
+    r = rng.uniform(0.01, 0.2, 50)
+    for k in (1, 5, 300, 40, 40, 40, 700, 3):
+        Q = rng.random((k, 2))
+        g.add(Q)
+        P = np.vstack([P, Q])
+        one = cKDTree(P)
+        assert np.array_equal(g.nearest(X), one.query(X)[0])
+        i, j = g.ball(X, r)
+        want = sorted((a, b) for a, lst in enumerate(one.query_ball_point(X, r)) for b in lst)
+        assert sorted(zip(i.tolist(), j.tolist())) == want

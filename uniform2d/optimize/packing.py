@@ -47,6 +47,8 @@ RING_SAMPLES = 4
 RING_PHASE = 0.0
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
+#: Points added to a :class:`_Grown` set before its tree is built again, at least.
+GROWN = 256
 
 
 def _shape(polygon: Polygon):
@@ -61,10 +63,10 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     """Apexes on the front edges of the Delaunay triangulation ``tri`` of the
     points ``P[act]`` (the first ``n0`` of ``P`` the boundary's), rings respaced
     (:func:`_respace_rings`): (candidates (k, 2), their h, the points of ``act``
-    on an open triangle).  ``closed``: a KD-tree of the points left out of
-    ``act`` (:func:`frontal_seed`), or None; a triangle whose circumcircle holds
-    one is not a triangle of all the points' Delaunay triangulation, and counts
-    as filled."""
+    on an open triangle).  ``closed``: the distance from points (m, 2) to the
+    nearest point left out of ``act`` (:func:`frontal_seed`), or None; a
+    triangle whose circumcircle holds one is not a triangle of all the points'
+    Delaunay triangulation, and counts as filled."""
     S = act[tri.simplices]
     A, B, C = P[S[:, 0]], P[S[:, 1]], P[S[:, 2]]
     cen = (A + B + C) / 3.0
@@ -74,7 +76,7 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     R = a * b * c / np.maximum(2.0 * area2, 1e-300)
     filled = inside & (R <= FILLED * size(cen))
     if closed is not None:
-        filled[inside] |= closed.query(_circumcentres(A[inside], B[inside], C[inside]))[0] < R[inside]
+        filled[inside] |= closed(_circumcentres(A[inside], B[inside], C[inside])) < R[inside]
     open_ = inside & ~filled
     out, ends = [], []
     for k in range(3):  # edge opposite vertex k
@@ -215,19 +217,61 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0,
     return np.concatenate(out)
 
 
-def _clear(cand, hc, P, hP, lines, size) -> np.ndarray:
+def _clear(cand, hc, P, hP, lines, size, ball=None) -> np.ndarray:
     """(k,) bool: the candidates at least SPACING times the smaller of the two sizes
     from every point of ``P`` and LINE_SPACING times the smaller of theirs and the
     nearest boundary point's from the boundary.  The smaller size, not the
     candidate's: where h grows steeply the apex of a front edge has a larger size
-    than the edge, and its own size would refuse the whole first row."""
+    than the edge, and its own size would refuse the whole first row.  ``ball``:
+    the pairs (i, j) of a ball query of the candidates i among the points j of
+    ``P`` (:class:`_Grown`), if known."""
     pc = shapely.points(cand)
     near = shapely.get_coordinates(shapely.shortest_line(pc, lines))[1::2]
     ok = shapely.distance(lines, pc) >= LINE_SPACING * np.minimum(hc, size(near))
-    i, j = _within(cKDTree(P).query_ball_point(cand, SPACING * hc))
+    i, j = (ball or _Grown(P).ball)(cand, SPACING * hc)
     d = np.hypot(*(P[j] - cand[i]).T)
     ok[i[d < SPACING * np.minimum(hP[j], hc[i])]] = False
     return ok
+
+
+class _Grown:
+    """The KD-tree queries of points whose number only grows, without a tree over
+    all of them built each time: one tree rebuilt when the points added since
+    are more than a quarter of it (and GROWN), and one over those."""
+
+    def __init__(self, P):
+        self.P = np.asarray(P, dtype=np.float64).reshape(-1, 2)
+        self.n = len(self.P)
+        self.big = cKDTree(self.P) if self.n else None
+        self.small = None
+
+    def add(self, Q) -> None:
+        if not len(Q):
+            return
+        self.P = np.concatenate([self.P, Q])
+        if len(self.P) - self.n > max(GROWN, self.n // 4):
+            self.n = len(self.P)
+            self.big, self.small = cKDTree(self.P), None
+        else:
+            self.small = cKDTree(self.P[self.n:])
+
+    def _trees(self):
+        return [(t, k) for t, k in ((self.big, 0), (self.small, self.n)) if t is not None]
+
+    def nearest(self, X) -> np.ndarray:
+        """(m,) distance from each of the points X (m, 2) to the nearest point."""
+        d = np.full(len(X), np.inf)
+        for t, _ in self._trees():
+            d = np.minimum(d, t.query(X)[0])
+        return d
+
+    def ball(self, X, r) -> tuple:
+        """(i, j) int64: the points j within r[i] of X[i] (cKDTree.query_ball_point)."""
+        pairs = [_within(t.query_ball_point(X, r)) for t, _ in self._trees()]
+        if not pairs:
+            return np.empty(0, np.int64), np.empty(0, np.int64)
+        return (np.concatenate([i for i, _ in pairs]),
+                np.concatenate([j + k for (_, j), (_, k) in zip(pairs, self._trees())]))
 
 
 def _within(lists) -> tuple:
@@ -286,25 +330,28 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     # a point on no open triangle is behind the front for good: the rounds
     # triangulate only the others (the front's triangles are the same; see _front)
     active = np.ones(n0, dtype=bool)
+    every, behind = _Grown(P), _Grown(np.empty((0, 2)))
     for _ in range(MAX_ROUNDS):
         act = np.flatnonzero(active)
         if len(act) < 3:
             break
-        closed = None if len(act) == len(P) else cKDTree(P[~active])
         try:
             tri = Delaunay(P[act])
-        except QhullError:  # the active points all on a line: triangulate them all
-            act, closed, tri = np.arange(len(P)), None, Delaunay(P)
+        except QhullError:  # the active points all on a line: no open triangle
+            break
+        closed = behind.nearest if len(behind.P) else None
         cand, hc, on_open = _front(P, act, tri, size, shape, n0, closed)
         active[act] = False
         active[on_open] = True
+        behind.add(P[act[~active[act]]])
         ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
-        ok[ok] = _clear(cand[ok], hc[ok], P, hP, lines, size)
+        ok[ok] = _clear(cand[ok], hc[ok], P, hP, lines, size, every.ball)
         idx = np.flatnonzero(ok)
         if not len(idx):
             break
         keep = idx[_greedy(cand[idx], hc[idx])]
         P = np.concatenate([P, cand[keep]])
+        every.add(cand[keep])
         hP = np.concatenate([hP, hc[keep]])
         active = np.concatenate([active, np.ones(len(keep), dtype=bool)])
     return P[n0:]
