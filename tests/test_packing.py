@@ -183,25 +183,6 @@ def test_front_of_the_active_points_is_the_front_of_all(poly, h):
     assert (~active).sum() > n0 // 2  # the rows left points behind the front
 
 
-def test_only_rings_around_a_hole_are_respaced():
-    """A clockwise front loop around a hole gets round(∮ ds / h) points; the same loop
-    around no hole (an island of filled triangles ahead of a front) keeps its apexes."""
-    from uniform2d.optimize.packing import _respace_rings
-
-    k = 12
-    ang = -2 * np.pi * np.arange(k) / k  # clockwise
-    cand = np.column_stack([np.cos(ang), np.sin(ang)])
-    ends = np.column_stack([np.arange(k), (np.arange(k) + 1) % k]) + 100  # not boundary points
-    perimeter = np.sum(np.linalg.norm(np.roll(cand, -1, axis=0) - cand, axis=1))
-    field = SizeField.constant((-2, -2, 2, 2), perimeter / 20)
-    ring = _respace_rings(cand, ends, field, 0, np.array([[0.0, 0.1]]))
-    assert len(ring) == 20
-    assert np.allclose(np.linalg.norm(np.diff(np.vstack([ring, ring[:1]]), axis=0), axis=1)[:-1],
-                       perimeter / 20, rtol=0.1)
-    for holes in (np.array([[5.0, 5.0]]), np.empty((0, 2))):
-        assert np.array_equal(_respace_rings(cand, ends, field, 0, holes), cand)
-
-
 def test_grown_point_set_answers_as_one_tree():
     """_Grown keeps two KD-trees (one rebuilt now and then): its nearest distances
     and ball pairs are those of one tree over all its points, at every size."""
@@ -221,3 +202,23 @@ def test_grown_point_set_answers_as_one_tree():
         i, j = g.ball(X, r)
         want = sorted((a, b) for a, lst in enumerate(one.query_ball_point(X, r)) for b in lst)
         assert sorted(zip(i.tolist(), j.tolist())) == want
+
+
+def test_clockwise_front_loops_are_respaced_counter_clockwise_ones_kept():
+    """A front loop turning clockwise (open side outside: a ring growing outward) gets
+    round(∮ ds / h) points evenly spaced; the same loop turning counter-clockwise
+    (a front closing in on an open region) keeps its apexes."""
+    from uniform2d.optimize.packing import _respace_rings
+
+    k = 12
+    ang = -2 * np.pi * np.arange(k) / k  # clockwise
+    cw = np.column_stack([np.cos(ang), np.sin(ang)])
+    ends = np.column_stack([np.arange(k), (np.arange(k) + 1) % k]) + 100  # not boundary points
+    perimeter = np.sum(np.linalg.norm(np.roll(cw, -1, axis=0) - cw, axis=1))
+    field = SizeField.constant((-2, -2, 2, 2), perimeter / 20)
+    ring = _respace_rings(cw, ends, field, 0)
+    assert len(ring) == 20
+    gaps = np.linalg.norm(np.diff(ring, axis=0), axis=1)
+    assert np.allclose(gaps, perimeter / 20, rtol=0.1)
+    ccw = cw[::-1].copy()
+    assert np.array_equal(_respace_rings(ccw, ends, field, 0), ccw)

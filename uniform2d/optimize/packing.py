@@ -101,7 +101,7 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
         ends.append(np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1)))
     cand = np.concatenate(out)
     if len(cand):
-        cand = _respace_rings(cand, np.concatenate(ends), size, n0, _hole_points(shape))
+        cand = _respace_rings(cand, np.concatenate(ends), size, n0)
     return cand, size(cand), np.unique(S[open_])
 
 
@@ -154,26 +154,7 @@ def _clockwise(loops: list, P: np.ndarray) -> list:
     return [c for c, a in zip(loops, area2.tolist()) if a < 0]
 
 
-def _hole_points(shape) -> np.ndarray:
-    """(k, 2) one vertex of each hole of the shapely polygon ``shape``."""
-    return np.array([r.coords[0] for r in shape.interiors], dtype=np.float64).reshape(-1, 2)
-
-
-def _around_holes(loops: list, P: np.ndarray, holes: np.ndarray) -> list:
-    """The loops (lists of indices into P) that enclose one of the points ``holes``
-    (a ring around a hole, not a filled island ahead of the front)."""
-    out = []
-    for c in loops:
-        a = P[c]
-        lo, hi = a.min(axis=0), a.max(axis=0)
-        inbox = np.all((holes > lo) & (holes < hi), axis=1)
-        if inbox.any() and shapely.contains_xy(shapely.Polygon(a), *holes[inbox].T).any():
-            out.append(c)
-    return out
-
-
-def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0,
-                   holes=None) -> np.ndarray:
+def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
     """``cand`` (the apexes of the front edges ``ends``, in order) with the apexes of
     every front ring growing outward around a hole (a closed chain turning
     clockwise, the open side outside) replaced by ``round(∮ ds / h)`` points
@@ -182,17 +163,13 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0,
     for more (or fewer).  The first ring, on the boundary points (indices below
     ``n0``), only gains points: with fewer, the polygon's vertices, which
     cannot move, would meet long edges (the spacing test drops apexes there).
-    With ``holes`` (a point of each hole) only the rings around one of them are
-    respaced, not the islands of filled triangles ahead of a front."""
+    Clockwise loops around no hole count too: on the surface layer's charts
+    respacing only those around a hole raised the CV of q (cylinder 0.059 to
+    0.069)."""
     new = {}  # a respaced ring's points, at its chain's first place
     drop = np.zeros(len(cand), dtype=bool)
     t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
-    if holes is not None and not len(holes):
-        return cand
-    loops = _clockwise(_loops(ends), cand)
-    if holes is not None:
-        loops = _around_holes(loops, cand, holes)
-    for chain in loops:
+    for chain in _clockwise(_loops(ends), cand):
         a = cand[chain]
         d = np.roll(a, -1, axis=0) - a
         mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
