@@ -140,3 +140,85 @@ def test_rows_around_a_hole_take_the_count_their_circumference_asks():
         asks = 2 * np.pi * rm / float(h(np.array([[rm, 0.0]]))[0])
         assert ring.sum() > 24
         assert abs(ring.sum() - asks) <= 1.0
+
+
+@pytest.mark.parametrize("poly,h", [(Polygon([(0, 0), (4, 0), (4, 2), (0, 2)]), ramp),
+                                    (HOLED, ramp)])
+def test_front_of_the_active_points_is_the_front_of_all(poly, h):
+    """frontal_seed triangulates only the points on an open triangle: round by round
+    the front it finds (its apexes) is the one of all the points' triangulation."""
+    from scipy.spatial import Delaunay
+
+    from uniform2d.optimize.packing import _clear, _front, _greedy, _shape
+
+    field = as_field(poly, h)
+    s = scale_for_count(poly, field, 400)
+    size = field.scaled(s)
+    b, _ = boundary_sites(poly, field, s, 400)
+    shape, lines = _shape(poly)
+    P = np.concatenate([poly.vertices, b])
+    n0 = len(P)
+    active = np.ones(n0, bool)
+    for _ in range(12):
+        act = np.flatnonzero(active)
+        closed = (lambda X, t=cKDTree(P[~active]): t.query(X)[0]) if (~active).any() else None
+        mine, hc, on_open = _front(P, act, Delaunay(P[act]), size, shape, n0, closed)
+        full, _, _ = _front(P, np.arange(len(P)), Delaunay(P), size, shape, n0, None)
+        assert len(mine) == len(full)
+        if poly.n_holes == 0:  # no ring respaced: the same apexes, up to rounding and
+            # the diagonal Qhull picks among four cocircular points (lattice rows
+            # meeting at a corner)
+            d, _ = cKDTree(full).query(mine)
+            assert np.mean(d < 1e-12) >= 0.97
+        active[act] = False
+        active[on_open] = True
+        ok = shapely.contains_xy(shape, mine[:, 0], mine[:, 1])
+        ok[ok] = _clear(mine[ok], hc[ok], P, size(P), lines, size)
+        keep = np.flatnonzero(ok)
+        if not len(keep):
+            break
+        keep = keep[_greedy(mine[keep], hc[keep])]
+        P = np.concatenate([P, mine[keep]])
+        active = np.concatenate([active, np.ones(len(keep), bool)])
+    assert (~active).sum() > n0 // 2  # the rows left points behind the front
+
+
+def test_grown_point_set_answers_as_one_tree():
+    """_Grown keeps two KD-trees (one rebuilt now and then): its nearest distances
+    and ball pairs are those of one tree over all its points, at every size."""
+    from uniform2d.optimize.packing import _Grown
+
+    rng = np.random.default_rng(3)
+    g = _Grown(np.empty((0, 2)))
+    P = np.empty((0, 2))
+    X = rng.random((50, 2))
+    r = rng.uniform(0.01, 0.2, 50)
+    for k in (1, 5, 300, 40, 40, 40, 700, 3):
+        Q = rng.random((k, 2))
+        g.add(Q)
+        P = np.vstack([P, Q])
+        one = cKDTree(P)
+        assert np.array_equal(g.nearest(X), one.query(X)[0])
+        i, j = g.ball(X, r)
+        want = sorted((a, b) for a, lst in enumerate(one.query_ball_point(X, r)) for b in lst)
+        assert sorted(zip(i.tolist(), j.tolist())) == want
+
+
+def test_clockwise_front_loops_are_respaced_counter_clockwise_ones_kept():
+    """A front loop turning clockwise (open side outside: a ring growing outward) gets
+    round(∮ ds / h) points evenly spaced; the same loop turning counter-clockwise
+    (a front closing in on an open region) keeps its apexes."""
+    from uniform2d.optimize.packing import _respace_rings
+
+    k = 12
+    ang = -2 * np.pi * np.arange(k) / k  # clockwise
+    cw = np.column_stack([np.cos(ang), np.sin(ang)])
+    ends = np.column_stack([np.arange(k), (np.arange(k) + 1) % k]) + 100  # not boundary points
+    perimeter = np.sum(np.linalg.norm(np.roll(cw, -1, axis=0) - cw, axis=1))
+    field = SizeField.constant((-2, -2, 2, 2), perimeter / 20)
+    ring = _respace_rings(cw, ends, field, 0)
+    assert len(ring) == 20
+    gaps = np.linalg.norm(np.diff(ring, axis=0), axis=1)
+    assert np.allclose(gaps, perimeter / 20, rtol=0.1)
+    ccw = cw[::-1].copy()
+    assert np.array_equal(_respace_rings(ccw, ends, field, 0), ccw)

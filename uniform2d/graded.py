@@ -17,7 +17,7 @@
    fronts met; boundary and segment points stay.
 3. **Moves.**  :func:`uniform2d.optimize.improve` with the field: the same moves
    as for a uniform mesh (springs, descent on the p-norm energy of the
-   objective, here one stage at p = 128, spread sweeps), every edge measured
+   objective, here one stage at p = 32, spread sweeps), every edge measured
    against the mean of its end points' sizes, so the mesh becomes uniform
    relative to h.  The triangulation stays the exact constrained Delaunay one
    of its points.
@@ -59,16 +59,19 @@ log = logging.getLogger(__name__)
 #: power of their density 1 / h**power: 4 is the density whose centroidal
 #: tessellation has cells following h (with 2, more iterations flattened the
 #: grading and undid the rows; with 4, 10 to 50 iterations lower the CV of q
-#: steadily, where the fronts met most).
-LLOYD_ITERATIONS = 30
+#: steadily, where the fronts met most; 80 lower it further at 2000 and 8000
+#: points, beyond that the gain stops).
+LLOYD_ITERATIONS = 80
 LLOYD_OMEGA = 1.5
 LLOYD_POWER = 4
 #: The moves' descent stages (p-norm exponents 2**k) up to ``schedule.LARGE``
-#: points: one stage at p = 128.  The graded default (p = 4 to 64, for the
+#: points: one stage at p = 32.  The graded default (p = 4 to 64, for the
 #: surface layer) trades the CV of q for the extremes; from the rows and Lloyd,
-#: springs then one high stage then the spread sweeps give the lowest CV of q
-#: with max q / min q within 1.6 on the benchmark cases.
-EXPONENTS = (7,)
+#: springs then one stage then the spread sweeps give the lowest CV of q with
+#: max q / min q within 1.6 on the benchmark cases at p = 32 (p = 16 lowers the
+#: CV further but leaves max q / min q above 1.6 on the bracket; p = 128 keeps
+#: the extremes lower and the CV higher).
+EXPONENTS = (5,)
 
 #: Samples of the field along each boundary edge (:func:`boundary_sites`).
 EDGE_SAMPLES = 64
