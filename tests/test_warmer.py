@@ -44,10 +44,15 @@ json.dump({"compiled": compiled, "marks": marks}, sys.stdout)
 WARM = "from uniform2d.warmup import warm; warm()"
 
 #: README command 1's mesh; the mark is the end of the T+ phase (INSERT and T+):
-#: everything after it is the optimiser's.
+#: everything after it is the optimiser's.  On one thread, since with more T+
+#: is made beside the optimisation (the phase ends at once) and the mark would
+#: split nothing; the kernels' types are the same either way.
 MESH = f"""
 from uniform2d import uniform_mesh
+from uniform2d.threads import set_threads
 from uniform2d.io import read_polygon
+
+set_threads(1)
 
 def progress(phase, done, total):
     if (phase, done) == ("T+", 1):
