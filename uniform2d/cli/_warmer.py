@@ -132,7 +132,8 @@ def _exit_at_eof() -> None:
 
 
 def main() -> None:
-    """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin closes."""
+    """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin
+    closes, and at once (``os._exit``) when it is done."""
     import signal
 
     from ..warmup import warm
@@ -141,3 +142,8 @@ def main() -> None:
     threading.Thread(target=_exit_at_eof, daemon=True).start()
     compile_claims.share(os.environ.get(compile_claims.ENV) or None)
     warm()
+    # done before the command: end here, as at the end of stdin.  A normal exit
+    # would finalize the interpreter under the thread blocked reading stdin,
+    # which Python aborts ("Fatal Python error: ... could not acquire lock for
+    # <stdin> at interpreter shutdown", SIGABRT); everything is in the cache.
+    os._exit(0)
