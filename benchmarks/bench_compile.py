@@ -11,8 +11,11 @@ time from the start of that process to its exit (what a user waits for), the CPU
 time of the command and of the process compiling kernels beside it on a cold
 cache (``uniform2d/cli/_warmer.py``), and, from numba's compile events in the
 command's own process, the compile time per kernel module and the functions
-that take longest.  Times are exclusive: a function's own compile, without the
-callees it compiled on the way.  Functions compiled more than once (one
+that take longest.  Compile times are CPU times of the compiling thread (on a
+loaded machine wall times measure the other processes too), exclusive: a
+function's own compile, without the callees it compiled on the way; the wall
+time the command spent in compiles is printed beside them (it includes waits
+for kernels the warmer was compiling, :mod:`uniform2d.compile_claims`).  Functions compiled more than once (one
 specialisation per argument types) are listed: each extra one is compile time a
 caller could save.  ``--one-cpu`` runs the command on one CPU, where it starts
 no second process: the first run as it is without one.  The second process
@@ -47,17 +50,21 @@ def name_of(d):
     mod = str(getattr(d.py_func, "__module__", None) or "numba")
     return mod.rsplit(".", 1)[-1] + "." + d.py_func.__name__
 
+wall = [0.0]
+
 class Listener(ev.Listener):
     def on_start(self, e):
-        stack.append([time.perf_counter(), 0.0])
+        stack.append([time.thread_time(), 0.0, time.perf_counter()])
     def on_end(self, e):
-        t0, child = stack.pop()
-        dt = time.perf_counter() - t0
+        t0, child, w0 = stack.pop()
+        dt = time.thread_time() - t0
         name = name_of(e.data["dispatcher"])
         own[name] += dt - child
         count[name] += 1
         if stack:
             stack[-1][1] += dt
+        else:
+            wall[0] += time.perf_counter() - w0
 
 ev.register("numba:compile", Listener())
 if os.environ.get("BENCH_IGNORE_LOAD"):  # measure what an idle machine's run does
@@ -65,7 +72,7 @@ if os.environ.get("BENCH_IGNORE_LOAD"):  # measure what an idle machine's run do
     warmer.busy = lambda cpus: False
 from uniform2d.cli.main import main
 code = main(sys.argv[1:])
-json.dump({"code": code, "own": own, "count": count}, sys.stderr)
+json.dump({"code": code, "own": own, "count": count, "compile_wall": wall[0]}, sys.stderr)
 """
 
 
@@ -127,8 +134,9 @@ def main(argv=None) -> int:
           + (", one CPU" if args.one_cpu else ""))
     print(f"wall {wall:.1f} s   CPU {cpu:.1f} s (with the kernel warmer, if any)   "
           f"load {os.getloadavg()[0]:.2f}")
-    print(f"the command's own compile: {sum(own.values()):.1f} s in {sum(count.values())} "
-          "compilations")
+    print(f"the command's own compile: {sum(own.values()):.1f} s CPU in {sum(count.values())} "
+          f"compilations, {res['compile_wall']:.1f} s wall (with waits for kernels the warmer "
+          "was compiling, and for the CPU on a loaded machine)")
     print("compile per module (s): " + ", ".join(
         f"{m} {t:.1f}" for m, t in sorted(modules.items(), key=lambda kv: -kv[1])))
     print("longest functions:")

@@ -219,3 +219,22 @@ def test_the_kernels_cache_is_writable_here():
     from uniform2d.compile_cache import cache_writable
 
     assert cache_writable() is True  # numba caches this test run's kernels somewhere
+
+
+def test_a_warmer_done_before_the_command_ends_cleanly_with_its_stdin_open():
+    """Finished while the command still holds its stdin open, the warmer ends at
+    once, with status 0 and nothing on stderr (a normal interpreter exit under the
+    thread reading stdin is aborted by Python: SIGABRT, 'Fatal Python error')."""
+    root = Path(__file__).resolve().parents[1]
+    code = (f"import sys; sys.path[0] = {str(root)!r}; import uniform2d.warmup as w; "
+            "w.warm = lambda: None; from uniform2d.cli._warmer import main; main()")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        assert proc.wait(timeout=120) == 0
+        assert proc.stderr.read() == b""
+    finally:
+        proc.kill()
+        proc.stdin.close()
+        proc.stdout.close()
+        proc.stderr.close()

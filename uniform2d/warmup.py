@@ -7,7 +7,8 @@ the callee of another.  :func:`warm` compiles, in a second process that the
 command starts on a cold cache (:mod:`uniform2d.cli._warmer`), in an order
 chosen against the order a :func:`uniform2d.uniform_mesh` run needs the kernels
 in.  The run first compiles the exact triangulation of P and INSERT's queues;
-the warmer meanwhile compiles INSERT's first step, which the run types next.
+the warmer meanwhile compiles the bulk of INSERT's first step, which the run
+types next.
 Then the kernels the run needs after INSERT, from the last (the optimiser's
 spread sweeps) back to the first (the measures of T+'s mesh): the run,
 compiling them from the first, meets the warmer halfway instead of following it.
@@ -41,9 +42,10 @@ def warm() -> None:
     """Compile, into numba's cache, kernels a :func:`uniform2d.uniform_mesh` run
     compiles late, by running the library's code on tiny inputs, in the order
     the module docstring gives."""
-    # INSERT's first step, which brings most of its predicates, while the run
-    # compiles the exact triangulation of P and INSERT's queues (its later
-    # steps the run reaches before the warmer could finish them)
+    # the bulk of INSERT's first step (its candidates' re-evaluation), while the
+    # run compiles the exact triangulation of P and INSERT's queues (the rest of
+    # the step, and its later steps, the run reaches before the warmer could
+    # finish them)
     kinsert.warm_first_step()
 
     # then what the run compiles after INSERT, from its end back: the

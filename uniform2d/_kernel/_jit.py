@@ -16,6 +16,11 @@ its caller, its body is typed there instead and the copy is not made.  Small
 functions with many callers, or whose callee trees would be copied into
 several callers, stay separate.
 
+The disk cache is numba's, with one addition for the first run, where two
+processes compile into it at once: a kernel one of them compiles is claimed
+until it is cached, so the other waits for it rather than compiling it too
+(:mod:`uniform2d.compile_claims`).
+
 Every kernel releases the GIL (``nogil``): the kernel keeps no state between
 calls but its arguments, so independent calls (the optimiser's starts, each
 on its own arrays) run at once on a pool of threads (:mod:`uniform2d.threads`).
@@ -25,12 +30,26 @@ from __future__ import annotations
 
 from numba import njit as _njit
 
+from ..compile_claims import enable_caching
+
 __all__ = ["njit"]
 
 
 def njit(*args, **options):
     """``numba.njit`` with ``no_cfunc_wrapper=True`` and ``nogil=True`` (as a bare
-    decorator or with options)."""
+    decorator or with options); ``cache=True`` gives the kernel numba's disk
+    cache through :func:`uniform2d.compile_claims.enable_caching` (the same
+    cache, the kernel claimed while another process fills it too)."""
     options.setdefault("no_cfunc_wrapper", True)
     options.setdefault("nogil", True)
-    return _njit(*args, **options)
+    cache = options.pop("cache", False)
+
+    def cached(dispatcher):
+        if cache:
+            enable_caching(dispatcher)
+        return dispatcher
+
+    if args and callable(args[0]):  # a bare decorator
+        return cached(_njit(*args, **options))
+    decorate = _njit(*args, **options)
+    return lambda func: cached(decorate(func))

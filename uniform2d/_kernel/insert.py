@@ -479,9 +479,10 @@ def _room(a, b, c, d, e, f, g, h):
 
 
 def warm_first_step() -> None:
-    """Compile INSERT's first step (:func:`_gather`, which brings most of its
-    predicates) on a tiny empty triangulation, typed as a run types it: the
-    first thing the command's warmer compiles (:func:`uniform2d.warmup.warm`)."""
+    """Compile the largest part of INSERT's first step (:func:`_current`: the
+    re-evaluation of a candidate, with the subsegments' search) on a tiny empty
+    triangulation, typed as a run types it: the first thing the command's warmer
+    compiles (:func:`uniform2d.warmup.warm`), while the run compiles the exact
+    triangulation of P and INSERT's queues, then :func:`_gather` around it."""
     m, _ = allocate(4, 4)
-    M, P = heap.new_heap(16), new_pool(64)
-    _gather(m, M, P, 0.0)
+    _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead

@@ -282,7 +282,7 @@ def _gather_near(m, sites, ne, cz, cuts, tri, L, tau, fixed, lo, hi, nspan):
     vals = np.empty(cap, np.float64)
     xs = np.empty(cap, np.float64)
     ys = np.empty(cap, np.float64)
-    cnt = 0
+    cnt = np.int64(0)  # not a literal 0: _grown compiles for one type of count
     for r in range(nspan):
         s1, s2 = lo[r], hi[r]
         sm = 0.5 * (s1 + s2)

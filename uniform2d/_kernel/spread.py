@@ -138,7 +138,7 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, flat,
     """
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
     alive, slots, movers = live_slots(m, role, restrict)
-    dead = dead_part(m, alive, hv, href, 0)
+    dead = dead_part(m, alive, hv, href, np.int64(0))
     lmax, lmin, pmax = measure_live(m, hv, href, slots, dead)
     start = objective_of(objective, lmax, lmin, pmax)
     best_xy, best_t, undo, nu = kept_state(m, t, movers)
@@ -154,7 +154,7 @@ def spread(m, role, eid, t, ea, ed, hv, href, objective, sweeps, step0, flat,
                        lmax, lmin, pmax, flat, movers, slots, alive, dead)  # fmt: skip
         todo, slots, woke, undo, nu = legalize_live(m, moved, todo, alive, slots, undo, nu)
         if woke:
-            dead = dead_part(m, alive, hv, href, 0)
+            dead = dead_part(m, alive, hv, href, np.int64(0))
         a, b, c = measure_live(m, hv, href, slots, dead)
         if objective_of(objective, a, b, c) > start:
             break  # a flip made it worse: keep the state before this sweep

@@ -32,7 +32,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
     xy, tv, tw = m.xy, m.tv, m.tw
     prevb, nextb = ring_neighbours(m, role, eid, t, ea)
     alive, slots, movers = live_slots(m, role, restrict)
-    dead = dead_part(m, alive, hv, href, 0)
+    dead = dead_part(m, alive, hv, href, np.int64(0))
     F = np.zeros((n, 2))
     new = np.empty((n, 2))
     newt = t.copy()
@@ -85,7 +85,7 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
         # no flip recorded (a negative count): spring rounds keep no best state
         todo, slots, woke, _, _ = legalize_live(m, moved, todo, alive, slots, todo, np.int64(-1))
         if woke:
-            dead = dead_part(m, alive, hv, href, 0)
+            dead = dead_part(m, alive, hv, href, np.int64(0))
         if biggest < tol * href:
             break
     return it

@@ -477,7 +477,7 @@ def keep_state(m, t, movers, best_xy, best_t):
         best_xy[i, 0] = m.xy[v, 0]
         best_xy[i, 1] = m.xy[v, 1]
         best_t[i] = t[v]
-    return 0
+    return np.int64(0)  # not a literal 0: the callers' flip counts stay one type
 
 
 @njit(cache=True)

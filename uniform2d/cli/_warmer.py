@@ -6,7 +6,9 @@ time compiling, on one core, while the other cores idle.  So when the command
 finds the kernels cold, :func:`start` starts one background process that runs
 :func:`uniform2d.warmup.warm` (what it compiles, and in which order, is the
 library's business: see there); whatever it finished, the run loads from
-numba's cache, whatever it did not, the run compiles as before.  A second
+numba's cache, whatever it did not, the run compiles as before, and a kernel
+one of them is compiling the other waits for rather than compiling it too
+(:mod:`uniform2d.compile_claims`).  A second
 process only helps on a CPU that would otherwise idle, so none is started when
 the system's load leaves none idle.
 
@@ -21,9 +23,13 @@ from __future__ import annotations
 
 import logging
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import threading
+
+from .. import compile_claims
 
 __all__ = ["start", "stop", "spare_cpus", "busy", "main"]
 
@@ -90,21 +96,34 @@ def start() -> subprocess.Popen | None:
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     code = f"import sys; sys.path[0] = {root!r}; from uniform2d.cli._warmer import main; main()"
     try:
-        return subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        claims = tempfile.mkdtemp(prefix="uniform2d-claims-")
+    except OSError:
+        log.debug("no directory for the compile claims", exc_info=True)
+        return None
+    try:
+        proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                env={**os.environ, compile_claims.ENV: claims})
     except OSError:  # no process to spare: the run compiles everything itself
         log.debug("cannot start the kernel warmer", exc_info=True)
+        shutil.rmtree(claims, ignore_errors=True)
         return None
+    compile_claims.share(claims)  # each kernel compiled by one of the two
+    return proc
 
 
 def stop(proc: subprocess.Popen | None) -> None:
     """End the warmer (it may be in the middle of a compile: nothing is lost but
-    that compile) and wait for it."""
+    that compile), wait for it and stop claiming kernels."""
     if proc is None:
         return
     proc.kill()
     proc.wait()
     proc.stdin.close()
+    claims = compile_claims.shared()
+    compile_claims.share(None)
+    if claims is not None:
+        shutil.rmtree(claims, ignore_errors=True)
 
 
 def _exit_at_eof() -> None:
@@ -113,11 +132,18 @@ def _exit_at_eof() -> None:
 
 
 def main() -> None:
-    """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin closes."""
+    """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin
+    closes, and at once (``os._exit``) when it is done."""
     import signal
 
     from ..warmup import warm
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command decides when to stop
     threading.Thread(target=_exit_at_eof, daemon=True).start()
+    compile_claims.share(os.environ.get(compile_claims.ENV) or None)
     warm()
+    # done before the command: end here, as at the end of stdin.  A normal exit
+    # would finalize the interpreter under the thread blocked reading stdin,
+    # which Python aborts ("Fatal Python error: ... could not acquire lock for
+    # <stdin> at interpreter shutdown", SIGABRT); everything is in the cache.
+    os._exit(0)
