@@ -12,6 +12,7 @@ import numpy as np
 from ._jit import njit
 
 from .cdt import snap
+from .rank import bilinear
 from .spring import _commit
 from .star import FREE, legalize_live, live_slots
 
@@ -39,16 +40,7 @@ def grid_size(gx, gy, gv, x, y):
     formula of :func:`.rank.size_at` and ``uniform2d.sizefield`` on bare arrays."""
     x = min(max(x, gx[0]), gx[-1])
     y = min(max(y, gy[0]), gy[-1])
-    i = _cell(gx, x)
-    j = _cell(gy, y)
-    tx = (x - gx[i]) / (gx[i + 1] - gx[i])
-    ty = (y - gy[j]) / (gy[j + 1] - gy[j])
-    return (
-        gv[j, i] * (1 - tx) * (1 - ty)
-        + gv[j, i + 1] * tx * (1 - ty)
-        + gv[j + 1, i] * (1 - tx) * ty
-        + gv[j + 1, i + 1] * tx * ty
-    )
+    return bilinear(gx, gy, gv, _cell(gx, x), _cell(gy, y), x, y)
 
 
 @njit(cache=True, inline="always")

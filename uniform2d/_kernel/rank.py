@@ -65,6 +65,14 @@ def size_at(m, x, y):
     y = min(max(y, gy[0]), gy[-1])
     i = min(max(_right_of(gx, x) - 1, 0), gx.shape[0] - 2)
     j = min(max(_right_of(gy, y) - 1, 0), gy.shape[0] - 2)
+    return bilinear(gx, gy, gv, i, j, x, y)
+
+
+@njit(cache=True, inline="always")
+def bilinear(gx, gy, gv, i, j, x, y):
+    """The grid values (gx, gy, gv) interpolated at (x, y) in cell (i, j): the
+    one formula of the size field's kernels (:mod:`.cells` too), so that their
+    sizes are the same floats as ``uniform2d.sizefield``'s."""
     tx = (x - gx[i]) / (gx[i + 1] - gx[i])
     ty = (y - gy[j]) / (gy[j + 1] - gy[j])
     return (
