@@ -195,6 +195,15 @@ def test_cli_resample_corners(tmp_path, capsys):
     assert out.exists()
 
 
+def test_cli_resample_corners_merge_with_a_field_refused(tmp_path, capsys):
+    out = tmp_path / "m.vtu"
+    assert main(["mesh", str(OUTLINES / "iceland.json"), "-n", "200", "--resample", "0.25",
+                 "--resample-corners", "merge", "--refine", "boundary:0.5", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--resample-corners merge works with a uniform size only" in err[0]
+    assert not out.exists()
+
+
 def test_moved_heights_bounds_the_hausdorff_distance_to_the_spanned_input():
     """moved_heights (even_out's check) is at least the Hausdorff distance between
     a moved ring edge and the input path it spans (shapely), and close to it."""

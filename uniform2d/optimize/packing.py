@@ -43,8 +43,6 @@ FILLED = 0.75
 APEX_ITERATIONS = 2
 #: Samples of the size per gap of a ring respaced by :func:`_respace_rings`.
 RING_SAMPLES = 4
-#: Where a respaced ring's first point goes, in gaps from its chain's first apex.
-RING_PHASE = 0.0
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
 #: Points added to a :class:`_Grown` set before its tree is built again, at least.
@@ -179,7 +177,7 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
         m = int(np.rint(cum[-1]))
         if m == len(a) or (m < len(a) and bool(np.all(ends[chain] < n0))):
             continue
-        goal = cum[-1] * (np.arange(m) + RING_PHASE) / m
+        goal = cum[-1] * np.arange(m) / m
         seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
         frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
         new[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
@@ -327,8 +325,8 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
         if not len(idx):
             break
         keep = idx[_greedy(cand[idx], hc[idx])]
-        P = np.concatenate([P, cand[keep]])
         every.add(cand[keep])
+        P = every.P  # the points so far, as the trees have them
         hP = np.concatenate([hP, hc[keep]])
         active = np.concatenate([active, np.ones(len(keep), dtype=bool)])
     return P[n0:]
