@@ -249,7 +249,7 @@ def _fit(polygon, points, triangles, edges, a, d):
                            jac=lambda x: np.r_[np.zeros(len(x) - 1), -1.0], bounds=bounds,
                            method="SLSQP", options={"maxiter": ITERATIONS},
                            constraints=[{"type": "ineq", "fun": fun, "jac": jac}])
-        if not near or _meets_all(points, T, E, D, limits, rows, res.x):
+        if not near or _meets_all(_program(points, T, E, D, limits)[1], fun, res.x):
             break
     P = place(res.x)
     for v in free[edges[free - nV] >= 0]:  # on its edge as the kernel places a sliding point
@@ -258,13 +258,12 @@ def _fit(polygon, points, triangles, edges, a, d):
     return P[nV:]
 
 
-def _meets_all(points, T, E, D, limits, rows, x) -> bool:
+def _meets_all(full, near, x) -> bool:
     """Whether moves ``x`` break none of the constraints of the full program
-    that the near one (``rows``) left out further than the near one's own
-    worst (SLSQP's last iterate may miss its constraints by a rounding)."""
-    full = _program(points, T, E, D, limits)[1](x)
-    near = _program(points, T, E, D, limits, rows)[1](x)
-    return bool(full.min() >= min(0.0, near.min()))
+    (its constraint function ``full``) that the near one (``near``) left out
+    further than the near one's own worst (SLSQP's last iterate may miss its
+    constraints by a rounding)."""
+    return bool(full(x).min() >= min(0.0, near(x).min()))
 
 
 def _kept(q0, q) -> bool:
