@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from .geometry import point_segment_distance
-from .ring_slide import SWEEPS, moved_heights, point_at
+from .ring_slide import SWEEPS, moved_heights, point_at, span_heights
 
 __all__ = ["OFFSETS", "PULL", "pull_apart"]
 
@@ -89,26 +89,32 @@ def pull_apart(inputs, samples, rings, limit: float, reach: float, sweeps: int =
         S = np.array(S0, dtype=np.float64)
         r = len(P)
         idx = np.arange(r)
+        stale = np.ones(r, dtype=bool)  # points to try: none near them moved since they failed
         for _ in range(sweeps if r >= 2 * _WINDOW + 2 else 0):
             moved = False
             for parity in (0, 1):
                 L = np.hypot(*(P[(idx + 1) % r] - P).T)
                 short = np.minimum(L, L[idx - 1])
-                sel = np.flatnonzero(movable & (idx % 2 == parity) & ((idx < r - 1) | (r % 2 == 0))
-                                     & (short < PULL * reach))
-                if len(sel):
-                    w = _pull(ring, ext, S, A, P, sel, limit, reach)
+                sel = np.flatnonzero(movable & stale & (idx % 2 == parity)
+                                     & ((idx < r - 1) | (r % 2 == 0)) & (short < PULL * reach))
+                if not len(sel):
+                    continue
+                stale[sel] = False
+                went, w = _pull(ring, ext, S, A, P, sel, limit, reach)
+                if len(went):
                     worst = max(worst, w)
-                    moved |= w >= 0
+                    moved = True
+                    near = np.arange(-_WINDOW - 1, _WINDOW + 2)  # their clearance changed
+                    stale[(went[:, None] + near[None, :]).ravel() % r] = True
             if not moved:
                 break
         out.append(P)
     return out, worst
 
 
-def _pull(ring, ext, S, A, P, sel, limit, reach) -> float:
-    """Move points ``sel`` (in place: S, A, P) to their best candidate; the
-    largest deviation of a moved edge, or -1 if none moved."""
+def _pull(ring, ext, S, A, P, sel, limit, reach):
+    """Move points ``sel`` (in place: S, A, P) to their best candidate: the
+    points moved and the largest deviation of a moved edge (-1 if none moved)."""
     k, r = len(ring), len(S)
     total = float(ext[k])
     prv, nxt = (sel - 1) % r, (sel + 1) % r
@@ -129,33 +135,50 @@ def _pull(ring, ext, S, A, P, sel, limit, reach) -> float:
     owner = np.repeat(np.arange(q), c)
     sc = np.repeat(s, len(OFFSETS))
     Bc = np.repeat(B, len(OFFSETS), axis=0)
-    d1 = _heights(ring, ext, lo[owner], sc, A[prv[owner]], Bc, P[prv[owner]], X)
-    d2 = _heights(ring, ext, sc, hi[owner], Bc, A[nxt[owner]], X, P[nxt[owner]])
     l1 = np.hypot(*(X - P[prv[owner]]).T)
     l2 = np.hypot(*(P[nxt[owner]] - X).T)
     L1 = np.hypot(*(P[sel] - P[prv]).T)
     L2 = np.hypot(*(P[nxt] - P[sel]).T)
     gain = np.minimum(l1, l2) - np.minimum(L1, L2)[owner]
     cap = np.maximum(np.maximum(L1, L2), _LONGEST * reach)[owner]
-    ok = (d1 <= limit) & (d2 <= limit) & (gain > _GAIN * reach) & (np.maximum(l1, l2) <= cap)
+    ok = (gain > _GAIN * reach) & (np.maximum(l1, l2) <= cap)
     ok &= (sel[owner] > 0) | (sc - shift[owner] >= 0)  # sample 0 keeps a position >= 0
     # no narrower feature: the moved point and edges keep their clearance from the
     # ring nearby (or at least their new shorter edge's length)
-    if ok.any():
+    c_ok = np.flatnonzero(ok)
+    if len(c_ok):
         old = _clearance(P, sel, P[sel], np.arange(q))
-        new = _clearance(P, sel, X[ok], owner[ok])
-        ok[np.flatnonzero(ok)] = new >= np.minimum(old[owner[ok]], np.minimum(l1, l2)[ok])
+        new = _clearance(P, sel, X[c_ok], owner[c_ok])
+        ok[c_ok] = new >= np.minimum(old[owner[c_ok]], np.minimum(l1, l2)[c_ok])
+    # the tolerance, both ways, on the candidates left (the costly part)
+    dev = np.full(len(X), np.inf)
+    for lo_, hi_, A0, A1, Y0, Y1 in ((lo[owner], sc, A[prv[owner]], Bc, P[prv[owner]], X),
+                                     (sc, hi[owner], Bc, A[nxt[owner]], X, P[nxt[owner]])):
+        j = np.flatnonzero(ok)
+        if not len(j):
+            break
+        # one way first (the input path's vertices from the edge: cheap), then both
+        one = np.maximum(span_heights(ring, ext, lo_[j], hi_[j], Y0[j], Y1[j]),
+                         np.maximum(point_segment_distance(A0[j], Y0[j], Y1[j]),
+                                    point_segment_distance(A1[j], Y0[j], Y1[j])))
+        ok[j] = one <= limit
+        j = j[one <= limit]
+        if not len(j):
+            break
+        d = _heights(ring, ext, lo_[j], hi_[j], A0[j], A1[j], Y0[j], Y1[j])
+        ok[j] = d <= limit
+        dev[j] = np.where(np.isfinite(dev[j]), np.maximum(dev[j], d), d)
     score = np.where(ok, gain, -np.inf).reshape(q, c)
     best = np.argmax(score, axis=1)
     go = np.isfinite(score[np.arange(q), best])
     if not go.any():
-        return -1.0
+        return sel[:0], -1.0
     j = np.arange(q)[go] * c + best[go]
     m = sel[go]
     S[m] = sc[j] - shift[go]
     A[m] = Bc[j]
     P[m] = X[j]
-    return float(np.maximum(d1, d2)[j].max())
+    return m, float(dev[j].max())
 
 
 def _heights(ring, ext, lo, hi, A0, A1, X, Y) -> np.ndarray:
