@@ -13,7 +13,7 @@ import uniform2d as u
 import uniform2d.outline as outline
 from uniform2d.outline import resample_polygon
 from uniform2d.ring_corners import ring_corners
-from uniform2d.ring_pull import pull_apart
+from uniform2d.ring_pull import SHARP, pull_apart
 from uniform2d.ring_slide import point_at
 from uniform2d.testing import check_mesh
 
@@ -50,6 +50,13 @@ def test_pinned_edge_lengthened_within_the_tolerance_both_ways(tol):
     assert P[~movable].tobytes() == A[~movable].tobytes()
     assert _edges(P).max() <= max(_edges(A).max(), 1.3)
     assert shapely.Polygon(P).is_valid
+    # no ring angle made sharper than SHARP (45 degrees) or than it was
+    assert (_angles(P) >= np.minimum(_angles(A), SHARP) - 1e-12).all()
+
+
+def _angles(P):
+    u, v = np.roll(P, 1, axis=0) - P, np.roll(P, -1, axis=0) - P
+    return np.abs(np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))
 
 
 def test_nothing_short_nothing_moved():

@@ -12,7 +12,10 @@ outline between its neighbours' anchors, each moved along the outline's
 normal by up to 0.75 of the tolerance, and takes the one whose shorter ring
 edge is longest, where both its edges stay within the tolerance of the input
 they span, both ways (:func:`uniform2d.ring_slide.moved_heights`, the input
-path now ending at the new position's anchor on the outline).  Alternate
+path now ending at the new position's anchor on the outline), no ring point
+or edge within :data:`_WINDOW` places comes closer to the point or its edges
+than before, and no ring angle at the point or its neighbours becomes sharper
+than :data:`SHARP` (or than it was).  Alternate
 points move in turn, a few sweeps, so a chain of samples moves together: a
 neighbour whose edge got shorter moves next.
 """
@@ -24,7 +27,7 @@ import numpy as np
 from .geometry import point_segment_distance
 from .ring_slide import SWEEPS, moved_heights, point_at, span_heights
 
-__all__ = ["OFFSETS", "PULL", "pull_apart"]
+__all__ = ["OFFSETS", "PULL", "SHARP", "pull_apart"]
 
 #: Points with a ring edge shorter than this many spacings are moved.
 PULL = 0.8
@@ -34,6 +37,9 @@ OFFSETS = (0.0, -0.25, 0.25, -0.5, 0.5, -0.75, 0.75)
 _GRID = 24
 #: A move lengthens the point's shorter edge by at least this many spacings.
 _GAIN = 0.01
+#: A move makes no ring angle (at the point or its neighbours) sharper than this,
+#: radians, unless it was already.
+SHARP = np.pi / 4
 #: Candidates per point checked both ways at a time (best gain first).
 _BATCH = 8
 #: Ring points and edges each side of a moved point whose clearance from it is kept.
@@ -152,6 +158,18 @@ def _pull(ring, ext, S, A, P, sel, limit, reach):
         old = _clearance(P, sel, P[sel], np.arange(q))
         new = _clearance(P, sel, X[c_ok], owner[c_ok])
         ok[c_ok] = new >= np.minimum(old[owner[c_ok]], np.minimum(l1, l2)[c_ok])
+    # no sharper ring: the angles at the point and its neighbours stay at least
+    # :data:`SHARP` or what they were (the mesher's triangles at a sharp ring
+    # angle are small)
+    c_ok = np.flatnonzero(ok)
+    if len(c_ok):
+        pp, nn = P[(sel - 2) % r], P[(sel + 2) % r]
+        old = np.minimum(np.stack([_angle(pp, P[prv], P[sel]), _angle(P[prv], P[sel], P[nxt]),
+                                   _angle(P[sel], P[nxt], nn)]), SHARP)
+        o, Y = owner[c_ok], X[c_ok]
+        ok[c_ok] = ((_angle(pp[o], P[prv[o]], Y) >= old[0, o])
+                    & (_angle(P[prv[o]], Y, P[nxt[o]]) >= old[1, o])
+                    & (_angle(Y, P[nxt[o]], nn[o]) >= old[2, o]))
     # the tolerance: one way first, for both edges (the input path's vertices
     # from the edge: cheap) ...
     edges = ((lo[owner], sc, A[prv[owner]], Bc, P[prv[owner]], X),
@@ -216,3 +234,9 @@ def _clearance(P, sel, X, owner) -> np.ndarray:
         B = np.repeat(X if b is None else P[b], len(js), axis=0)
         out = np.minimum(out, point_segment_distance(P[j], A, B).reshape(len(X), -1).min(axis=1))
     return out
+
+
+def _angle(A, B, C) -> np.ndarray:
+    """(q,): the angle at B between BA and BC, radians in [0, pi]."""
+    u, v = A - B, C - B
+    return np.abs(np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))
