@@ -14,7 +14,11 @@ callees, so a function called from one place only, above a large call tree
 have that tree optimised and generated once more for itself.  Inlined into
 its caller, its body is typed there instead and the copy is not made.  Small
 functions with many callers, or whose callee trees would be copied into
-several callers, stay separate.
+several callers, stay separate.  So do the one-line helpers called from many
+places (the half-edge steps, the tie threshold, a heap's order): numba
+inlines a function by running its front end again at every call site, while
+LLVM inlines a small separate function into its callers' machine code all
+the same.
 
 The disk cache is numba's, with one addition for the first run, where two
 processes compile into it at once: a kernel one of them compiles is claimed

@@ -208,12 +208,12 @@ def reserve(m, k):
         m.ebuf = grown(m.ebuf, k)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def nxt(h):
     return h - 2 if h % 3 == 2 else h + 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def prv(h):
     return h + 2 if h % 3 == 0 else h - 1
 

@@ -149,7 +149,7 @@ def _certify(m, ne, z, x1, y1, x2, y2):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _inside(zx, zy, x1, y1, x2, y2, x, y):
     """Whether (x, y) lies in the closed counter-clockwise triangle (z, 1, 2) (exact)."""
     return (orient2d(x1, y1, x2, y2, x, y) >= 0.0
@@ -157,7 +157,7 @@ def _inside(zx, zy, x1, y1, x2, y2, x, y):
             and orient2d(zx, zy, x1, y1, x, y) >= 0.0)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _prune_level(L, wg):
     """Points whose value is certainly below this are not gathered once a point of
     value L is known: far enough below L's tie threshold (:func:`tied_above`)
@@ -183,7 +183,7 @@ def _group_floor(vals, n, wg):
         lo = nxt_
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _point_error(ax, ay, dx, dy):
     """A bound on how far, in each coordinate, the computed point
     ``(ax + s * dx, ay + s * dy)`` for 0 <= s <= 1 is from the exact a + s (b - a):

@@ -104,7 +104,7 @@ def leading(x3, x2, x1, x0):
     return x0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _keep(h, n, x):
     """Append x to h[:n] unless it is zero (zero elimination); returns the new length."""
     if x != 0.0:

@@ -158,7 +158,7 @@ def top_key(H):
 
 
 # -- lexicographic heap --------------------------------------------------------------------
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _lt(a1, a2, b1, b2):
     return a1 < b1 or (a1 == b1 and a2 < b2)
 

@@ -170,7 +170,7 @@ def _without_rounding(adx, ady, bdx, bdy, cdx, cdy):
     return h1 == 0.0 and h2 == 0.0, det
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _lift(px, py):
     """(px**2 + py**2, whether it is exact)."""
     x, ex = two_product(px, px)

@@ -12,7 +12,7 @@ __all__ = ["REL_TIE", "tied_above", "better", "size_at"]
 REL_TIE = 1e-9
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def tied_above(W, wg):
     """Weights above this tie with W: within REL_TIE of it, or within ``wg`` (the
     rounding of points to the caller's coordinates far from the origin, which

@@ -35,7 +35,7 @@ TRIES = 8
 LIVE_RINGS = 2
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def pw(x, k):
     """x ** (2 ** k), by k squarings (the exponents are powers of two: fast, exact enough)."""
     for _ in range(k):
@@ -43,7 +43,7 @@ def pw(x, k):
     return x
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def counted(tw, alive, h):
     """Whether half-edge h stands for its edge in a pass over the live slots:
     each edge once, by the smaller of two live twins, by the live one of a
@@ -155,7 +155,7 @@ def refresh_sizes(m, hv, which):
             hv[v] = size_at(m, m.xy[v, 0], m.xy[v, 1])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def edge(xy, tv, hv, href, h):
     """(length, target) of the edge of half-edge h."""
     a = tv[h]
@@ -165,7 +165,7 @@ def edge(xy, tv, hv, href, h):
     return np.sqrt(dx * dx + dy * dy), 0.5 * (hv[a] + hv[b]) * href
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def triangle_terms(xy, tv, hv, href, t):
     """The terms every pass over the triangles reads of slot t: its three edges'
     lengths and targets (:func:`edge`, in half-edge order) and its perimeter
