@@ -152,7 +152,17 @@ def regions(polygon, xy: np.ndarray) -> np.ndarray:
     return np.where(d_hole <= NEAR, 0, np.where(d_corner <= NEAR, 1, 2))
 
 
-REGIONS = (f"holes (<= {NEAR:g})", f"clamped corners (<= {NEAR:g})", "elsewhere")
+REGIONS = (f"holes (d <= {NEAR:g})", f"clamped corners (d <= {NEAR:g})", "rest")
+
+
+def hole_vertices(polygon, P, T) -> tuple[int, int]:
+    """(vertices on the hole boundaries, vertices within NEAR of a hole) of a mesh."""
+    e = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
+    edges, count = np.unique(e, axis=0, return_counts=True)
+    on_boundary = np.unique(edges[count == 1])
+    x, y = P[on_boundary].T
+    outer = np.minimum(np.minimum(x, WIDTH - x), np.minimum(y, 250.0 - y))
+    return int(np.sum(outer > 1.0)), int(np.sum(regions(polygon, P.T) == 0))
 
 
 def _coarse_strain_at(sol: Solution, xy: np.ndarray) -> np.ndarray:
@@ -216,7 +226,8 @@ def reference_energy(polygon, counts=REFERENCE_VERTICES):
 
 def measure(polygon, field, vertices: int, a_ref: float, ref: Solution | None = None):
     """Ours and Gmsh's (its size callback tuned to the same count) on ``field``:
-    {"ours"/"gmsh": (vertices, relative energy error, region split or None)}."""
+    {"ours"/"gmsh": (vertices, relative energy error, region split or None,
+    :func:`hole_vertices`)}."""
     from uniform2d.peers import gmsh_peer
 
     out = {}
@@ -225,7 +236,8 @@ def measure(polygon, field, vertices: int, a_ref: float, ref: Solution | None = 
     for who, m in (("ours", mo), ("gmsh", mg)):
         s = solve(m.points, m.triangles)
         split = None if ref is None else local_error(polygon, ref, s)
-        out[who] = (len(m.points), relative_error(a_ref, s.energy), split)
+        out[who] = (len(m.points), relative_error(a_ref, s.energy), split,
+                    hole_vertices(polygon, m.points, m.triangles))
     return out
 
 
@@ -241,8 +253,7 @@ def choose(table) -> tuple[float, float]:
 
 
 def _split(s) -> str:
-    tot = s.sum()
-    return "  ".join(f"{100 * x / tot:4.0f}%" for x in s)
+    return "  ".join(f"{x:.2e} ({100 * x / s.sum():3.0f}%)" for x in s)
 
 
 def report(polygon, vertices_list, sweep: bool = False) -> None:
@@ -272,16 +283,23 @@ def report(polygon, vertices_list, sweep: bool = False) -> None:
                     print(f"  {ratio:6.2f}{rate:6.2f}{n:9d}{r['ours'][1]:10.5f}{r['gmsh'][1]:10.5f}"
                           f"{r['ours'][1] / r['gmsh'][1]:11.3f}{uni[n][1]:10.5f}")
         chosen = choose(table)
+        for who in ("gmsh", "ours"):  # each mesher's own best field, for the record
+            k = min(table, key=lambda k: sum(math.log(r[who][1]) for r in table[k].values()))
+            print(f"  best field for {who}: ratio {k[0]:g}, rate {k[1]:g}: " + ", ".join(
+                f"{n}: {table[k][n][who][1]:.5f}" for n in vertices_list))
         print(f"  chosen: ratio {chosen[0]:g}, rate {chosen[1]:g}")
-    print(f"  field: refine(plate, 'holes', ratio={chosen[0]:g}, rate={chosen[1]:g}); "
+    how = "" if sweep else " (as the last --sweep chose it: plate_fe.CHOSEN)"
+    print(f"  field: refine(plate, 'holes', ratio={chosen[0]:g}, rate={chosen[1]:g}){how}; "
           f"principle: {PRINCIPLE}")
-    print(f"  share of the squared error: {' / '.join(REGIONS)} (u - u_h against the finest "
-          f"reference, element by element)")
+    print(f"  where the error sits: ||u_ref - u_h||^2 / a(u,u) near the {', '.join(REGIONS)}"
+          f" (against the finest reference, element by element)")
     f = hole_field(polygon, *chosen)
     for n in vertices_list:
         r = measure(polygon, f, n, a_ref, ref)
-        (vo, eo, so), (vg, eg, sg) = r["ours"], r["gmsh"]
+        (vo, eo, so, ho), (vg, eg, sg, hg) = r["ours"], r["gmsh"]
         print(f"  {n:6d} vertices   ours {eo:.5f} ({vo})   gmsh {eg:.5f} ({vg})   "
               f"ours / gmsh {eo / eg:.3f}   uniform {uni[n][1]:.5f} ({uni[n][0]})")
         for who, s in (("ours", so), ("gmsh", sg), ("uniform", uni[n][2])):
-            print(f"  {'':15s}{who:8s}{_split(s)}   (sum {s.sum():.3e} of a(u,u))")
+            print(f"  {'':15s}{who:8s}{_split(s)}")
+        print(f"  {'':15s}vertices on the hole boundaries / within {NEAR:g} of a hole: "
+              f"ours {ho[0]} / {ho[1]}, gmsh {hg[0]} / {hg[1]}")
