@@ -196,7 +196,7 @@ def local_error(polygon, ref: Solution, sol: Solution) -> np.ndarray:
     """The squared energy norm of u_ref - u_h on each of the three :func:`regions`,
     relative to a(u_ref, u_ref): shape (3,); integrated with the reference's
     quadrature, the coarse strain exact at its points (:func:`_coarse_strain_at`)."""
-    x = ref.basis.global_coordinates().value  # (2, nel, nqp)
+    x = np.asarray(ref.basis.global_coordinates())  # (2, nel, nqp)
     eh = _coarse_strain_at(sol, x.reshape(2, -1)).reshape((3,) + x.shape[1:])
     density = _energy_density(_strain(ref.basis, ref.u) - eh) * ref.basis.dx
     per_element = density.sum(axis=1)
