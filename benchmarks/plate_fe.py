@@ -64,8 +64,8 @@ class FastField(uniform2d.SizeField):
         j = min(max(bisect.bisect_right(gy, y) - 1, 0), len(gy) - 2)
         tx = (x - gx[i]) / (gx[i + 1] - gx[i])
         ty = (y - gy[j]) / (gy[j + 1] - gy[j])
-        return ((v[j][i] * (1 - tx) * (1 - ty) + v[j][i + 1] * tx * (1 - ty)
-                 + v[j + 1][i] * (1 - tx) * ty + v[j + 1][i + 1] * tx * ty),)
+        return np.array((v[j][i] * (1 - tx) * (1 - ty) + v[j][i + 1] * tx * (1 - ty)
+                         + v[j + 1][i] * (1 - tx) * ty + v[j + 1][i + 1] * tx * ty,))
 
 
 def hole_field(polygon, ratio: float, rate: float) -> FastField:

@@ -37,6 +37,7 @@ def test_fast_field_is_the_same_floats(plate):
     pts = rng.uniform([-20.0, -20.0], [420.0, 270.0], size=(3000, 2))  # outside too: clamped
     one_by_one = np.array([fast(p[None])[0] for p in pts])
     assert np.array_equal(one_by_one, base(pts))
+    assert isinstance(fast(pts[:1]), np.ndarray) and fast(pts[:1]).shape == (1,)
     assert np.array_equal(fast(pts), base(pts))
 
 
