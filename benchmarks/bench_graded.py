@@ -12,7 +12,7 @@ Cases (each a polygon and a size field h):
 * ``bolt-plate``: ``data/plate_bolts.json`` with ``uniform2d.refine(..., "holes",
   ratio=0.25)`` (size a quarter of the coarse one on the holes, growing at slope 0.3);
 * ``bracket``: ``data/l_bracket.json`` with the minimum of refinement near its
-  re-entrant corners (ratio 0.2) and near its holes (ratio 0.3).
+  re-entrant corner (the filleted inner one, ratio 0.2) and near its holes (ratio 0.3).
 
 For every case: ours, ``uniform2d.uniform_mesh(polygon, n, size=h)`` with n = vertices
 - |V| Steiner points; Gmsh's Frontal-Delaunay with h through its size callback

@@ -28,7 +28,8 @@ layer does for its domains (the same dynamic programme, :mod:`.chord_sampling`):
   (:mod:`.ring_slide`), moves samples off the outline within the tolerance
   (measured both ways) to widen features narrower than h (piers, notches, necks),
   then moves those with a ring edge under 0.75 h, within the tolerance, to
-  lengthen it; with ``corners="merge"``, a corner with a sample under 0.6 h away
+  lengthen it, and those with one under 0.8 h anywhere in the band between
+  their neighbours (:mod:`.ring_pull`); with ``corners="merge"``, a corner with a sample under 0.6 h away
   merges with it into one point on the outline (:mod:`.corner_merge`);
 - a polygon whose constraint edges are all at least :data:`COARSE_EDGE` of the
   spacing is returned as given; a *coarse* one (:func:`is_coarse`) is resampled,
@@ -60,6 +61,7 @@ from .polygon import Polygon
 from .ring_corners import ring_corners
 from .ring_crossings import crossing_edges
 from .corner_merge import CORNERS, corner_policy, merge_corners
+from .ring_pull import pull_apart
 from .ring_slide import crowded, even_out, slide_samples
 from .short_edges import SEVERE, SHORT_EDGE, short_edge_warning
 
@@ -340,11 +342,13 @@ def _widened(polygon: Polygon, poly: Polygon, rings, samples, h: float, limit: f
     band = [(s[0], ~s[1], s[2], s[3]) for s in samples]
     out = widen_rings(inputs, band, REACH * h, limit)
     moved, dev = even_out(inputs, band, out[0], limit, h)
-    if narrowest(moved, REACH * h)[0] >= narrowest(out[0], REACH * h)[0]:
-        try:
-            return _rebuild(polygon, moved), max(out[1], dev)
-        except InvalidPolygonError:
-            pass
+    pulled, dev2 = pull_apart(inputs, band, moved, limit, h)
+    for cand, d in ((pulled, max(out[1], dev, dev2)), (moved, max(out[1], dev))):
+        if narrowest(cand, REACH * h)[0] >= narrowest(out[0], REACH * h)[0]:
+            try:
+                return _rebuild(polygon, cand), d
+            except InvalidPolygonError:
+                pass
     try:
         return _rebuild(polygon, out[0]), out[1]
     except InvalidPolygonError:

@@ -7,9 +7,11 @@ distance d from it, at slope ``rate``, up to the base size H::
     h(x) = min(H, ratio * H + rate * d(x))
 
 ``near`` names the part: ``"holes"`` (the hole boundaries), ``"corners"``
-(re-entrant corners: ring vertices where the domain's interior angle is at
-least ``CORNER_ANGLE`` degrees, so that the many slight turns of a polygonised
-arc do not count), ``"points"`` (the polygon's fixed points: supports, loads),
+(re-entrant corners, :func:`reentrant_corners`: runs of consecutive reflex ring
+vertices turning by at least ``CORNER_ANGLE - 180`` degrees in all, so that a
+sharp corner is a run of one vertex and a filleted one, an arc of slightly
+reflex vertices, is one corner too, while a ring all of whose vertices are
+reflex, a polygonised round hole, is none), ``"points" (the polygon's fixed points: supports, loads),
 ``"segments"`` (its interior segments: members, interfaces) or ``"boundary"``
 (the outer boundary); or it is an (k, 2) array of points.  :func:`minimum`
 combines fields (the smallest size wins).  With :func:`uniform2d.uniform_mesh`
@@ -27,17 +29,20 @@ import numbers
 import numpy as np
 import shapely
 
+from ._kernel.predicates import orient2d
 from .errors import InvalidArgumentError
 from .geometry import size_for_count
 from .grading import as_field
 from .polygon import Polygon, as_polygon
 from .sizefield import SizeField
 
-__all__ = ["CORNER_ANGLE", "NEAR", "minimum", "parse_refine", "refine"]
+__all__ = ["CORNER_ANGLE", "NEAR", "minimum", "parse_refine", "reentrant_corners", "refine"]
 
 #: The parts of the domain :func:`refine` refines near.
 NEAR = ("holes", "corners", "points", "segments", "boundary")
-#: Interior angle (degrees) from which a ring vertex is a re-entrant corner.
+#: Interior angle (degrees) from which a run of reflex ring vertices (one vertex for a
+#: sharp corner, a short arc for a filleted one) is a re-entrant corner: the run's total
+#: turning is at least ``CORNER_ANGLE - 180``.
 CORNER_ANGLE = 200.0
 #: Default grading rate: the size grows by this times the distance.
 RATE = 0.3
@@ -58,8 +63,8 @@ def _target(polygon: Polygon, near):
     elif near == "boundary":
         geoms = [shapely.LinearRing(polygon.outer)]
     elif near == "corners":
-        ang = np.degrees(polygon.interior_angles())
-        geoms = [shapely.Point(p) for p in polygon.vertices[: len(ang)][ang >= CORNER_ANGLE]]
+        geoms = [shapely.Point(c[0]) if len(c) == 1 else shapely.LineString(c)
+                 for c in reentrant_corners(polygon)]
     elif near == "points":
         geoms = [shapely.Point(p) for p in polygon.points]
     elif near == "segments":
@@ -69,6 +74,74 @@ def _target(polygon: Polygon, near):
     if not geoms:
         raise InvalidArgumentError(f"refine: the polygon has no {near} to refine near")
     return shapely.GeometryCollection(geoms)
+
+
+def _runs(turn: np.ndarray) -> list[np.ndarray]:
+    """Maximal cyclic runs of non-convex vertices (``turn``: -1 convex, 0 straight,
+    1 reflex) that hold a reflex one, each as vertex indices from its first reflex
+    vertex to its last."""
+    k = len(turn)
+    if (turn >= 0).all():
+        return []  # every vertex reflex or straight: a polygonised round hole, no corner
+    start = int(np.flatnonzero(turn < 0)[-1]) + 1  # just after a convex vertex
+    out, run = [], []
+    for i in range(start, start + k + 1):
+        j = i % k
+        if i < start + k and turn[j] >= 0:
+            run.append(j)
+            continue
+        reflex = [m for m, v in enumerate(run) if turn[v] > 0]
+        if reflex:
+            out.append(np.array(run[reflex[0]: reflex[-1] + 1], dtype=np.int64))
+        run = []
+    return out
+
+
+def reentrant_corners(polygon) -> list[np.ndarray]:
+    """The polygon's re-entrant corners, each as the (k, 2) vertices of its run.
+
+    A run is a maximal sequence of consecutive ring vertices none of which is convex
+    (exact orientation of the vertex and its neighbours), from its first reflex vertex
+    to its last; it is a corner when its total turning, the sum of its interior angles
+    minus 180 degrees each, is at least ``CORNER_ANGLE - 180`` degrees.  A sharp corner
+    is a run of one vertex, a filleted corner the arc's vertices; a ring with no convex
+    vertex (a hole's ring all of whose vertices turn the same way, such as a polygonised
+    circle) has no corner: holes are :func:`refine`'s ``"holes"``.
+
+    Parameters
+    ----------
+    polygon : Polygon
+
+    Returns
+    -------
+    list of ndarray, each (k, 2) float64
+        Ring by ring, in ring order.
+
+    Examples
+    --------
+    >>> from uniform2d import Polygon
+    >>> ell = Polygon([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)])
+    >>> [c.tolist() for c in reentrant_corners(ell)]
+    [[[1.0, 1.0]]]
+    >>> t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    >>> hole = np.column_stack([2 + np.cos(t), 2 - np.sin(t)])
+    >>> reentrant_corners(Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], holes=[hole]))
+    []
+    """
+    polygon = as_polygon(polygon)
+    threshold = math.radians(CORNER_ANGLE - 180.0)
+    angles = polygon.interior_angles() - math.pi
+    out = []
+    for r, ring in enumerate(polygon.rings):
+        off = polygon.ring_offsets[r]
+        nxt, prv = np.roll(ring, -1, axis=0), np.roll(ring, 1, axis=0)
+        # interior on the left of every ring edge: a right turn is a reflex vertex
+        turn = np.array([-np.sign(orient2d(a[0], a[1], b[0], b[1], c[0], c[1]))
+                         for a, b, c in zip(prv, ring, nxt)])
+        for run in _runs(turn):
+            if angles[off + run].sum() >= threshold:
+                out.append(ring[run].copy())
+    return out
 
 
 def _positive(name: str, value, upper=None) -> float:
