@@ -3,7 +3,7 @@
 Usage::
 
     python benchmarks/bench_graded.py [--vertices 2000] [--fe-vertices 2000 8000] [--no-fe]
-        [--resample TOL]
+        [--resample TOL] [--sweep]
 
 Cases (each a polygon and a size field h):
 
@@ -29,16 +29,20 @@ with a note when missing or with ``--no-fe``):
   from u), P1, H1-seminorm error of ours graded, Gmsh graded and ours uniform at the
   same vertex count.
 * Bolt plate, plane stress (E = 210000, nu = 0.3), left edge clamped, unit traction
-  along x on the right edge, P2: the energy-norm error sqrt(a(u_ref, u_ref) - a(u_h, u_h))
-  relative to sqrt(a(u_ref, u_ref)) (Galerkin orthogonality: exact for the exact
-  solution; the reference is ours graded with 12 times the vertices), of ours graded
-  and Gmsh graded at each of ``--fe-vertices``.
+  along x on the right edge, P2 (``benchmarks/plate_fe.py``): the energy-norm error
+  sqrt(a(u, u) - a(u_h, u_h)) relative to sqrt(a(u, u)) (Galerkin orthogonality), a(u, u)
+  extrapolated from reference solutions refined at the holes and the clamped corners,
+  of ours graded, Gmsh graded and ours uniform at each of ``--fe-vertices``, on the
+  field ``refine(plate, "holes", ratio, rate)`` chosen by a stated principle that does
+  not look at ours (``plate_fe.PRINCIPLE``: the field of the sweep with the smallest
+  Gmsh error); with the share of the squared error near the holes, near the clamped
+  corners and elsewhere.  ``--sweep`` prints the whole sweep of ``plate_fe.RATIOS`` x
+  ``plate_fe.RATES`` first and applies the principle to it (slow: minutes per field).
 """
 
 from __future__ import annotations
 
 import argparse
-import math
 import time
 from pathlib import Path
 
@@ -47,6 +51,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 import _checkout  # noqa: E402, F401  (measure this checkout, not an installed uniform2d)
+import plate_fe  # noqa: E402
 import uniform2d  # noqa: E402
 from uniform2d.peers import gmsh_peer  # noqa: E402
 from uniform2d.relative import relative_measures  # noqa: E402
@@ -156,41 +161,7 @@ def lshape_error(P, T) -> float:
     return float(np.sqrt(err.assemble(basis, uh=uh)))
 
 
-def plate_energy(P, T, width=400.0) -> float:
-    """a(u_h, u_h) of P2 plane stress on the bolt plate: left edge clamped, unit
-    traction along x on the right edge (x = width)."""
-    from skfem import (
-        Basis,
-        ElementTriP2,
-        ElementVector,
-        FacetBasis,
-        LinearForm,
-        MeshTri,
-        condense,
-        solve,
-    )
-    from skfem.models.elasticity import lame_parameters, linear_elasticity
-
-    m = MeshTri(np.ascontiguousarray(P.T), np.ascontiguousarray(T.T))
-    e = ElementVector(ElementTriP2())
-    basis = Basis(m, e, intorder=4)
-    lam, mu = lame_parameters(210000.0, 0.3)
-    lam = 2 * lam * mu / (lam + 2 * mu)  # plane stress
-    K = linear_elasticity(lam, mu).assemble(basis)
-    right = m.facets_satisfying(lambda x: np.isclose(x[0], width))
-    fb = FacetBasis(m, e, facets=right, intorder=4)
-
-    @LinearForm
-    def traction(v, w):
-        return v[0]
-
-    f = traction.assemble(fb)
-    left = basis.get_dofs(lambda x: np.isclose(x[0], 0.0)).all()
-    u = solve(*condense(K, f, D=left))
-    return float(u @ (K @ u))
-
-
-def fe(meshes, vertices_list) -> None:
+def fe(meshes, vertices_list, sweep: bool = False) -> None:
     try:
         import skfem  # noqa: F401
     except ImportError:
@@ -206,21 +177,7 @@ def fe(meshes, vertices_list) -> None:
                           ("ours uniform", uni.points, uni.triangles)):
         print(f"  {who:14s}{len(pts):7d} vertices   error {lshape_error(pts, tri):.5f}")
 
-    P, h, _ = meshes["bolt-plate"]
-    ref_n = 12 * max(vertices_list)
-    ref = uniform2d.uniform_mesh(P, ref_n, size=h)
-    a_ref = plate_energy(ref.points, ref.triangles)
-    print(f"\nBolt plate, plane stress, P2, relative energy-norm error (reference: ours "
-          f"graded, {len(ref.points)} vertices)")
-    for N in vertices_list:
-        mo = uniform2d.uniform_mesh(P, N - len(P.vertices), size=h)
-        mg = gmsh_peer.graded_mesh(P, h, N)
-        row = []
-        for pts, tri in ((mo.points, mo.triangles), (mg.points, mg.triangles)):
-            a = plate_energy(pts, tri)
-            row.append((len(pts), math.sqrt(max(a_ref - a, 0.0) / a_ref)))
-        print(f"  {N:6d} vertices   ours {row[0][1]:.5f} ({row[0][0]})   gmsh {row[1][1]:.5f} "
-              f"({row[1][0]})   ours / gmsh {row[0][1] / row[1][1]:.3f}")
+    plate_fe.report(meshes["bolt-plate"][0], vertices_list, sweep)
 
 
 def main() -> None:
@@ -231,10 +188,13 @@ def main() -> None:
     ap.add_argument("--resample", type=float, default=None, metavar="TOL",
                     help="add a row 'ours+rs': the rings resampled at the field's local "
                     "spacing (uniform_mesh resample=TOL), same vertex count")
+    ap.add_argument("--sweep", action="store_true",
+                    help="bolt plate FE: sweep the hole field's ratio and rate (both meshers "
+                    "on each field) and choose the field by plate_fe.PRINCIPLE")
     args = ap.parse_args()
     meshes = uniformity(args.vertices, args.resample)
     if not args.no_fe:
-        fe(meshes, args.fe_vertices)
+        fe(meshes, args.fe_vertices, args.sweep)
 
 
 if __name__ == "__main__":
