@@ -29,8 +29,8 @@ layer does for its domains (the same dynamic programme, :mod:`.chord_sampling`):
   (measured both ways) to widen features narrower than h (piers, notches, necks),
   then moves those with a ring edge under 0.75 h, within the tolerance, to
   lengthen it, and those with one under 0.8 h anywhere in the band between
-  their neighbours (:mod:`.ring_pull`); with ``corners="merge"``, a corner with a sample under 0.6 h away
-  merges with it into one point on the outline (:mod:`.corner_merge`);
+  their neighbours (:mod:`.ring_pull`); with ``corners="merge"``, a corner and
+  a sample under 0.6 h away become one point on the outline (:mod:`.corner_merge`);
 - a polygon whose constraint edges are all at least :data:`COARSE_EDGE` of the
   spacing is returned as given; a *coarse* one (:func:`is_coarse`) is resampled,
   by :func:`uniform2d.uniform_mesh` at :data:`COARSE_SPACING` times h;

@@ -11,10 +11,10 @@ distance d from it, at slope ``rate``, up to the base size H::
 vertices turning by at least ``CORNER_ANGLE - 180`` degrees in all, so that a
 sharp corner is a run of one vertex and a filleted one, an arc of slightly
 reflex vertices, is one corner too, while a ring all of whose vertices are
-reflex, a polygonised round hole, is none), ``"points" (the polygon's fixed points: supports, loads),
-``"segments"`` (its interior segments: members, interfaces) or ``"boundary"``
-(the outer boundary); or it is an (k, 2) array of points.  :func:`minimum`
-combines fields (the smallest size wins).  With :func:`uniform2d.uniform_mesh`
+reflex, a polygonised round hole, is none), ``"points"`` (the polygon's fixed
+points: supports, loads), ``"segments"`` (its interior segments: members,
+interfaces) or ``"boundary"`` (the outer boundary); or it is an (k, 2) array of
+points.  :func:`minimum` combines fields (the smallest size wins).  With :func:`uniform2d.uniform_mesh`
 ``n=`` only the field's shape matters, so H may stay at its default (the size
 of a uniform mesh of 1000 points); without n it is the absolute coarse size.
 
