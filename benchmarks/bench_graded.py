@@ -33,11 +33,13 @@ with a note when missing or with ``--no-fe``):
   sqrt(a(u, u) - a(u_h, u_h)) relative to sqrt(a(u, u)) (Galerkin orthogonality), a(u, u)
   extrapolated from reference solutions refined at the holes and the clamped corners,
   of ours graded, Gmsh graded and ours uniform at each of ``--fe-vertices``, on the
-  field ``refine(plate, "holes", ratio, rate)`` chosen by a stated principle that does
-  not look at ours (``plate_fe.PRINCIPLE``: the field of the sweep with the smallest
-  Gmsh error); with the share of the squared error near the holes, near the clamped
-  corners and elsewhere.  ``--sweep`` prints the whole sweep of ``plate_fe.RATIOS`` x
-  ``plate_fe.RATES`` first and applies the principle to it (slow: minutes per field).
+  field ``plate_fe.hole_field(plate, ratio, rate, corners)`` (refined at the holes and
+  optionally at the clamped corners) chosen by a stated principle that does not look at
+  ours (``plate_fe.PRINCIPLE``: the field of the sweep with the smallest Gmsh error);
+  with the share of the squared error near the holes, near the clamped corners and
+  elsewhere.  ``--sweep`` prints the whole sweep of ``plate_fe.RATIOS`` x
+  ``plate_fe.RATES`` x ``plate_fe.CORNERS`` first and applies the principle to it (slow:
+  minutes per field).
 """
 
 from __future__ import annotations
@@ -189,8 +191,9 @@ def main() -> None:
                     help="add a row 'ours+rs': the rings resampled at the field's local "
                     "spacing (uniform_mesh resample=TOL), same vertex count")
     ap.add_argument("--sweep", action="store_true",
-                    help="bolt plate FE: sweep the hole field's ratio and rate (both meshers "
-                    "on each field) and choose the field by plate_fe.PRINCIPLE")
+                    help="bolt plate FE: sweep the field's hole ratio, rate and clamped-corner "
+                    "ratio (both meshers on each field) and choose the field by "
+                    "plate_fe.PRINCIPLE")
     args = ap.parse_args()
     meshes = uniformity(args.vertices, args.resample)
     if not args.no_fe:

@@ -80,3 +80,29 @@ def test_hole_vertices_counts_the_rings(plate):
     d = shapely.distance(shapely.points(m.points), rings)
     assert on == int(np.sum(d < 1e-9)) and on >= sum(len(h) for h in plate.holes)
     assert near == int(np.sum(d <= plate_fe.NEAR))
+
+
+def test_corner_refined_field_is_the_minimum_of_the_two(plate):
+    """hole_field with corners: on its grid's nodes the smaller of the holes' field and the
+    corners' one (between nodes, bilinear), finer at the clamped corners."""
+    holes = uniform2d.refine(plate, "holes", ratio=0.25, rate=0.3)
+    corners = uniform2d.refine(plate, plate_fe.CLAMPED_CORNERS, ratio=0.05, rate=0.3)
+    both = plate_fe.hole_field(plate, 0.25, 0.3, 0.05)
+    gx, gy = np.meshgrid(both.x, both.y)
+    nodes = np.column_stack([gx.ravel(), gy.ravel()])
+    np.testing.assert_allclose(both(nodes), np.minimum(holes(nodes), corners(nodes)),
+                               rtol=1e-12)
+    at = both(plate_fe.CLAMPED_CORNERS)
+    assert np.all(at < holes(plate_fe.CLAMPED_CORNERS) / 2)
+    pts = np.random.default_rng(7).uniform([0.0, 0.0], [400.0, 250.0], size=(4000, 2))
+    assert np.array_equal(plate_fe.hole_field(plate, 0.25, 0.3)(pts), holes(pts))
+
+
+def test_choose_takes_the_smallest_gmsh_geometric_mean():
+    """The principle looks at Gmsh's errors only: ours never changes the choice."""
+    def row(ours, gmsh):
+        return {"ours": (0, ours, None, None), "gmsh": (0, gmsh, None, None)}
+
+    table = {("a",): {2000: row(0.001, 0.010), 8000: row(0.001, 0.004)},  # product 4e-5
+             ("b",): {2000: row(0.100, 0.008), 8000: row(0.100, 0.0045)}}  # product 3.6e-5
+    assert plate_fe.choose(table) == ("b",)
