@@ -114,18 +114,25 @@ def test_merge_corners_within_the_tolerance_and_only_corners_with_free_points():
     assert keep.all() and not merged.any() and np.array_equal(P3, P)
 
 
-@pytest.mark.parametrize("name", ["brazil", "usa"])
-def test_merge_mode_holds_the_tolerance_and_n_on_real_outlines(name):
-    p = u.read_polygon(OUTLINES / f"{name}.json")
-    n = 800
-    keep = u.uniform_mesh(p, n, resample=0.25)
-    mesh = u.uniform_mesh(p, n, resample=0.25, resample_corners="merge")
-    for m in (keep, mesh):
+def both_modes(p, n):
+    """The meshes of ``p`` resampled at tolerance 0.25 with corners kept and merged,
+    each checked: valid, exactly n Steiner points, within the tolerance both ways."""
+    meshes = (u.uniform_mesh(p, n, resample=0.25),
+              u.uniform_mesh(p, n, resample=0.25, resample_corners="merge"))
+    for m in meshes:
         r = m.info["resample"]
         check_mesh(m.points, m.triangles, m.polygon)
         assert len(m.points) == r["kept_vertices"] + n
         assert hausdorff(p, m.polygon) <= 0.25 * r["spacing"] * (1 + 1e-9)
         assert r["deviation"] <= 0.25 * r["spacing"] * (1 + 1e-9)
+    return meshes
+
+
+@pytest.mark.parametrize("name", ["brazil", "usa"])
+def test_merge_mode_holds_the_tolerance_and_n_on_real_outlines(name):
+    p = u.read_polygon(OUTLINES / f"{name}.json")
+    n = 800
+    keep, mesh = both_modes(p, n)
     # merging only removes corners (kept input vertices) and every kept one is an input vertex
     assert mesh.info["resample"]["corners"] <= keep.info["resample"]["corners"]
     V = p.vertices[:, 0] + 1j * p.vertices[:, 1]
@@ -149,13 +156,8 @@ def stepped_rectangle():
 def test_merge_mode_merges_a_step_and_keeps_fixed_points_and_segment_ends():
     p, seg_end = stepped_rectangle()
     n = 300
-    keep = u.uniform_mesh(p, n, resample=0.25)
-    m = u.uniform_mesh(p, n, resample=0.25, resample_corners="merge")
+    keep, m = both_modes(p, n)
     for mesh in (keep, m):
-        r = mesh.info["resample"]
-        check_mesh(mesh.points, mesh.triangles, mesh.polygon)
-        assert len(mesh.points) == r["kept_vertices"] + n
-        assert hausdorff(p, mesh.polygon) <= 0.25 * r["spacing"] * (1 + 1e-9)
         pts = {tuple(x) for x in mesh.points}
         assert tuple(seg_end) in pts and (1.2, 0.6) in pts and (3.0, 0.5) in pts
     # the step's corner merged with the sample at the step's other corner: one corner

@@ -227,7 +227,7 @@ def _clearance(P, sel, X, owner) -> np.ndarray:
     e = (i[:, None] + near[None, :]) % r  # edges e -> e + 1 away from X
     d = point_segment_distance(np.repeat(X, len(near), axis=0), P[e.ravel()], P[(e.ravel() + 1) % r])
     out = d.reshape(len(X), -1).min(axis=1)
-    for a, b, js in (((i - 1) % r, None, np.r_[np.arange(2, _WINDOW + 1), -np.arange(3, _WINDOW + 1)]),
+    for a, b, js in (((i - 1) % r, None, near),
                      (None, (i + 1) % r, np.r_[np.arange(3, _WINDOW + 1), -np.arange(2, _WINDOW + 1)])):
         j = ((i[:, None] + js[None, :]) % r).ravel()
         A = np.repeat(P[a] if a is not None else X, len(js), axis=0)
