@@ -46,6 +46,18 @@ def test_round_hole_is_not_a_corner():
         refine(P, "corners")
 
 
+def test_command_refusing_corners_on_a_round_hole_says_use_holes(tmp_path, capsys):
+    from uniform2d.cli.main import main
+    from uniform2d.io import write_polygon
+
+    src, out = tmp_path / "hole.json", tmp_path / "m.vtu"
+    write_polygon(src, Polygon(SQUARE, holes=[circle(2, 2, 1, 16)]))
+    assert main(["mesh", str(src), "-n", "300", "--refine", "corners:0.2", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("uniform2d: error: ") and '"holes"' in err
+    assert not out.exists() and list(tmp_path.iterdir()) == [src]
+
+
 def test_slot_hole_with_straight_vertices_is_not_a_corner():
     # two half circles joined by straight sides with a collinear vertex on each
     t = np.radians(np.linspace(90, -90, 7))

@@ -72,7 +72,9 @@ def _target(polygon: Polygon, near):
     else:
         raise InvalidArgumentError(f"refine: near must be one of {NEAR}, got {near!r}")
     if not geoms:
-        raise InvalidArgumentError(f"refine: the polygon has no {near} to refine near")
+        why = " (a round hole has none: use \"holes\")" if near == "corners" else ""
+        raise InvalidArgumentError(f"refine: the polygon has no {near} to refine near{why}; "
+                                   f"name another part or pass (k, 2) points")
     return shapely.GeometryCollection(geoms)
 
 
