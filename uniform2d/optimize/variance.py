@@ -144,6 +144,13 @@ def lower_variance(polygon: Polygon, points, triangles, edges, field: SizeField,
     return X0, T0, info
 
 
+def _dot(a, b) -> float:
+    """a . b without BLAS: its threaded dot products neither add up the same way
+    on every thread count (the mesh must not depend on it) nor stay fast on a
+    loaded machine (a 16000-long dot product took 20 ms there)."""
+    return float(np.multiply(a, b).sum())
+
+
 def _areas(X, T):
     a, b, c = X[T[:, 0]], X[T[:, 1]], X[T[:, 2]]
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
@@ -222,21 +229,21 @@ def lbfgs(fun, x, iterations: int, memory: int = MEMORY):
     True
     """
     f, g = fun(x)
-    S, Y = [], []
+    S, Y, R = [], [], []  # steps, gradient changes, 1 / (y . s)
     for it in range(int(iterations)):
         r = g.copy()
         alphas = []
-        for s, y in zip(reversed(S), reversed(Y)):
-            a = (s @ r) / (y @ s)
+        for s, y, rho in zip(reversed(S), reversed(Y), reversed(R)):
+            a = rho * _dot(s, r)
             r -= a * y
             alphas.append(a)
         if S:
-            r *= (S[-1] @ Y[-1]) / (Y[-1] @ Y[-1])
+            r *= 1.0 / (R[-1] * _dot(Y[-1], Y[-1]))
         else:
             r *= FIRST_STEP / max(float(np.abs(g).max()), 1e-300)
-        for s, y, a in zip(S, Y, reversed(alphas)):
-            r += s * (a - (y @ r) / (y @ s))
-        slope = -(g @ r)
+        for s, y, rho, a in zip(S, Y, R, reversed(alphas)):
+            r += s * (a - rho * _dot(y, r))
+        slope = -_dot(g, r)
         if not slope < 0:
             return x, it
         step = 1.0
@@ -249,10 +256,12 @@ def lbfgs(fun, x, iterations: int, memory: int = MEMORY):
             if step < MIN_STEP:
                 return x, it
         s, y = xn - x, gn - g
-        if s @ y > 0:
+        sy = _dot(s, y)
+        if sy > 0:
             S.append(s)
             Y.append(y)
+            R.append(1.0 / sy)
             if len(S) > memory:
-                del S[0], Y[0]
+                del S[0], Y[0], R[0]
         x, f, g = xn, fn, gn
     return x, int(iterations)
