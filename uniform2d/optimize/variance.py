@@ -10,8 +10,8 @@ takes the mesh's edges as they are and minimises, over the free coordinates,
 (a smooth function of the points while the edges stay the same) with
 L-BFGS (:func:`lbfgs`) and the exact gradient (the field's bilinear interpolation
 differentiated cell by cell), plus a penalty that keeps every log q within the
-band [min, max] of log q - mean log q the mesh had, so that max q / min q does not
-grow.  Polygon vertices stay; a boundary point slides along its own polygon
+band [min q, max q] the mesh had, so that neither extreme (nor max q / min q)
+grows.  Polygon vertices stay; a boundary point slides along its own polygon
 edge; interior points move freely; the line search steps back from any point
 where a triangle of the held triangulation would turn over (so points stay
 inside P and in order along its edges).  The moved points are then
@@ -190,7 +190,7 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
         return 0.5 * np.log(L2) - np.log(h), dv, L2, h, gh
 
     lq0 = logq(X0)[0]
-    lo, hi = lq0.min() - lq0.mean(), lq0.max() - lq0.mean()
+    lo, hi = lq0.min(), lq0.max()
 
     def fun(x):
         X = unpack(x)
@@ -200,11 +200,10 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
         q = np.exp(lq)
         qm = q.mean()
         var = ((q - qm) ** 2).mean()
-        r = lq - lq.mean()
-        over, under = np.maximum(r - hi, 0.0), np.minimum(r - lo, 0.0)
+        over, under = np.maximum(lq - hi, 0.0), np.minimum(lq - lo, 0.0)
         F = var / qm**2 + PENALTY * ((over**2).sum() + (under**2).sum()) / K
         gp = 2 * PENALTY * (over + under) / K
-        g = q * (2 * (q - qm) / K / qm**2 - 2 * var / qm**3 / K) + gp - gp.sum() / K
+        g = q * (2 * (q - qm) / K / qm**2 - 2 * var / qm**3 / K) + gp
         # d log q / d b = (b - a) / |b - a|² - grad h / (2 h), and for a the same with -(b - a)
         u, w = dv / L2[:, None], gh / (2 * h)[:, None]
         gb, ga = g[:, None] * (u - w), g[:, None] * (-u - w)
@@ -216,7 +215,7 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
     return fun, x0, unpack
 
 
-def lbfgs(fun, x, iterations: int, memory: int = MEMORY):
+def lbfgs(fun, x, iterations: int, memory: int | None = None):
     """Minimise ``fun(x) -> (value, gradient)`` from ``x`` by L-BFGS with a
     backtracking (Armijo) line search: (x reached, iterations made).  The first
     step moves the variable of largest gradient by ``FIRST_STEP``; a value of
@@ -228,6 +227,7 @@ def lbfgs(fun, x, iterations: int, memory: int = MEMORY):
     >>> np.allclose(x, 3.0)
     True
     """
+    memory = MEMORY if memory is None else int(memory)
     f, g = fun(x)
     S, Y, R = [], [], []  # steps, gradient changes, 1 / (y . s)
     for it in range(int(iterations)):
