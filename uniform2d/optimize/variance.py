@@ -106,9 +106,9 @@ def lower_variance(polygon: Polygon, points, triangles, edges, field: SizeField,
     points : ndarray, shape (|V| + k, 2)
     triangles : ndarray, shape (M', 3), int64
         The exact constrained Delaunay triangulation of the moved points, or
-        the input's points and triangles if the stage did not lower the CV of q.
-    The line search never lets a triangle of ``triangles`` turn over, so the
-    moved points stay inside P, in order along the boundary.
+        the input's points and triangles if the stage did not lower the CV of q
+        (the line search never lets a triangle of ``triangles`` turn over, so
+        the moved points stay inside P, in order along its edges).
     info : dict
         ``kept`` (bool), ``cv`` and ``ratio`` before and after (the input's
         figures twice when not kept), ``iterations`` made.
@@ -147,7 +147,7 @@ def lower_variance(polygon: Polygon, points, triangles, edges, field: SizeField,
 def _dot(a, b) -> float:
     """a . b without BLAS: its threaded dot products neither add up the same way
     on every thread count (the mesh must not depend on it) nor stay fast on a
-    loaded machine (a 16000-long dot product took 20 ms there)."""
+    loaded machine (16000-long ones took some 2 ms each there)."""
     return float(np.multiply(a, b).sum())
 
 
