@@ -221,6 +221,11 @@ def lbfgs(fun, x, iterations: int, memory: int | None = None):
     step moves the variable of largest gradient by ``FIRST_STEP``; a value of
     infinity (a point ``fun`` excludes) makes the line search step back.
 
+    Written here rather than taken from :func:`scipy.optimize.minimize`: its
+    line searches do not step back from a value of infinity (the turned-over
+    triangles this stage must exclude), and L-BFGS-B's bound handling cost
+    more per iteration than the objective at these sizes.
+
     Examples
     --------
     >>> x, made = lbfgs(lambda x: (((x - 3.0) ** 2).sum(), 2 * (x - 3.0)), np.zeros(4), 50)
