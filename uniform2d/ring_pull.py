@@ -167,21 +167,25 @@ def _pull(ring, ext, S, A, P, sel, limit, reach, across=False):
     l2 = np.hypot(*(P[nxt[owner]] - X).T)
     L1 = np.hypot(*(P[sel] - P[prv]).T)
     L2 = np.hypot(*(P[nxt] - P[sel]).T)
-    new, old = np.minimum(l1, l2), np.minimum(L1, L2)
-    if across:  # the point's distance to the ring across a narrow feature counts too
-        new = np.minimum(new, _across(P, sel[owner], X, reach))
-        old = np.minimum(old, _across(P, sel, P[sel], reach))
-    gain = new - old[owner]
+    won, had = np.minimum(l1, l2), np.minimum(L1, L2)  # the point's shorter edge
+    floor = won  # no feature nearby made narrower than that
+    if across:  # its distance to the ring across a narrow feature counts too
+        won = np.minimum(won, _across(P, sel[owner], X, reach))
+        across_had = _across(P, sel, P[sel], reach)
+        # where that distance is what is short, no narrower than the new one
+        floor = np.where((across_had < had)[owner], won, floor)
+        had = np.minimum(had, across_had)
+    gain = won - had[owner]
     cap = np.maximum(np.maximum(L1, L2), _LONGEST * reach)[owner]
     ok = (gain > _GAIN * reach) & (np.maximum(l1, l2) <= cap)
     ok &= (sel[owner] > 0) | (sc - shift[owner] >= 0)  # sample 0 keeps a position >= 0
     # no narrower feature: the moved point and edges keep their clearance from the
-    # ring nearby (or at least their new shorter edge's length)
+    # ring nearby (or at least their new shorter edge's length, or distance across)
     c_ok = np.flatnonzero(ok)
     if len(c_ok):
         old = _clearance(P, sel, P[sel], np.arange(q))
         new = _clearance(P, sel, X[c_ok], owner[c_ok])
-        ok[c_ok] = new >= np.minimum(old[owner[c_ok]], np.minimum(l1, l2)[c_ok])
+        ok[c_ok] = new >= np.minimum(old[owner[c_ok]], floor[c_ok])
     # no sharper ring: the angles at the point and its neighbours stay at least
     # :data:`SHARP` or what they were (the mesher's triangles at a sharp ring
     # angle are small)
