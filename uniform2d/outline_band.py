@@ -49,11 +49,6 @@ _SHARE = 0.9
 TIP_EDGE = 2.0
 #: Rounds of pushing (each one recomputes the nearest edges).
 _ROUNDS = 6
-#: A move that takes an edge out of the tolerance is cut to this fraction of
-#: itself, at most _CUTS times, then dropped (finer cuts than halving keep more of
-#: a move that the tolerance stops between two halvings).
-_CUT = 0.75
-_CUTS = 10
 
 
 def widen_moves(rings, movable, reach: float, limit: float) -> list[np.ndarray]:
@@ -235,8 +230,7 @@ def _clearance(P, nxt, prv, reach):
 
 
 def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
-    """``moves`` of one ring's samples cut back (to :data:`_CUT` of themselves a few
-    times, then dropped) until every
+    """``moves`` of one ring's samples cut back (halved, then dropped) until every
     moved edge is within ``limit`` of the input outline, both ways; and the
     deviation reached per edge.
 
@@ -282,7 +276,7 @@ def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
     >>> moves = np.array([(0, 0), (0, -0.3), (0, 0), (0, 0)])   # the corner pulled out by 0.3
     >>> m, dev = hold_tolerance(ring, ext, S, A, moves, np.zeros(4), 0.25)
     >>> m[1].round(3).tolist(), bool(dev.max() <= 0.25)
-    ([0.0, -0.225], True)
+    ([0.0, -0.15], True)
     """
     r = len(S)
     nxt = (np.arange(r) + 1) % r
@@ -290,7 +284,7 @@ def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
     f = np.ones(r)
     measured = np.full(r, np.inf)
     stale = np.ones(r, dtype=bool)  # edges whose ends moved since they were measured
-    for rnd in range(_CUTS + 2 * _ROUNDS):
+    for rnd in range(_ROUNDS * 3):
         D = moves * f[:, None]
         m = np.hypot(*D.T)
         # moving an edge's ends by at most d moves each of its points by at most d
@@ -303,7 +297,7 @@ def hold_tolerance(ring, ext, S, A, moves, edge_dev, limit: float):
         if not len(bad):
             return D, dev
         ends = np.concatenate([bad, nxt[bad]])
-        f[ends] = _CUT * f[ends] if rnd < _CUTS else 0.0
+        f[ends] = 0.5 * f[ends] if rnd < _ROUNDS else 0.0
         stale[:] = False
         stale[ends] = stale[(ends - 1) % r] = True
         measured[stale] = np.inf
