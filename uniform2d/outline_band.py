@@ -13,7 +13,10 @@ move up to that far from the other, widening a feature of width w to
 - :func:`widen_moves` pushes every movable ring point closer than ``reach`` to
   a ring edge that is not its own nor its neighbours' away from it, along its
   own normal (half the shortfall if the edge can move too), at most ``limit``,
-  a few rounds, never making a ring edge shorter than 0.75 ``reach``;
+  a few rounds, never making a ring edge shorter than 0.75 ``reach``; at a
+  spike whose one side is a long input edge between kept points (longer than
+  :data:`TIP_EDGE` ``reach``: the mesher splits it), the point next to the tip
+  on the other side is pushed away from it too;
 - :func:`hold_tolerance` cuts those moves back where a moved edge would leave
   the tolerance, measured both ways against the input path it spans;
 - :func:`narrowest` is the narrowest part of rings: the caller keeps the moves
@@ -27,7 +30,7 @@ import shapely
 
 from .geometry import point_segment_distance
 
-__all__ = ["MERGE", "REACH", "feature_width", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves", "widen_rings"]
+__all__ = ["MERGE", "REACH", "TIP_EDGE", "feature_width", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves", "widen_rings"]
 
 #: Ring points closer than this many spacings to another part of the rings are
 #: pushed apart (a mesh edge across a feature narrower than that is short).
@@ -40,6 +43,10 @@ _SAMPLES = 32
 #: Moves are proposed up to this fraction of the tolerance (the measured bound on
 #: a moved edge's distance exceeds the distance by up to half a sample step).
 _SHARE = 0.9
+#: A ring edge between two points that do not move, longer than this many
+#: spacings (an input edge the mesher splits where it chooses), is across a spike
+#: from the point beyond a neighbour where the ring turns back (see _near_pairs).
+TIP_EDGE = 2.0
 #: Rounds of pushing (each one recomputes the nearest edges).
 _ROUNDS = 6
 
@@ -354,19 +361,29 @@ def _topology(rings):
     return P, nxt, prv, start
 
 
-def _near_pairs(P, nxt, prv, reach):
+def _near_pairs(P, nxt, prv, reach, fixed=None):
     """(point, edge) pairs closer than ``reach``, the edge (from point e to nxt[e])
-    not the point's own nor a neighbour's."""
+    not the point's own nor a neighbour's; with ``fixed`` ((n,) bool, the points
+    that do not move), also an edge beyond a neighbour where the ring turns back
+    (an acute angle at that neighbour: a spike, the point on one side, the edge
+    on the other) if the edge's ends are fixed and it is longer than
+    :data:`TIP_EDGE` ``reach`` (the mesher puts points on it, up the spike)."""
     lines = shapely.linestrings(np.stack([P, P[nxt]], axis=1))
     pi, e = shapely.STRtree(lines).query(shapely.points(P), predicate="dwithin", distance=reach)
     near = (e != pi) & (e != prv[pi]) & (e != nxt[pi]) & (e != prv[prv[pi]])
+    if fixed is not None:
+        b, f = prv[pi], nxt[pi]
+        back = (e == prv[b]) & (np.einsum("ij,ij->i", P[pi] - P[b], P[prv[b]] - P[b]) > 0)
+        fwd = (e == f) & (np.einsum("ij,ij->i", P[pi] - P[f], P[nxt[f]] - P[f]) > 0)
+        long_fixed = (np.hypot(*(P[nxt[e]] - P[e]).T) > TIP_EDGE * reach) & fixed[e] & fixed[nxt[e]]
+        near |= (back | fwd) & long_fixed
     return pi[near], e[near]
 
 
 def _push(P, nxt, prv, can, reach) -> np.ndarray:
     """One round: per point, its move away from the nearest ring edge closer than
     ``reach`` that is not its own nor a neighbour's (zero if none)."""
-    pi, e = _near_pairs(P, nxt, prv, reach)
+    pi, e = _near_pairs(P, nxt, prv, reach, ~can)
     pi, e = pi[can[pi]], e[can[pi]]
     step = np.zeros_like(P)
     if not len(pi):

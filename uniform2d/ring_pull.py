@@ -18,11 +18,20 @@ than before, and no ring angle at the point or its neighbours becomes sharper
 than :data:`SHARP` (or than it was).  Alternate
 points move in turn, a few sweeps, so a chain of samples moves together: a
 neighbour whose edge got shorter moves next.
+
+With ``across`` (:data:`ACROSS`, the default) a point's distance to the
+nearest ring point across a narrow feature (:func:`_across`) counts as one of
+its edges: the mesher joins two ring points that face each other across a
+feature narrower than the spacing by an edge that short, so a point facing a
+kept corner, or facing another point, slides along its side of the feature
+(within the band, as above) until the corner faces the middle of a ring edge
+and the two edges to its ends are longer than the feature's width.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from .geometry import point_segment_distance
 from .ring_slide import SWEEPS, moved_heights, point_at, span_heights
@@ -33,6 +42,9 @@ __all__ = ["OFFSETS", "PULL", "SHARP", "pull_apart"]
 PULL = 0.8
 #: Offsets from the outline tried, as fractions of the tolerance (along its normal).
 OFFSETS = (0.0, -0.25, 0.25, -0.5, 0.5, -0.75, 0.75)
+#: Whether a point's distance to the ring across a narrow feature counts as one
+#: of its edges (:func:`_across`).
+ACROSS = True
 #: Positions along the outline tried between a point's neighbours' anchors.
 _GRID = 24
 #: A move lengthens the point's shorter edge by at least this many spacings.
@@ -48,7 +60,8 @@ _WINDOW = 6
 _LONGEST = 1.3
 
 
-def pull_apart(inputs, samples, rings, limit: float, reach: float, sweeps: int = SWEEPS):
+def pull_apart(inputs, samples, rings, limit: float, reach: float, sweeps: int = SWEEPS,
+               across: bool = ACROSS):
     """Rings whose movable points were moved within the tolerance band to
     lengthen their shorter ring edge (see the module notes).
 
@@ -64,6 +77,11 @@ def pull_apart(inputs, samples, rings, limit: float, reach: float, sweeps: int =
         The rings now (the anchors, possibly moved within the band already).
     limit, reach : float
         The tolerance and the spacing (lengths).
+    sweeps : int
+        At most this many sweeps.
+    across : bool
+        Whether a point's distance to the ring across a narrow feature counts
+        as one of its edges (see the module notes).
 
     Returns
     -------
@@ -103,12 +121,14 @@ def pull_apart(inputs, samples, rings, limit: float, reach: float, sweeps: int =
             for parity in (0, 1):
                 L = np.hypot(*(P[(idx + 1) % r] - P).T)
                 short = np.minimum(L, L[idx - 1])
+                if across:
+                    short = np.minimum(short, _across(P, idx, P, reach))
                 sel = np.flatnonzero(movable & stale & (idx % 2 == parity)
                                      & ((idx < r - 1) | (r % 2 == 0)) & (short < PULL * reach))
                 if not len(sel):
                     continue
                 stale[sel] = False
-                went, w = _pull(ring, ext, S, A, P, sel, limit, reach)
+                went, w = _pull(ring, ext, S, A, P, sel, limit, reach, across)
                 if len(went):
                     worst = max(worst, w)
                     moved = True
@@ -120,7 +140,7 @@ def pull_apart(inputs, samples, rings, limit: float, reach: float, sweeps: int =
     return out, worst
 
 
-def _pull(ring, ext, S, A, P, sel, limit, reach):
+def _pull(ring, ext, S, A, P, sel, limit, reach, across=False):
     """Move points ``sel`` (in place: S, A, P) to their best candidate: the
     points moved and the largest deviation of a moved edge (-1 if none moved)."""
     k, r = len(ring), len(S)
@@ -147,17 +167,25 @@ def _pull(ring, ext, S, A, P, sel, limit, reach):
     l2 = np.hypot(*(P[nxt[owner]] - X).T)
     L1 = np.hypot(*(P[sel] - P[prv]).T)
     L2 = np.hypot(*(P[nxt] - P[sel]).T)
-    gain = np.minimum(l1, l2) - np.minimum(L1, L2)[owner]
+    won, had = np.minimum(l1, l2), np.minimum(L1, L2)  # the point's shorter edge
+    floor = won  # no feature nearby made narrower than that
+    if across:  # its distance to the ring across a narrow feature counts too
+        won = np.minimum(won, _across(P, sel[owner], X, reach))
+        across_had = _across(P, sel, P[sel], reach)
+        # where that distance is what is short, no narrower than the new one
+        floor = np.where((across_had < had)[owner], won, floor)
+        had = np.minimum(had, across_had)
+    gain = won - had[owner]
     cap = np.maximum(np.maximum(L1, L2), _LONGEST * reach)[owner]
     ok = (gain > _GAIN * reach) & (np.maximum(l1, l2) <= cap)
     ok &= (sel[owner] > 0) | (sc - shift[owner] >= 0)  # sample 0 keeps a position >= 0
     # no narrower feature: the moved point and edges keep their clearance from the
-    # ring nearby (or at least their new shorter edge's length)
+    # ring nearby (or at least their new shorter edge's length, or distance across)
     c_ok = np.flatnonzero(ok)
     if len(c_ok):
         old = _clearance(P, sel, P[sel], np.arange(q))
         new = _clearance(P, sel, X[c_ok], owner[c_ok])
-        ok[c_ok] = new >= np.minimum(old[owner[c_ok]], np.minimum(l1, l2)[c_ok])
+        ok[c_ok] = new >= np.minimum(old[owner[c_ok]], floor[c_ok])
     # no sharper ring: the angles at the point and its neighbours stay at least
     # :data:`SHARP` or what they were (the mesher's triangles at a sharp ring
     # angle are small)
@@ -202,6 +230,18 @@ def _pull(ring, ext, S, A, P, sel, limit, reach):
     A[m] = Bc[j]
     P[m] = X[j]
     return m, float(dev[go].max())
+
+
+def _across(P, i, X, reach) -> np.ndarray:
+    """(c,): per position X[c] of ring point i[c], its distance to the nearest ring
+    point more than two places from i[c] along the ring (across a narrow feature:
+    a mesh edge where it is shorter than the spacing), at most ``reach``."""
+    r = len(P)
+    d, j = cKDTree(P).query(X, k=min(r, 8), distance_upper_bound=reach)
+    gap = np.abs(j - i[:, None]) % r
+    gap = np.minimum(gap, r - gap)
+    d = np.where((j < r) & (gap > 2), d, np.inf)
+    return np.minimum(d.min(axis=1), reach)
 
 
 def _heights(ring, ext, lo, hi, A0, A1, X, Y) -> np.ndarray:
