@@ -16,7 +16,7 @@ from .rank import bilinear
 from .spring import _commit
 from .star import FREE, legalize_live, live_slots
 
-__all__ = ["grid_size", "lloyd", "weighted_centroids"]
+__all__ = ["grid_size", "grid_sizes", "lloyd", "weighted_centroids"]
 
 
 @njit(cache=True, inline="always")
@@ -41,6 +41,18 @@ def grid_size(gx, gy, gv, x, y):
     x = min(max(x, gx[0]), gx[-1])
     y = min(max(y, gy[0]), gy[-1])
     return bilinear(gx, gy, gv, _cell(gx, x), _cell(gy, y), x, y)
+
+
+@njit(cache=True)
+def grid_sizes(gx, gy, gv, p):
+    """(k,) :func:`grid_size` at each of the points p (k, 2), C-contiguous: the
+    values of ``uniform2d.sizefield.SizeField`` without numpy's per-call cost
+    (the graded start evaluates the field a few dozen times a round on small
+    arrays)."""
+    out = np.empty(p.shape[0])
+    for k in range(p.shape[0]):
+        out[k] = grid_size(gx, gy, gv, p[k, 0], p[k, 1])
+    return out
 
 
 @njit(cache=True, inline="always")

@@ -23,9 +23,12 @@ import numpy as np
 import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
+from .._kernel.cells import grid_sizes
+from .._kernel.front import front_loops
 from ..geometry import polygon_edges
 from ..insert import insert_on_edges
 from ..polygon import Polygon
+from ..sizefield import SizeField
 
 __all__ = ["FILLED", "LINE_SPACING", "SPACING", "frontal_seed", "rows_start"]
 
@@ -57,6 +60,18 @@ def _shape(polygon: Polygon):
     return shapely.Polygon(rings[0], rings[1:]), lines
 
 
+def _compiled(size):
+    """``size`` evaluated by the kernel when it is a :class:`SizeField` (the same
+    floats, see :func:`uniform2d._kernel.cells.grid_sizes`), else ``size``."""
+    if not isinstance(size, SizeField):
+        return size
+    gx, gy, gv = size.x, size.y, size.values
+
+    def h(points):
+        return grid_sizes(gx, gy, gv, np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2))
+    return h
+
+
 def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     """Apexes on the front edges of the Delaunay triangulation ``tri`` of the
     points ``P[act]`` (the first ``n0`` of ``P`` the boundary's), rings respaced
@@ -73,8 +88,9 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     area2 = np.abs((B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0]))
     R = a * b * c / np.maximum(2.0 * area2, 1e-300)
     filled = inside & (R <= FILLED * size(cen))
-    if closed is not None:
-        filled[inside] |= closed(_circumcentres(A[inside], B[inside], C[inside])) < R[inside]
+    if closed is not None:  # (a filled triangle stays filled)
+        t = np.flatnonzero(inside & ~filled)
+        filled[t] = closed(_circumcentres(A[t], B[t], C[t])) < R[t]
     open_ = inside & ~filled
     out, ends = [], []
     for k in range(3):  # edge opposite vertex k
@@ -112,44 +128,21 @@ def _circumcentres(a, b, c) -> np.ndarray:
         return a + np.column_stack([c[:, 1] * bb - b[:, 1] * cc, b[:, 0] * cc - c[:, 0] * bb]) / d[:, None]
 
 
-def _loops(ends: np.ndarray) -> list:
-    """The closed chains of front edges ``ends`` (k, 2) (each with its open side on
-    the left; an edge followed by the one starting where it ends, where exactly
-    one starts and one ends there): lists of edge indices."""
-    k = len(ends)
-    n = int(ends.max()) + 1 if k else 0
-    out_deg = np.bincount(ends[:, 0], minlength=n)
-    in_deg = np.bincount(ends[:, 1], minlength=n)
-    start_of = np.full(n, -1, np.int64)
-    start_of[ends[:, 0]] = np.arange(k)
-    succ = np.where((out_deg[ends[:, 1]] == 1) & (in_deg[ends[:, 1]] == 1),
-                    start_of[ends[:, 1]], -1)
-    seen = np.zeros(k, bool)
-    loops = []
-    for first in range(k):
-        chain, e = [], first
-        while e >= 0 and not seen[e]:
-            seen[e] = True
-            chain.append(e)
-            e = succ[e]
-        if e == first:
-            loops.append(chain)
-    return loops
-
-
-def _clockwise(loops: list, P: np.ndarray) -> list:
-    """The loops (lists of indices into P) of three points or more turning clockwise."""
-    loops = [c for c in loops if len(c) >= 3]
-    if not loops:
+def _clockwise(ends: np.ndarray, P: np.ndarray) -> list:
+    """The closed chains of three or more front edges ``ends`` (k, 2) (each with its
+    open side on the left; :func:`uniform2d._kernel.front.front_loops`) whose points
+    ``P`` (one per edge) turn clockwise: arrays of edge indices."""
+    if not len(ends):
         return []
-    idx = np.concatenate(loops)
-    lens = np.array([len(c) for c in loops])
+    idx, lens = front_loops(np.ascontiguousarray(ends, dtype=np.int64), int(ends.max()) + 1)
+    if not len(lens):
+        return []
     first = np.cumsum(lens) - lens
     after = np.arange(1, len(idx) + 1)
     after[first + lens - 1] = first  # each loop's last point is followed by its first
     x, y = P[idx, 0], P[idx, 1]
     area2 = np.add.reduceat(x * y[after] - y * x[after], first)
-    return [c for c, a in zip(loops, area2.tolist()) if a < 0]
+    return [idx[f:f + n] for f, n, a in zip(first.tolist(), lens.tolist(), area2.tolist()) if a < 0]
 
 
 def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
@@ -167,7 +160,7 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
     new = {}  # a respaced ring's points, at its chain's first place
     drop = np.zeros(len(cand), dtype=bool)
     t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
-    for chain in _clockwise(_loops(ends), cand):
+    for chain in _clockwise(ends, cand):
         a = cand[chain]
         d = np.roll(a, -1, axis=0) - a
         mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
@@ -180,7 +173,7 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
         goal = cum[-1] * np.arange(m) / m
         seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
         frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
-        new[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
+        new[int(chain[0])] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
         drop[chain] = True
     if not new:
         return cand
@@ -299,6 +292,7 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     (12, 6)
     """
     shape, lines = _shape(polygon)
+    size = _compiled(size)
     P = np.concatenate([polygon.vertices, np.asarray(sites, dtype=np.float64).reshape(-1, 2)])
     hP = size(P)
     n0 = len(P)
