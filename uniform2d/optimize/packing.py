@@ -24,7 +24,7 @@ import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from .._kernel.cells import grid_sizes
-from .._kernel.front import front_loops
+from .._kernel.front import front_loops, respace_chains
 from ..geometry import polygon_edges
 from ..insert import insert_on_edges
 from ..polygon import Polygon
@@ -128,21 +128,24 @@ def _circumcentres(a, b, c) -> np.ndarray:
         return a + np.column_stack([c[:, 1] * bb - b[:, 1] * cc, b[:, 0] * cc - c[:, 0] * bb]) / d[:, None]
 
 
-def _clockwise(ends: np.ndarray, P: np.ndarray) -> list:
+def _clockwise(ends: np.ndarray, P: np.ndarray) -> tuple:
     """The closed chains of three or more front edges ``ends`` (k, 2) (each with its
     open side on the left; :func:`uniform2d._kernel.front.front_loops`) whose points
-    ``P`` (one per edge) turn clockwise: arrays of edge indices."""
+    ``P`` (one per edge) turn clockwise: (their edge indices one chain after the
+    other, (c,) each chain's length)."""
+    none = np.zeros(0, np.int64)
     if not len(ends):
-        return []
+        return none, none
     idx, lens = front_loops(np.ascontiguousarray(ends, dtype=np.int64), int(ends.max()) + 1)
     if not len(lens):
-        return []
+        return none, none
     first = np.cumsum(lens) - lens
     after = np.arange(1, len(idx) + 1)
     after[first + lens - 1] = first  # each loop's last point is followed by its first
     x, y = P[idx, 0], P[idx, 1]
     area2 = np.add.reduceat(x * y[after] - y * x[after], first)
-    return [idx[f:f + n] for f, n, a in zip(first.tolist(), lens.tolist(), area2.tolist()) if a < 0]
+    cw = area2 < 0
+    return idx[np.repeat(cw, lens)], lens[cw]
 
 
 def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
@@ -156,33 +159,23 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
     cannot move, would meet long edges (the spacing test drops apexes there).
     Clockwise loops around no hole count too: on the surface layer's charts
     respacing only those around a hole raised the CV of q (cylinder 0.059 to
-    0.069)."""
-    new = {}  # a respaced ring's points, at its chain's first place
-    drop = np.zeros(len(cand), dtype=bool)
-    t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
-    for chain in _clockwise(ends, cand):
-        a = cand[chain]
-        d = np.roll(a, -1, axis=0) - a
-        mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
-        inv = (1.0 / size(mids.reshape(-1, 2))).reshape(len(a), -1).mean(axis=1)
-        inv *= np.hypot(d[:, 0], d[:, 1])
-        cum = np.concatenate([[0.0], np.cumsum(inv)])
-        m = int(np.rint(cum[-1]))
-        if m == len(a) or (m < len(a) and bool(np.all(ends[chain] < n0))):
-            continue
-        goal = cum[-1] * np.arange(m) / m
-        seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
-        frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
-        new[int(chain[0])] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
-        drop[chain] = True
-    if not new:
+    0.069).  The rings' integrals here, their respacing in the kernel
+    (:func:`uniform2d._kernel.front.respace_chains`)."""
+    idx, lens = _clockwise(ends, cand)
+    if not len(lens):
         return cand
-    out, prev = [], 0
-    for i in sorted(new):
-        out += [cand[prev:i][~drop[prev:i]], new[i]]
-        prev = i + 1
-    out.append(cand[prev:][~drop[prev:]])
-    return np.concatenate(out)
+    first = np.cumsum(lens) - lens
+    nxt = np.arange(1, len(idx) + 1)
+    nxt[first + lens - 1] = first
+    a = cand[idx]
+    d = a[nxt] - a  # to the next point around the ring
+    t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
+    mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
+    inv = (1.0 / size(mids.reshape(-1, 2))).reshape(len(a), -1).mean(axis=1)
+    inv *= np.hypot(d[:, 0], d[:, 1])
+    boundary = np.logical_and.reduceat((ends[idx] < n0).all(axis=1), first)
+    return respace_chains(np.ascontiguousarray(cand), idx, lens, inv, np.ascontiguousarray(d),
+                          boundary)
 
 
 def _clear(cand, hc, P, hP, lines, size, ball=None) -> np.ndarray:
@@ -194,8 +187,12 @@ def _clear(cand, hc, P, hP, lines, size, ball=None) -> np.ndarray:
     the pairs (i, j) of a ball query of the candidates i among the points j of
     ``P`` (:class:`_Grown`), if known."""
     pc = shapely.points(cand)
-    near = shapely.get_coordinates(shapely.shortest_line(pc, lines))[1::2]
-    ok = shapely.distance(lines, pc) >= LINE_SPACING * np.minimum(hc, size(near))
+    dist = shapely.distance(lines, pc)
+    ok = dist >= LINE_SPACING * hc
+    # the nearest boundary point's size matters only where the candidate's own does not clear it
+    t = np.flatnonzero(~ok)
+    near = shapely.get_coordinates(shapely.shortest_line(pc[t], lines))[1::2]
+    ok[t] = dist[t] >= LINE_SPACING * np.minimum(hc[t], size(near))
     i, j = (ball or _Grown(P).ball)(cand, SPACING * hc)
     d = np.hypot(*(P[j] - cand[i]).T)
     ok[i[d < SPACING * np.minimum(hP[j], hc[i])]] = False
