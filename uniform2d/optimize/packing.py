@@ -92,30 +92,29 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
         t = np.flatnonzero(inside & ~filled)
         filled[t] = closed(_circumcentres(A[t], B[t], C[t])) < R[t]
     open_ = inside & ~filled
-    out, ends = [], []
-    for k in range(3):  # edge opposite vertex k
-        nb = tri.neighbors[:, k]
-        edge_side = open_ & ((nb < 0) | ~inside[np.maximum(nb, 0)] | filled[np.maximum(nb, 0)])
-        t = np.flatnonzero(edge_side)
-        p, q = P[S[t, (k + 1) % 3]], P[S[t, (k + 2) % 3]]
-        m = 0.5 * (p + q)
-        d = q - p
-        L = np.linalg.norm(d, axis=1)
-        nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(L, 1e-300)[:, None]
-        side = np.sign(np.einsum("ij,ij->i", P[S[t, k]] - m, nrm))
-        up = side[:, None] * nrm
-        hs = size(m)
-        for _ in range(APEX_ITERATIONS):
-            height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
-            hs = size(m + (0.5 * height)[:, None] * up)
+    # the edges opposite vertex k of the open triangles t next to no open one,
+    # k = 0 first, then 1, then 2
+    nb = tri.neighbors
+    nbc = np.maximum(nb, 0)
+    k, t = np.nonzero((open_[:, None] & ((nb < 0) | ~inside[nbc] | filled[nbc])).T)
+    pi, qi = S[t, (k + 1) % 3], S[t, (k + 2) % 3]
+    p, q = P[pi], P[qi]
+    m = 0.5 * (p + q)
+    d = q - p
+    L = np.linalg.norm(d, axis=1)
+    nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(L, 1e-300)[:, None]
+    side = np.sign(np.einsum("ij,ij->i", P[S[t, k]] - m, nrm))
+    up = side[:, None] * nrm
+    hs = size(m)
+    for _ in range(APEX_ITERATIONS):
         height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
-        out.append(m + height[:, None] * up)
-        # the edge's ends in the order that has its open side (the apex) on the left
-        pi, qi = S[t, (k + 1) % 3], S[t, (k + 2) % 3]
-        ends.append(np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1)))
-    cand = np.concatenate(out)
+        hs = size(m + (0.5 * height)[:, None] * up)
+    height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
+    cand = m + height[:, None] * up
+    # the edge's ends in the order that has its open side (the apex) on the left
+    ends = np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1))
     if len(cand):
-        cand = _respace_rings(cand, np.concatenate(ends), size, n0)
+        cand = _respace_rings(cand, ends, size, n0)
     return cand, size(cand), np.unique(S[open_])
 
 
