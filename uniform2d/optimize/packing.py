@@ -115,7 +115,9 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     ends = np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1))
     if len(cand):
         cand = _respace_rings(cand, ends, size, n0)
-    return cand, size(cand), np.unique(S[open_])
+    on_open = np.zeros(len(P), dtype=bool)
+    on_open[S[open_]] = True
+    return cand, size(cand), np.flatnonzero(on_open)
 
 
 def _circumcentres(a, b, c) -> np.ndarray:
