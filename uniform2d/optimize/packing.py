@@ -76,10 +76,12 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     """Apexes on the front edges of the Delaunay triangulation ``tri`` of the
     points ``P[act]`` (the first ``n0`` of ``P`` the boundary's), rings respaced
     (:func:`_respace_rings`): (candidates (k, 2), their h, the points of ``act``
-    on an open triangle).  ``closed``: the distance from points (m, 2) to the
-    nearest point left out of ``act`` (:func:`frontal_seed`), or None; a
-    triangle whose circumcircle holds one is not a triangle of all the points'
-    Delaunay triangulation, and counts as filled."""
+    on an open triangle).  ``closed(X, r, corners)``: whether a point left out
+    of ``act`` (:func:`frontal_seed`) is closer than r[i] to X[i] (m, 2), the
+    circumcentre of the triangle of ``corners[i]`` (indices into P), as
+    :meth:`_Behind.closer`; or None; a triangle whose circumcircle holds one is
+    not a triangle of all the points' Delaunay triangulation, and counts as
+    filled."""
     S = act[tri.simplices]
     A, B, C = P[S[:, 0]], P[S[:, 1]], P[S[:, 2]]
     cen = (A + B + C) / 3.0
@@ -90,7 +92,7 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     filled = inside & (R <= FILLED * size(cen))
     if closed is not None:  # (a filled triangle stays filled)
         t = np.flatnonzero(inside & ~filled)
-        filled[t] = closed(_circumcentres(A[t], B[t], C[t])) < R[t]
+        filled[t] = closed(_circumcentres(A[t], B[t], C[t]), R[t], S[t])
     open_ = inside & ~filled
     # the edges opposite vertex k of the open triangles t next to no open one,
     # k = 0 first, then 1, then 2
@@ -240,6 +242,43 @@ class _Grown:
                 np.concatenate([j + k for (_, j), (_, k) in zip(pairs, self._trees())]))
 
 
+class _Behind:
+    """The points left behind the front (a :class:`_Grown`), and for every point
+    one of them that was its neighbour in a round's triangulation, whose
+    distance answers most of :meth:`closer`'s questions without the tree."""
+
+    def __init__(self):
+        self.grown = _Grown(np.empty((0, 2)))
+        self.near = np.zeros(0, np.int64)
+        self.P = np.empty((0, 2))
+
+    def add(self, P, act, tri, left) -> None:
+        """The points ``act[left]`` (indices into P) leave the triangulation
+        ``tri`` of ``P[act]``: behind for good, each their neighbours' known one."""
+        self.grown.add(P[act[left]])
+        self.P = P
+        self.near = np.concatenate([self.near, np.full(len(P) - len(self.near), -1, np.int64)])
+        ptr, nbr = tri.vertex_neighbor_vertices
+        count = ptr[left + 1] - ptr[left]
+        first = np.repeat(ptr[left] - (np.cumsum(count) - count), count)
+        self.near[act[nbr[first + np.arange(count.sum())]]] = np.repeat(act[left], count)
+
+    def closer(self, X, r, corners) -> np.ndarray:
+        """(m,) bool: whether a point behind is closer than r[i] to X[i] (m, 2):
+        ``nearest < r``, the tree's nearest distance.  A corner's known point
+        closer than r by a margin far above rounding makes that distance smaller
+        than r whatever its last bits; the tree answers the others."""
+        out = np.zeros(len(X), dtype=bool)
+        known = len(self.near)  # points added since have none yet
+        near = np.where(corners < known, self.near[np.minimum(corners, known - 1)], -1)
+        for b in near.T:
+            d = X - self.P[np.maximum(b, 0)]
+            out |= (b >= 0) & ((d * d).sum(axis=1) < (1.0 - 2.0**-30) * (r * r))
+        rest = np.flatnonzero(~out)
+        out[rest] = self.grown.nearest(X[rest]) < r[rest]
+        return out
+
+
 def _within(lists) -> tuple:
     """(i, j) int64 arrays: the pairs of a KD-tree's ball query, j in lists[i]."""
     counts = np.fromiter(map(len, lists), dtype=np.int64, count=len(lists))
@@ -297,7 +336,7 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     # a point on no open triangle is behind the front for good: the rounds
     # triangulate only the others (the front's triangles are the same; see _front)
     active = np.ones(n0, dtype=bool)
-    every, behind = _Grown(P), _Grown(np.empty((0, 2)))
+    every, behind = _Grown(P), _Behind()
     for _ in range(MAX_ROUNDS):
         act = np.flatnonzero(active)
         if len(act) < 3:
@@ -306,11 +345,11 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
             tri = Delaunay(P[act])
         except QhullError:  # the active points all on a line: no open triangle
             break
-        closed = behind.nearest if len(behind.P) else None
+        closed = behind.closer if len(behind.grown.P) else None
         cand, hc, on_open = _front(P, act, tri, size, shape, n0, closed)
         active[act] = False
         active[on_open] = True
-        behind.add(P[act[~active[act]]])
+        behind.add(P, act, tri, np.flatnonzero(~active[act]))
         ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
         ok[ok] = _clear(cand[ok], hc[ok], P, hP, lines, size, every.ball)
         idx = np.flatnonzero(ok)
