@@ -292,3 +292,27 @@ def test_behind_test_is_the_trees():
         r = np.where(np.isfinite(r), r, 1.0)
         assert np.array_equal(behind.closer(X, r, corners), one.query(X)[0] < r)
     assert (nb >= 0).any()
+
+
+def _greedy_ref(C, hC):
+    i, j = packing._within(cKDTree(C).query_ball_point(C, packing.SPACING * hC))
+    close = (i != j) & (np.hypot(*(C[j] - C[i]).T) < packing.SPACING * np.minimum(hC[i], hC[j]))
+    i, j = i[close], j[close]
+    start = np.searchsorted(i, np.arange(len(C) + 1))
+    blocked = np.zeros(len(C), dtype=bool)
+    for k in np.unique(i).tolist():
+        if not blocked[k]:
+            blocked[j[start[k]:start[k + 1]]] = True
+    return np.flatnonzero(~blocked)
+
+
+def test_greedy_keeps_what_the_python_loop_kept(fronts):
+    rng = np.random.default_rng(9)
+    for _ in range(50):
+        C = rng.random((int(rng.integers(1, 400)), 2))
+        hC = rng.uniform(0.01, 0.1, len(C))
+        assert np.array_equal(packing._greedy(C, hC), _greedy_ref(C, hC))
+    for cand, _, _, size in fronts[::3]:
+        h = size(cand)
+        got = packing._greedy(cand, h)
+        assert np.array_equal(got, _greedy_ref(cand, h)) and len(got) < len(cand)

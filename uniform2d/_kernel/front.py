@@ -7,7 +7,7 @@ import numpy as np
 
 from ._jit import njit
 
-__all__ = ["front_loops", "respace_chains"]
+__all__ = ["front_loops", "greedy_kept", "respace_chains"]
 
 
 @njit(cache=True)
@@ -129,3 +129,21 @@ def respace_chains(cand, idx, lens, inv, d, boundary):
             out[w, 1] = cand[i, 1]
             w += 1
     return out
+
+
+@njit(cache=True)
+def greedy_kept(n, i, j):
+    """(n,) bool: the points kept in order, each unless an earlier kept one is
+    close to it: (i, j) the close pairs, both ways, sorted by i."""
+    blocked = np.zeros(n, np.bool_)
+    s = 0
+    while s < i.shape[0]:
+        k = i[s]
+        e = s
+        while e < i.shape[0] and i[e] == k:
+            e += 1
+        if not blocked[k]:
+            for x in range(s, e):
+                blocked[j[x]] = True
+        s = e
+    return ~blocked

@@ -24,7 +24,7 @@ import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from .._kernel.cells import grid_sizes
-from .._kernel.front import front_loops, respace_chains
+from .._kernel.front import front_loops, greedy_kept, respace_chains
 from ..geometry import polygon_edges
 from ..insert import insert_on_edges
 from ..polygon import Polygon
@@ -258,10 +258,13 @@ class _Behind:
         self.grown.add(P[act[left]])
         self.P = P
         self.near = np.concatenate([self.near, np.full(len(P) - len(self.near), -1, np.int64)])
-        ptr, nbr = tri.vertex_neighbor_vertices
-        count = ptr[left + 1] - ptr[left]
-        first = np.repeat(ptr[left] - (np.cumsum(count) - count), count)
-        self.near[act[nbr[first + np.arange(count.sum())]]] = np.repeat(act[left], count)
+        gone = np.zeros(len(act), dtype=bool)
+        gone[left] = True
+        T = tri.simplices
+        for k in range(3):  # the other two corners of a triangle at a point gone
+            r = np.flatnonzero(gone[T[:, k]])
+            for o in (1, 2):
+                self.near[act[T[r, (k + o) % 3]]] = act[T[r, k]]
 
     def closer(self, X, r, corners) -> np.ndarray:
         """(m,) bool: whether a point behind is closer than r[i] to X[i] (m, 2):
@@ -293,13 +296,7 @@ def _greedy(C: np.ndarray, hC: np.ndarray) -> np.ndarray:
     symmetric, so a point close to none is kept)."""
     i, j = _within(cKDTree(C).query_ball_point(C, SPACING * hC))
     close = (i != j) & (np.hypot(*(C[j] - C[i]).T) < SPACING * np.minimum(hC[i], hC[j]))
-    i, j = i[close], j[close]
-    start = np.searchsorted(i, np.arange(len(C) + 1))
-    blocked = np.zeros(len(C), dtype=bool)
-    for k in np.unique(i).tolist():
-        if not blocked[k]:
-            blocked[j[start[k]:start[k + 1]]] = True
-    return np.flatnonzero(~blocked)
+    return np.flatnonzero(greedy_kept(len(C), i[close], j[close]))
 
 
 def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
