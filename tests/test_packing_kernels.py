@@ -316,3 +316,28 @@ def test_greedy_keeps_what_the_python_loop_kept(fronts):
         h = size(cand)
         got = packing._greedy(cand, h)
         assert np.array_equal(got, _greedy_ref(cand, h)) and len(got) < len(cand)
+
+
+def test_far_from_the_boundary_only_where_shapely_agrees():
+    """_far says a point is at least r from the boundary only where shapely's
+    distance is at least r, also with r at shapely's distance and one rounding
+    either side of it, far from the origin too; it settles the clear cases."""
+    import shapely
+
+    rng = np.random.default_rng(4)
+    for shift in (0.0, 1e6):
+        for poly in (LSHAPE, HOLED, RING):  # RING: slanted edges, where roundings differ
+            off = poly.ring_offsets
+            rings = [poly.vertices[off[k]:off[k + 1]] + shift for k in range(len(poly.rings))]
+            _, lines = packing._shape(Polygon(rings[0], rings[1:]))
+            lo, hi = poly.vertices.min(axis=0) - 0.5, poly.vertices.max(axis=0) + 0.5
+            X = rng.uniform(lo, hi, (2000, 2)) + shift
+            exact = shapely.distance(lines, shapely.points(X))
+            for r in (exact, np.nextafter(exact, np.inf), np.nextafter(exact, 0), 0.5 * exact,
+                      rng.uniform(0, 0.5, len(X))):
+                far = packing._far(X, r, lines)
+                assert np.all(exact[far] >= r[far])
+            assert packing._far(X, 0.5 * exact, lines).mean() > 0.99
+    assert len(shapely.get_coordinates(lines)) // 2 <= packing.FEW_EDGES
+    many = shapely.multilinestrings(rng.random((packing.FEW_EDGES + 1, 2, 2)))
+    assert not packing._far(X, np.zeros(len(X)), many).any()  # too many edges: unsure

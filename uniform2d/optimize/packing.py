@@ -48,6 +48,9 @@ APEX_ITERATIONS = 2
 RING_SAMPLES = 4
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
+#: Boundaries of at most this many edges get the candidates' distances to them from
+#: numpy first (:func:`_far`), shapely only for those near.
+FEW_EDGES = 32
 #: Points added to a :class:`_Grown` set before its tree is built again, at least.
 GROWN = 256
 
@@ -189,17 +192,39 @@ def _clear(cand, hc, P, hP, lines, size, ball=None) -> np.ndarray:
     than the edge, and its own size would refuse the whole first row.  ``ball``:
     the pairs (i, j) of a ball query of the candidates i among the points j of
     ``P`` (:class:`_Grown`), if known."""
-    pc = shapely.points(cand)
+    ok = _far(cand, LINE_SPACING * hc, lines)
+    s = np.flatnonzero(~ok)
+    pc = shapely.points(cand[s])
     dist = shapely.distance(lines, pc)
-    ok = dist >= LINE_SPACING * hc
+    ok[s] = dist >= LINE_SPACING * hc[s]
     # the nearest boundary point's size matters only where the candidate's own does not clear it
-    t = np.flatnonzero(~ok)
+    t = np.flatnonzero(~ok[s])
     near = shapely.get_coordinates(shapely.shortest_line(pc[t], lines))[1::2]
-    ok[t] = dist[t] >= LINE_SPACING * np.minimum(hc[t], size(near))
+    ok[s[t]] = dist[t] >= LINE_SPACING * np.minimum(hc[s[t]], size(near))
     i, j = (ball or _Grown(P).ball)(cand, SPACING * hc)
     d = np.hypot(*(P[j] - cand[i]).T)
     ok[i[d < SPACING * np.minimum(hP[j], hc[i])]] = False
     return ok
+
+
+def _far(X, r, lines) -> np.ndarray:
+    """(k,) bool: the points X (k, 2) whose distance to the segments of ``lines``, as
+    shapely measures it, is certainly at least r (k,); False where unsure, and for
+    all if the segments are more than :data:`FEW_EDGES` (numpy's distances to each
+    would cost more than shapely's).  Both distances are within a few roundings
+    of (|x| + |a| + |b|) of the true one (a, b a segment's ends), so one larger
+    than r by 2**-40 of that sum plus r settles it."""
+    seg = shapely.get_coordinates(lines).reshape(-1, 2, 2)
+    if len(seg) > FEW_EDGES or not len(X):
+        return np.zeros(len(X), dtype=bool)
+    a, d = seg[:, 0], seg[:, 1] - seg[:, 0]
+    w = X[:, None, :] - a[None]
+    dd = (d * d).sum(axis=1)
+    t = np.clip((w * d).sum(axis=2) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    off = w - t[:, :, None] * d
+    dist = np.sqrt((off * off).sum(axis=2))
+    mag = np.abs(X).sum(axis=1)[:, None] + np.abs(seg).sum(axis=(1, 2))[None] + r[:, None]
+    return np.all(dist - 2.0**-40 * mag >= r[:, None], axis=1)
 
 
 class _Grown:
