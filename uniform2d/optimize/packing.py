@@ -201,9 +201,10 @@ def _clear(cand, hc, P, hP, lines, size, ball=None) -> np.ndarray:
     t = np.flatnonzero(~ok[s])
     near = shapely.get_coordinates(shapely.shortest_line(pc[t], lines))[1::2]
     ok[s[t]] = dist[t] >= LINE_SPACING * np.minimum(hc[s[t]], size(near))
-    i, j = (ball or _Grown(P).ball)(cand, SPACING * hc)
-    d = np.hypot(*(P[j] - cand[i]).T)
-    ok[i[d < SPACING * np.minimum(hP[j], hc[i])]] = False
+    u = np.flatnonzero(ok)  # (those the boundary refused stay refused)
+    i, j = (ball or _Grown(P).ball)(cand[u], SPACING * hc[u])
+    d = np.hypot(*(P[j] - cand[u[i]]).T)
+    ok[u[i[d < SPACING * np.minimum(hP[j], hc[u[i]])]]] = False
     return ok
 
 
