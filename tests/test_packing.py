@@ -161,7 +161,7 @@ def test_front_of_the_active_points_is_the_front_of_all(poly, h):
     active = np.ones(n0, bool)
     for _ in range(12):
         act = np.flatnonzero(active)
-        closed = (lambda X, t=cKDTree(P[~active]): t.query(X)[0]) if (~active).any() else None
+        closed = (lambda X, r, _, t=cKDTree(P[~active]): t.query(X)[0] < r) if (~active).any() else None
         mine, hc, on_open = _front(P, act, Delaunay(P[act]), size, shape, n0, closed)
         full, _, _ = _front(P, np.arange(len(P)), Delaunay(P), size, shape, n0, None)
         assert len(mine) == len(full)

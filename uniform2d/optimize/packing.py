@@ -23,9 +23,12 @@ import numpy as np
 import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
+from .._kernel.cells import grid_sizes
+from .._kernel.front import front_loops, greedy_kept, respace_chains
 from ..geometry import polygon_edges
 from ..insert import insert_on_edges
 from ..polygon import Polygon
+from ..sizefield import SizeField
 
 __all__ = ["FILLED", "LINE_SPACING", "SPACING", "frontal_seed", "rows_start"]
 
@@ -45,6 +48,9 @@ APEX_ITERATIONS = 2
 RING_SAMPLES = 4
 #: Rounds at most (a front advances about 0.87 h a round).
 MAX_ROUNDS = 2000
+#: Boundaries of at most this many edges get the candidates' distances to them from
+#: numpy first (:func:`_far`), shapely only for those near.
+FEW_EDGES = 32
 #: Points added to a :class:`_Grown` set before its tree is built again, at least.
 GROWN = 256
 
@@ -57,14 +63,28 @@ def _shape(polygon: Polygon):
     return shapely.Polygon(rings[0], rings[1:]), lines
 
 
+def _compiled(size):
+    """``size`` evaluated by the kernel when it is a :class:`SizeField` (the same
+    floats, see :func:`uniform2d._kernel.cells.grid_sizes`), else ``size``."""
+    if not isinstance(size, SizeField):
+        return size
+    gx, gy, gv = size.x, size.y, size.values
+
+    def h(points):
+        return grid_sizes(gx, gy, gv, np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2))
+    return h
+
+
 def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     """Apexes on the front edges of the Delaunay triangulation ``tri`` of the
     points ``P[act]`` (the first ``n0`` of ``P`` the boundary's), rings respaced
     (:func:`_respace_rings`): (candidates (k, 2), their h, the points of ``act``
-    on an open triangle).  ``closed``: the distance from points (m, 2) to the
-    nearest point left out of ``act`` (:func:`frontal_seed`), or None; a
-    triangle whose circumcircle holds one is not a triangle of all the points'
-    Delaunay triangulation, and counts as filled."""
+    on an open triangle).  ``closed(X, r, corners)``: whether a point left out
+    of ``act`` (:func:`frontal_seed`) is closer than r[i] to X[i] (m, 2), the
+    circumcentre of the triangle of ``corners[i]`` (indices into P), as
+    :meth:`_Behind.closer`; or None; a triangle whose circumcircle holds one is
+    not a triangle of all the points' Delaunay triangulation, and counts as
+    filled."""
     S = act[tri.simplices]
     A, B, C = P[S[:, 0]], P[S[:, 1]], P[S[:, 2]]
     cen = (A + B + C) / 3.0
@@ -73,34 +93,36 @@ def _front(P, act, tri, size, shape, n0: int = 0, closed=None):
     area2 = np.abs((B[:, 0] - A[:, 0]) * (C[:, 1] - A[:, 1]) - (B[:, 1] - A[:, 1]) * (C[:, 0] - A[:, 0]))
     R = a * b * c / np.maximum(2.0 * area2, 1e-300)
     filled = inside & (R <= FILLED * size(cen))
-    if closed is not None:
-        filled[inside] |= closed(_circumcentres(A[inside], B[inside], C[inside])) < R[inside]
+    if closed is not None:  # (a filled triangle stays filled)
+        t = np.flatnonzero(inside & ~filled)
+        filled[t] = closed(_circumcentres(A[t], B[t], C[t]), R[t], S[t])
     open_ = inside & ~filled
-    out, ends = [], []
-    for k in range(3):  # edge opposite vertex k
-        nb = tri.neighbors[:, k]
-        edge_side = open_ & ((nb < 0) | ~inside[np.maximum(nb, 0)] | filled[np.maximum(nb, 0)])
-        t = np.flatnonzero(edge_side)
-        p, q = P[S[t, (k + 1) % 3]], P[S[t, (k + 2) % 3]]
-        m = 0.5 * (p + q)
-        d = q - p
-        L = np.linalg.norm(d, axis=1)
-        nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(L, 1e-300)[:, None]
-        side = np.sign(np.einsum("ij,ij->i", P[S[t, k]] - m, nrm))
-        up = side[:, None] * nrm
-        hs = size(m)
-        for _ in range(APEX_ITERATIONS):
-            height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
-            hs = size(m + (0.5 * height)[:, None] * up)
+    # the edges opposite vertex k of the open triangles t next to no open one,
+    # k = 0 first, then 1, then 2
+    nb = tri.neighbors
+    nbc = np.maximum(nb, 0)
+    k, t = np.nonzero((open_[:, None] & ((nb < 0) | ~inside[nbc] | filled[nbc])).T)
+    pi, qi = S[t, (k + 1) % 3], S[t, (k + 2) % 3]
+    p, q = P[pi], P[qi]
+    m = 0.5 * (p + q)
+    d = q - p
+    L = np.linalg.norm(d, axis=1)
+    nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(L, 1e-300)[:, None]
+    side = np.sign(np.einsum("ij,ij->i", P[S[t, k]] - m, nrm))
+    up = side[:, None] * nrm
+    hs = size(m)
+    for _ in range(APEX_ITERATIONS):
         height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
-        out.append(m + height[:, None] * up)
-        # the edge's ends in the order that has its open side (the apex) on the left
-        pi, qi = S[t, (k + 1) % 3], S[t, (k + 2) % 3]
-        ends.append(np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1)))
-    cand = np.concatenate(out)
+        hs = size(m + (0.5 * height)[:, None] * up)
+    height = np.sqrt(np.maximum(hs * hs - 0.25 * L * L, 0.25 * hs * hs))
+    cand = m + height[:, None] * up
+    # the edge's ends in the order that has its open side (the apex) on the left
+    ends = np.where(side[:, None] > 0, np.stack([pi, qi], 1), np.stack([qi, pi], 1))
     if len(cand):
-        cand = _respace_rings(cand, np.concatenate(ends), size, n0)
-    return cand, size(cand), np.unique(S[open_])
+        cand = _respace_rings(cand, ends, size, n0)
+    on_open = np.zeros(len(P), dtype=bool)
+    on_open[S[open_]] = True
+    return cand, size(cand), np.flatnonzero(on_open)
 
 
 def _circumcentres(a, b, c) -> np.ndarray:
@@ -112,44 +134,24 @@ def _circumcentres(a, b, c) -> np.ndarray:
         return a + np.column_stack([c[:, 1] * bb - b[:, 1] * cc, b[:, 0] * cc - c[:, 0] * bb]) / d[:, None]
 
 
-def _loops(ends: np.ndarray) -> list:
-    """The closed chains of front edges ``ends`` (k, 2) (each with its open side on
-    the left; an edge followed by the one starting where it ends, where exactly
-    one starts and one ends there): lists of edge indices."""
-    k = len(ends)
-    n = int(ends.max()) + 1 if k else 0
-    out_deg = np.bincount(ends[:, 0], minlength=n)
-    in_deg = np.bincount(ends[:, 1], minlength=n)
-    start_of = np.full(n, -1, np.int64)
-    start_of[ends[:, 0]] = np.arange(k)
-    succ = np.where((out_deg[ends[:, 1]] == 1) & (in_deg[ends[:, 1]] == 1),
-                    start_of[ends[:, 1]], -1)
-    seen = np.zeros(k, bool)
-    loops = []
-    for first in range(k):
-        chain, e = [], first
-        while e >= 0 and not seen[e]:
-            seen[e] = True
-            chain.append(e)
-            e = succ[e]
-        if e == first:
-            loops.append(chain)
-    return loops
-
-
-def _clockwise(loops: list, P: np.ndarray) -> list:
-    """The loops (lists of indices into P) of three points or more turning clockwise."""
-    loops = [c for c in loops if len(c) >= 3]
-    if not loops:
-        return []
-    idx = np.concatenate(loops)
-    lens = np.array([len(c) for c in loops])
+def _clockwise(ends: np.ndarray, P: np.ndarray) -> tuple:
+    """The closed chains of three or more front edges ``ends`` (k, 2) (each with its
+    open side on the left; :func:`uniform2d._kernel.front.front_loops`) whose points
+    ``P`` (one per edge) turn clockwise: (their edge indices one chain after the
+    other, (c,) each chain's length)."""
+    none = np.zeros(0, np.int64)
+    if not len(ends):
+        return none, none
+    idx, lens = front_loops(np.ascontiguousarray(ends, dtype=np.int64), int(ends.max()) + 1)
+    if not len(lens):
+        return none, none
     first = np.cumsum(lens) - lens
     after = np.arange(1, len(idx) + 1)
     after[first + lens - 1] = first  # each loop's last point is followed by its first
     x, y = P[idx, 0], P[idx, 1]
     area2 = np.add.reduceat(x * y[after] - y * x[after], first)
-    return [c for c, a in zip(loops, area2.tolist()) if a < 0]
+    cw = area2 < 0
+    return idx[np.repeat(cw, lens)], lens[cw]
 
 
 def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.ndarray:
@@ -163,33 +165,23 @@ def _respace_rings(cand: np.ndarray, ends: np.ndarray, size, n0: int = 0) -> np.
     cannot move, would meet long edges (the spacing test drops apexes there).
     Clockwise loops around no hole count too: on the surface layer's charts
     respacing only those around a hole raised the CV of q (cylinder 0.059 to
-    0.069)."""
-    new = {}  # a respaced ring's points, at its chain's first place
-    drop = np.zeros(len(cand), dtype=bool)
-    t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
-    for chain in _clockwise(_loops(ends), cand):
-        a = cand[chain]
-        d = np.roll(a, -1, axis=0) - a
-        mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
-        inv = (1.0 / size(mids.reshape(-1, 2))).reshape(len(a), -1).mean(axis=1)
-        inv *= np.hypot(d[:, 0], d[:, 1])
-        cum = np.concatenate([[0.0], np.cumsum(inv)])
-        m = int(np.rint(cum[-1]))
-        if m == len(a) or (m < len(a) and bool(np.all(ends[chain] < n0))):
-            continue
-        goal = cum[-1] * np.arange(m) / m
-        seg = np.clip(np.searchsorted(cum, goal, side="right") - 1, 0, len(a) - 1)
-        frac = (goal - cum[seg]) / np.maximum(inv[seg], 1e-300)
-        new[chain[0]] = a[seg] + np.clip(frac, 0.0, 1.0)[:, None] * d[seg]
-        drop[chain] = True
-    if not new:
+    0.069).  The rings' integrals here, their respacing in the kernel
+    (:func:`uniform2d._kernel.front.respace_chains`)."""
+    idx, lens = _clockwise(ends, cand)
+    if not len(lens):
         return cand
-    out, prev = [], 0
-    for i in sorted(new):
-        out += [cand[prev:i][~drop[prev:i]], new[i]]
-        prev = i + 1
-    out.append(cand[prev:][~drop[prev:]])
-    return np.concatenate(out)
+    first = np.cumsum(lens) - lens
+    nxt = np.arange(1, len(idx) + 1)
+    nxt[first + lens - 1] = first
+    a = cand[idx]
+    d = a[nxt] - a  # to the next point around the ring
+    t = (np.arange(RING_SAMPLES) + 0.5) / RING_SAMPLES
+    mids = a[:, None, :] + t[None, :, None] * d[:, None, :]
+    inv = (1.0 / size(mids.reshape(-1, 2))).reshape(len(a), -1).mean(axis=1)
+    inv *= np.hypot(d[:, 0], d[:, 1])
+    boundary = np.logical_and.reduceat((ends[idx] < n0).all(axis=1), first)
+    return respace_chains(np.ascontiguousarray(cand), idx, lens, inv, np.ascontiguousarray(d),
+                          boundary)
 
 
 def _clear(cand, hc, P, hP, lines, size, ball=None) -> np.ndarray:
@@ -200,13 +192,40 @@ def _clear(cand, hc, P, hP, lines, size, ball=None) -> np.ndarray:
     than the edge, and its own size would refuse the whole first row.  ``ball``:
     the pairs (i, j) of a ball query of the candidates i among the points j of
     ``P`` (:class:`_Grown`), if known."""
-    pc = shapely.points(cand)
-    near = shapely.get_coordinates(shapely.shortest_line(pc, lines))[1::2]
-    ok = shapely.distance(lines, pc) >= LINE_SPACING * np.minimum(hc, size(near))
-    i, j = (ball or _Grown(P).ball)(cand, SPACING * hc)
-    d = np.hypot(*(P[j] - cand[i]).T)
-    ok[i[d < SPACING * np.minimum(hP[j], hc[i])]] = False
+    ok = _far(cand, LINE_SPACING * hc, lines)
+    s = np.flatnonzero(~ok)
+    pc = shapely.points(cand[s])
+    dist = shapely.distance(lines, pc)
+    ok[s] = dist >= LINE_SPACING * hc[s]
+    # the nearest boundary point's size matters only where the candidate's own does not clear it
+    t = np.flatnonzero(~ok[s])
+    near = shapely.get_coordinates(shapely.shortest_line(pc[t], lines))[1::2]
+    ok[s[t]] = dist[t] >= LINE_SPACING * np.minimum(hc[s[t]], size(near))
+    u = np.flatnonzero(ok)  # (those the boundary refused stay refused)
+    i, j = (ball or _Grown(P).ball)(cand[u], SPACING * hc[u])
+    d = np.hypot(*(P[j] - cand[u[i]]).T)
+    ok[u[i[d < SPACING * np.minimum(hP[j], hc[u[i]])]]] = False
     return ok
+
+
+def _far(X, r, lines) -> np.ndarray:
+    """(k,) bool: the points X (k, 2) whose distance to the segments of ``lines``, as
+    shapely measures it, is certainly at least r (k,); False where unsure, and for
+    all if the segments are more than :data:`FEW_EDGES` (numpy's distances to each
+    would cost more than shapely's).  Both distances are within a few roundings
+    of (|x| + |a| + |b|) of the true one (a, b a segment's ends), so one larger
+    than r by 2**-40 of that sum plus r settles it."""
+    seg = shapely.get_coordinates(lines).reshape(-1, 2, 2)
+    if len(seg) > FEW_EDGES or not len(X):
+        return np.zeros(len(X), dtype=bool)
+    a, d = seg[:, 0], seg[:, 1] - seg[:, 0]
+    w = X[:, None, :] - a[None]
+    dd = (d * d).sum(axis=1)
+    t = np.clip((w * d).sum(axis=2) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    off = w - t[:, :, None] * d
+    dist = np.sqrt((off * off).sum(axis=2))
+    mag = np.abs(X).sum(axis=1)[:, None] + np.abs(seg).sum(axis=(1, 2))[None] + r[:, None]
+    return np.all(dist - 2.0**-40 * mag >= r[:, None], axis=1)
 
 
 class _Grown:
@@ -249,6 +268,46 @@ class _Grown:
                 np.concatenate([j + k for (_, j), (_, k) in zip(pairs, self._trees())]))
 
 
+class _Behind:
+    """The points left behind the front (a :class:`_Grown`), and for every point
+    one of them that was its neighbour in a round's triangulation, whose
+    distance answers most of :meth:`closer`'s questions without the tree."""
+
+    def __init__(self):
+        self.grown = _Grown(np.empty((0, 2)))
+        self.near = np.zeros(0, np.int64)
+        self.P = np.empty((0, 2))
+
+    def add(self, P, act, tri, left) -> None:
+        """The points ``act[left]`` (indices into P) leave the triangulation
+        ``tri`` of ``P[act]``: behind for good, each their neighbours' known one."""
+        self.grown.add(P[act[left]])
+        self.P = P
+        self.near = np.concatenate([self.near, np.full(len(P) - len(self.near), -1, np.int64)])
+        gone = np.zeros(len(act), dtype=bool)
+        gone[left] = True
+        T = tri.simplices
+        for k in range(3):  # the other two corners of a triangle at a point gone
+            r = np.flatnonzero(gone[T[:, k]])
+            for o in (1, 2):
+                self.near[act[T[r, (k + o) % 3]]] = act[T[r, k]]
+
+    def closer(self, X, r, corners) -> np.ndarray:
+        """(m,) bool: whether a point behind is closer than r[i] to X[i] (m, 2):
+        ``nearest < r``, the tree's nearest distance.  A corner's known point
+        closer than r by a margin far above rounding makes that distance smaller
+        than r whatever its last bits; the tree answers the others."""
+        out = np.zeros(len(X), dtype=bool)
+        known = len(self.near)  # points added since have none yet
+        near = np.where(corners < known, self.near[np.minimum(corners, known - 1)], -1)
+        for b in near.T:
+            d = X - self.P[np.maximum(b, 0)]
+            out |= (b >= 0) & ((d * d).sum(axis=1) < (1.0 - 2.0**-30) * (r * r))
+        rest = np.flatnonzero(~out)
+        out[rest] = self.grown.nearest(X[rest]) < r[rest]
+        return out
+
+
 def _within(lists) -> tuple:
     """(i, j) int64 arrays: the pairs of a KD-tree's ball query, j in lists[i]."""
     counts = np.fromiter(map(len, lists), dtype=np.int64, count=len(lists))
@@ -263,13 +322,7 @@ def _greedy(C: np.ndarray, hC: np.ndarray) -> np.ndarray:
     symmetric, so a point close to none is kept)."""
     i, j = _within(cKDTree(C).query_ball_point(C, SPACING * hC))
     close = (i != j) & (np.hypot(*(C[j] - C[i]).T) < SPACING * np.minimum(hC[i], hC[j]))
-    i, j = i[close], j[close]
-    start = np.searchsorted(i, np.arange(len(C) + 1))
-    blocked = np.zeros(len(C), dtype=bool)
-    for k in np.unique(i).tolist():
-        if not blocked[k]:
-            blocked[j[start[k]:start[k + 1]]] = True
-    return np.flatnonzero(~blocked)
+    return np.flatnonzero(greedy_kept(len(C), i[close], j[close]))
 
 
 def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
@@ -299,13 +352,14 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
     (12, 6)
     """
     shape, lines = _shape(polygon)
+    size = _compiled(size)
     P = np.concatenate([polygon.vertices, np.asarray(sites, dtype=np.float64).reshape(-1, 2)])
     hP = size(P)
     n0 = len(P)
     # a point on no open triangle is behind the front for good: the rounds
     # triangulate only the others (the front's triangles are the same; see _front)
     active = np.ones(n0, dtype=bool)
-    every, behind = _Grown(P), _Grown(np.empty((0, 2)))
+    every, behind = _Grown(P), _Behind()
     for _ in range(MAX_ROUNDS):
         act = np.flatnonzero(active)
         if len(act) < 3:
@@ -314,11 +368,11 @@ def frontal_seed(polygon: Polygon, size, sites) -> np.ndarray:
             tri = Delaunay(P[act])
         except QhullError:  # the active points all on a line: no open triangle
             break
-        closed = behind.nearest if len(behind.P) else None
+        closed = behind.closer if len(behind.grown.P) else None
         cand, hc, on_open = _front(P, act, tri, size, shape, n0, closed)
         active[act] = False
         active[on_open] = True
-        behind.add(P[act[~active[act]]])
+        behind.add(P, act, tri, np.flatnonzero(~active[act]))
         ok = shapely.contains_xy(shape, cand[:, 0], cand[:, 1])
         ok[ok] = _clear(cand[ok], hc[ok], P, hP, lines, size, every.ball)
         idx = np.flatnonzero(ok)
