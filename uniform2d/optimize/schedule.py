@@ -109,6 +109,12 @@ PRUNE_ROUNDS = 10
 #: n = 200 ranks ninth of 12, 9 go on).
 PRUNE_ROUNDS_LARGE = 5
 PRUNE_SPARE = 1
+#: Above KEEP_MAX points no spare: there the winner ranks at most fourth of 12
+#: after PRUNE_ROUNDS_LARGE rounds on the benchmark, constrained and bolt-plate
+#: polygons at 1000 to 2000 points, and the next trial takes five.  The split
+#: still leaves two starts at least: with two (above SMALL points) deciding on
+#: 5 rounds alone picked another start for square2holes at n = 10000.
+PRUNE_SPARE_LARGE = 0
 #: Above KEEP_MAX points fewer of the starts go on after each trial: the best
 #: KEEP_LARGE[k] of them after trial k (ceil, at least one; the spring trial's
 #: split then leaves all but those and PRUNE_SPARE out after PRUNE_ROUNDS).
