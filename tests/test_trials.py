@@ -146,7 +146,12 @@ def test_the_winner_of_a_medium_mesh_goes_on_with_the_medium_schedule(monkeypatc
     assert S.schedule_for(S.MEDIUM + 1, False, winner=True) == S.SCHEDULE_MEDIUM
     assert S.schedule_for(S.MEDIUM, False, winner=True) == S.SCHEDULE
     assert S.schedule_for(S.SMALL, False, winner=True) == S.SCHEDULE_MEDIUM
-    assert S.schedule_for(S.SMALL + 1, False, winner=True) == S.SCHEDULE
+    # above SMALL, SCHEDULE's stages with a shorter spread stage
+    assert S.schedule_for(S.SMALL + 1, False, winner=True) == S.SCHEDULE_BIG
+    assert S.schedule_for(S.LARGE, False, winner=True) == S.SCHEDULE_BIG
+    assert S.SCHEDULE_BIG == S.SCHEDULE._replace(spread_sweeps=S.SCHEDULE_BIG.spread_sweeps)
+    assert S.SCHEDULE_BIG.spread_sweeps < S.SCHEDULE.spread_sweeps
+    assert S.schedule_for(S.SMALL + 1, False) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, False) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, True, winner=True) == S.SCHEDULE_GRADED
     assert S.schedule_for(S.LARGE + 1, False, winner=True) == S.SCHEDULE_LARGE
