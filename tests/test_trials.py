@@ -65,6 +65,12 @@ def test_trial_plan_splits_the_first_trial_only_where_it_leaves_starts_out():
     # two starts, one goes on: nothing to leave out
     assert [(sched, size) for sched, size, _ in _trial_plan(2, S.KEEP_LARGE)] == list(
         zip(S.TRIALS, [2, 1, 1]))
+    # no spare (large meshes): the split keeps what the next trial takes, and
+    # never decides between two starts on the split's rounds alone
+    spare = S.PRUNE_SPARE_LARGE
+    assert [size for _, size, _ in _trial_plan(12, S.KEEP_LARGE, 5, spare)] == [12, 5 + spare, 5, 3]
+    assert [size for _, size, _ in _trial_plan(2, S.KEEP_LARGE, 5, 0)] == [2, 1, 1]
+    assert [size for _, size, _ in _trial_plan(3, S.KEEP_LARGE, 5, 0)] == [3, 2, 2, 2]
 
 
 @pytest.mark.parametrize("name, n", [("star10", 200), ("rect4x1", 1000)])
@@ -140,7 +146,12 @@ def test_the_winner_of_a_medium_mesh_goes_on_with_the_medium_schedule(monkeypatc
     assert S.schedule_for(S.MEDIUM + 1, False, winner=True) == S.SCHEDULE_MEDIUM
     assert S.schedule_for(S.MEDIUM, False, winner=True) == S.SCHEDULE
     assert S.schedule_for(S.SMALL, False, winner=True) == S.SCHEDULE_MEDIUM
-    assert S.schedule_for(S.SMALL + 1, False, winner=True) == S.SCHEDULE
+    # above SMALL, SCHEDULE's stages with a shorter spread stage
+    assert S.schedule_for(S.SMALL + 1, False, winner=True) == S.SCHEDULE_BIG
+    assert S.schedule_for(S.LARGE, False, winner=True) == S.SCHEDULE_BIG
+    assert S.SCHEDULE_BIG == S.SCHEDULE._replace(spread_sweeps=S.SCHEDULE_BIG.spread_sweeps)
+    assert S.SCHEDULE_BIG.spread_sweeps < S.SCHEDULE.spread_sweeps
+    assert S.schedule_for(S.SMALL + 1, False) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, False) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, True, winner=True) == S.SCHEDULE_GRADED
     assert S.schedule_for(S.LARGE + 1, False, winner=True) == S.SCHEDULE_LARGE

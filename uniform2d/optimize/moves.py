@@ -188,7 +188,7 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     ``schedule.KEEP`` of them (by :meth:`KernelMesh.rank`; ``KEEP_LARGE``'s, one
     fraction a trial, above ``KEEP_MAX`` points) run the next, and so on (the first trial's spring
     rounds in two parts, the starts ranked after ``schedule.PRUNE_ROUNDS`` (``PRUNE_ROUNDS_LARGE``) of
-    them and only those the next trial can take, and ``PRUNE_SPARE`` more,
+    them and only those the next trial can take, and ``PRUNE_SPARE`` (``PRUNE_SPARE_LARGE``) more,
     running the rest: :func:`_trial_plan`); the winner's kernel state goes on into the full schedule
     (``schedule_for``'s with ``winner``, overridden as :func:`improve`'s) without being loaded again, from the stage
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
@@ -220,7 +220,8 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     n_points = next((len(st.xy) for _, st, _ in alive if st is not None), 0)
     small = n_points <= S.KEEP_MAX
     plan = _trial_plan(len(alive), S.KEEP if small else S.KEEP_LARGE,
-                       S.PRUNE_ROUNDS if small else S.PRUNE_ROUNDS_LARGE)
+                       S.PRUNE_ROUNDS if small else S.PRUNE_ROUNDS_LARGE,
+                       S.PRUNE_SPARE if small else S.PRUNE_SPARE_LARGE)
     total, done = sum(size for _, size, _ in plan), 0
     if report is not None:
         report(done, total)
@@ -244,22 +245,25 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     return i, *st.result(run)
 
 
-def _trial_plan(starts: int, keep, prune: int | None = None) -> list:
+def _trial_plan(starts: int, keep, prune: int | None = None, spare: int | None = None) -> list:
     """The trials of :func:`improve_best` for ``starts`` starts: (schedule, how
     many of the best run it, spring rounds an earlier part of it asked).  The
     ``schedule.TRIALS`` with ``keep`` of the starts going on after each (a
     fraction, or one per trial after the first); the first trial's spring
     rounds split after ``prune`` of them (default ``schedule.PRUNE_ROUNDS``;
     0: no split) where that leaves starts out (the starts a split drops are
-    those no later trial would have run)."""
+    those no later trial would have run), ``spare`` (default
+    ``schedule.PRUNE_SPARE``) more than the next trial takes going on, and
+    never fewer than two."""
     prune = S.PRUNE_ROUNDS if prune is None else prune
+    spare = S.PRUNE_SPARE if spare is None else spare
     keeps = keep if isinstance(keep, tuple) else (keep,) * (len(S.TRIALS) - 1)
     sizes = [starts]
     for k in keeps:
         sizes.append(max(1, math.ceil(k * sizes[-1])))
     plan = [(sched, size, 0) for sched, size in zip(S.TRIALS, sizes)]
     first = S.TRIALS[0]
-    cut = sizes[1] + S.PRUNE_SPARE if len(sizes) > 1 else starts
+    cut = max(sizes[1] + spare, 2) if len(sizes) > 1 else starts
     if prune and first.spring_rounds > prune and cut < starts:
         plan[:1] = [(first._replace(spring_rounds=prune), starts, 0),
                     (first._replace(spring_rounds=first.spring_rounds - prune), cut, prune)]

@@ -191,17 +191,55 @@ def _reference(polygon: Polygon, n: int, start):
     return tp.info, quality(tp.points, tp.triangles), tp.info.get("d_n")
 
 
-def _reference_ahead(polygon: Polygon, n: int, start) -> Future | None:
-    """:func:`_reference` (T+ and its measures, or d_n alone) started on a
+class _Later:
+    """``fn()`` on a thread of its own from the first :meth:`start` on
+    (:meth:`result` starts it if nothing did)."""
+
+    def __init__(self, fn):
+        self._fn = fn
+        self._future: Future | None = None
+
+    def start(self) -> None:
+        if self._future is None:
+            self._future = in_background(self._fn)
+
+    def result(self):
+        self.start()
+        return self._future.result()
+
+    def wait(self) -> None:
+        """Until it has ended, if it was started."""
+        if self._future is not None:
+            wait([self._future])
+
+
+def _reference_ahead(polygon: Polygon, n: int, start) -> _Later | None:
+    """:func:`_reference` (T+ and its measures, or d_n alone) to be made on a
     thread of its own beside the optimisation, or None (then made at once):
     where T+ is to be made here (``start`` None), more than one thread is
     allowed and the mesh has at most ``schedule.LARGE`` points (beyond, T+'s
     arrays would stand beside the optimiser's at its peak).  Nothing of the
     optimisation reads it before the end, and it is the same whenever it is
-    made: the core the optimiser's serial stages leave idle makes it."""
+    made: :func:`optimize_mesh` starts it when the winner's schedule starts
+    (the ``relaxation`` phase), on the core that serial stage leaves idle,
+    not beside the trials, which keep every core busy."""
     if start is not None or get_threads() <= 1 or n + len(polygon.vertices) > S.LARGE:
         return None
-    return in_background(lambda: _reference(polygon, n, None))
+    return _Later(lambda: _reference(polygon, n, None))
+
+
+def _starting(report, later: _Later | None):
+    """``report`` that also starts ``later`` (if any) when the ``relaxation``
+    phase starts (see :func:`_reference_ahead`)."""
+    if later is None:
+        return report
+
+    def on(phase: str, done: int, total: int) -> None:
+        if phase == "relaxation":
+            later.start()
+        report(phase, done, total)
+
+    return on
 
 
 def _tplus_again(polygon: Polygon, n: int, start) -> Mesh:
@@ -267,9 +305,11 @@ def optimize_mesh(
     ahead = _angle_attempt_ahead(polygon, n, h, objective, options)
     try:
         pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = _finished(
-            polygon, n, h, objective, options, report)
+            polygon, n, h, objective, options, _starting(report, reference))
     finally:  # not left running beyond this call, whatever happens
-        wait([f for f in (ahead, reference) if f is not None])
+        wait([ahead] if ahead is not None else [])
+        if reference is not None:
+            reference.wait()
     tp_info, q_tp, d_n = made if reference is None else reference.result()
     q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
     angled = False
