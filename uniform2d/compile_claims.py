@@ -59,7 +59,7 @@ def share(directory: str | None) -> None:
 
 def before_load(callback) -> None:
     """Call ``callback(func)`` each time, before the kernel of Python function
-    ``func`` is looked up in its cache (what cached code needs loaded first:
+    ``func`` is loaded from its cache (what cached code needs loaded first:
     :mod:`uniform2d._kernel.external`)."""
     _before_load.append(callback)
 
@@ -118,8 +118,10 @@ class ClaimedCache(FunctionCache):
         return f"{name}.{hashlib.sha1(str(sig).encode()).hexdigest()[:16]}"
 
     def load_overload(self, sig, target_context):
-        for callback in _before_load:
-            callback(self._py_func)
+        if _before_load and self._index_key(sig, target_context.codegen()) in \
+                self._cache_file._load_index():
+            for callback in _before_load:
+                callback(self._py_func)
         data = super().load_overload(sig, target_context)
         if data is not None or _state["dir"] is None or not self._enabled:
             return data

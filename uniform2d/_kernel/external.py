@@ -14,10 +14,12 @@ helpers: the callers hold a call, not a copy.  The same code runs, so the
 results are the same, bit for bit.
 
 The C functions are compiled (or loaded from the cache) on first need, not at
-import: :func:`ensure` runs before any kernel is compiled (from the stub) or
-loaded from numba's cache (:func:`uniform2d.compile_claims.before_load`),
-since a cached kernel may call one by name (but the kernels a C function is
-made of, which call none).  Each is claimed like a kernel
+import: :func:`ensure` runs when a kernel calling one is compiled (for that
+one: on a cold cache the command and its warmer then compile different ones
+at once) and before any kernel is loaded from numba's cache
+(:func:`uniform2d.compile_claims.before_load`; all of them, since a cached
+kernel may call any by name; not for the kernels the C functions are made of,
+which call none).  Each is claimed like a kernel
 while a second process fills the same cache (:mod:`uniform2d.compile_claims`).
 """
 
@@ -45,29 +47,32 @@ def _symbol(func) -> str:
     return f"uniform2d_{func.__module__.rsplit('.', 1)[-1]}_{func.__name__}"
 
 
-def ensure() -> None:
-    """Compile (or load from the cache) every function :func:`compiled_once`
-    made that is not yet, and register its symbol."""
-    if not _pending:
+def ensure(name: str | None = None) -> None:
+    """Compile (or load from the cache) the C function of symbol ``name``, or
+    every one :func:`compiled_once` made (None), unless it is already, and
+    register its symbol."""
+    if not _pending or (name is not None and name not in _pending):
         return
     with global_compiler_lock:
-        while _pending:
-            name, (func, nargs) = _pending.popitem()  # before compiling: its cache calls ensure()
+        for symbol in [name] if name is not None else list(_pending):
+            if symbol not in _pending:
+                continue
+            func, nargs = _pending.pop(symbol)  # before compiling: its cache calls ensure()
             sig = sigutils.normalize_signature(types.float64(*[types.float64] * nargs))
             c = CFunc(func, sig, locals={}, options={"nopython": True, "nogil": True})
             c._cache = ClaimedCache(func)
             try:
                 c.compile()
             except BaseException:
-                _pending[name] = (func, nargs)
+                _pending[symbol] = (func, nargs)
                 raise
-            ll.add_symbol(name, c.address)
-            _made[name] = c
+            ll.add_symbol(symbol, c.address)
+            _made[symbol] = c
 
 
 def _before_load(func) -> None:
     if func not in _below:  # (a callee of a C function cannot call one: no recursion)
-        ensure()
+        ensure()  # any of them: which ones the cached code calls is not known
 
 
 before_load(_before_load)
@@ -94,7 +99,7 @@ def compiled_once(func, nargs: int):
     floats = [types.float64] * nargs
 
     def codegen(context, builder, signature, args):
-        ensure()
+        ensure(name)
         fnty = ir.FunctionType(ir.DoubleType(), [ir.DoubleType()] * nargs)
         fn = cgutils.get_or_insert_function(builder.module, fnty, name)
         return builder.call(fn, args)
