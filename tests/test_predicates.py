@@ -734,3 +734,24 @@ def test_no_jit_at_import(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env=env, check=True, timeout=120)
     assert out.stdout.strip() == "[0, 0, 0, 0]"
+
+
+def test_the_exact_paths_are_compiled_once_and_called_by_name():
+    """A kernel calling a predicate holds a call to its exact path, not a copy
+    (``_kernel/external.py``), and gets the exact path's answers all the same."""
+    from uniform2d._kernel import external
+
+    cases = [(orient2d, (12.0, 12.0, 24.0, 24.0, 0.5000000000000046, 0.5000000000000053),
+              "orient2d_exact", exact_orient),
+             (dot2d, (0.1, 0.3, 0.7, 0.9, 0.4, 0.6), "dot2d_exact", exact_dot),
+             (incircle, (0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0 + 2.0**-52), "incircle_exact",
+              exact_incircle)]
+    for pred_, args, exact_name, reference in cases:
+        assert np.sign(pred_(*args)) == np.sign(reference(*args))  # a filter failure, decided
+        fresh = numba.njit(pred_.py_func)  # not cached: its code can be read
+        assert fresh(*args) == pred_(*args)
+        (ir,) = fresh.inspect_llvm().values()
+        symbol = f"uniform2d_{pred_.py_func.__module__.rsplit('.', 1)[-1]}_{exact_name}"
+        assert f"declare double @{symbol}(" in ir
+        assert "scaled3" not in ir and "scaled4" not in ir  # no copy of the exact arithmetic
+    assert not external._pending  # compiled (or loaded) on first need

@@ -6,16 +6,27 @@ their source when that is writable, else in numba's user-wide cache directory
 itself decides where it is and whether it is fresh (same source file stamp,
 same numba version), so asking each kernel's own cache is the one test that
 agrees with what numba will do: an index without an entry means a compile.
+
+Only the kernels that Python code calls are asked (the *entry* kernels,
+:func:`entry_kernels`): a kernel called only by other kernels is compiled
+with its caller, never on its own, and numba loads a cached caller without
+looking at its callees' caches.  So a callee's missing or stale entry (its
+source edited since, in a development checkout) says nothing about what a run
+compiles; counted, it made a cache whose every entry point was fresh look
+cold.
 """
 
 from __future__ import annotations
 
 import importlib
+import inspect
 import logging
 import os
 import pkgutil
+import sys
+from types import CodeType, FunctionType, ModuleType
 
-__all__ = ["cold_kernels", "kernels_cold", "cache_writable", "COMPILE_NOTICE"]
+__all__ = ["cold_kernels", "entry_kernels", "kernels_cold", "cache_writable", "COMPILE_NOTICE"]
 
 log = logging.getLogger(__name__)
 
@@ -42,9 +53,57 @@ def _kernel_dispatchers():
     return list(seen.values())
 
 
+def _codes(module: ModuleType):
+    """The code objects of the plain Python functions (not kernels) defined in
+    ``module``, its classes' methods and properties included, nested ones too."""
+    stack = []
+    for obj in vars(module).values():
+        if getattr(obj, "__module__", None) != module.__name__:
+            continue
+        members = vars(obj).values() if inspect.isclass(obj) else (obj,)
+        for member in members:
+            for f in (member, getattr(member, "__func__", None), getattr(member, "fget", None),
+                      getattr(member, "fset", None)):
+                if isinstance(f, FunctionType):
+                    stack.append(f.__code__)
+    while stack:
+        code = stack.pop()
+        yield code
+        stack.extend(c for c in code.co_consts if isinstance(c, CodeType))
+
+
+def entry_kernels(dispatchers) -> list:
+    """The ``dispatchers`` that Python code of uniform2d calls, as far as the
+    package's imported modules tell: a kernel a plain function (or method) names,
+    directly or as an attribute of a kernel module it imported (``cdt.flip``).
+    Every other kernel is a callee of kernels, compiled with its callers."""
+    from . import _kernel
+
+    kernel = _kernel.__name__ + "."
+    wanted = {id(d): d for d in dispatchers}
+    called = {}
+    for name, module in list(sys.modules.items()):
+        if not (name == "uniform2d" or name.startswith("uniform2d.")) or module is None:
+            continue
+        space = vars(module)
+        for code in _codes(module):
+            for word in code.co_names:
+                obj = space.get(word)
+                targets = [obj]
+                if isinstance(obj, ModuleType) and obj.__name__.startswith(kernel):
+                    targets = [getattr(obj, w, None) for w in code.co_names]  # kinsert.run
+                for t in targets:
+                    if id(t) in wanted:
+                        called[id(t)] = t
+    return list(called.values())
+
+
 def cold_kernels() -> tuple[int, int]:
-    """(kernels without a fresh cache entry, kernels with a disk cache)."""
-    dispatchers = _kernel_dispatchers()
+    """(entry kernels without a fresh cache entry, entry kernels with a disk
+    cache): see :func:`entry_kernels` and the module doc."""
+    import uniform2d  # noqa: F401  (the package's API modules, which call the kernels)
+
+    dispatchers = entry_kernels(_kernel_dispatchers())
     cold = sum(1 for d in dispatchers if not d._cache._cache_file._load_index())
     return cold, len(dispatchers)
 

@@ -35,7 +35,7 @@ try:
 except ImportError:  # no flock (Windows): kernels are never claimed
     fcntl = None
 
-__all__ = ["ENV", "PATIENCE", "ClaimedCache", "share", "shared", "enable_caching"]
+__all__ = ["ENV", "PATIENCE", "ClaimedCache", "before_load", "share", "shared", "enable_caching"]
 
 log = logging.getLogger(__name__)
 
@@ -48,12 +48,20 @@ PATIENCE = 120.0
 
 _state = {"dir": None}
 _held: dict[str, int] = {}  # claimed kernel (its cache's file name) -> the lock file's descriptor
+_before_load: list = []  # called before numba reads a kernel from its cache
 
 
 def share(directory: str | None) -> None:
     """Claim the kernels this process compiles in ``directory`` (shared with the
     other process filling the same cache), or, with None, stop claiming them."""
     _state["dir"] = directory if fcntl is not None else None
+
+
+def before_load(callback) -> None:
+    """Call ``callback(func)`` each time, before the kernel of Python function
+    ``func`` is loaded from its cache (what cached code needs loaded first:
+    :mod:`uniform2d._kernel.external`)."""
+    _before_load.append(callback)
 
 
 def shared() -> str | None:
@@ -110,6 +118,10 @@ class ClaimedCache(FunctionCache):
         return f"{name}.{hashlib.sha1(str(sig).encode()).hexdigest()[:16]}"
 
     def load_overload(self, sig, target_context):
+        if _before_load and self._index_key(sig, target_context.codegen()) in \
+                self._cache_file._load_index():
+            for callback in _before_load:
+                callback(self._py_func)
         data = super().load_overload(sig, target_context)
         if data is not None or _state["dir"] is None or not self._enabled:
             return data

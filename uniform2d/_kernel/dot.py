@@ -10,6 +10,7 @@ from ._jit import njit
 
 from .expansion import EPSILON, FILTER_FLOOR, TARGET_DEG2, differences3, leading_of_products
 from .expansion import leading_of_sum, scaled3, unscale
+from .external import compiled_once
 
 __all__ = ["dot2d", "DOTERRBOUNDA"]
 
@@ -52,6 +53,9 @@ def dot2d_exact(ax, ay, bx, by, cx, cy):
     return unscale(leading_of_sum(np.int64(8), xs, ys), 2 * k)
 
 
+_dot2d_exact = compiled_once(dot2d_exact.py_func, 6)
+
+
 @njit(cache=True)
 def dot2d(ax, ay, bx, by, cx, cy):
     """Sign of (a - c).(b - c): > 0 acute at c, 0 right angle, < 0 obtuse."""
@@ -61,4 +65,4 @@ def dot2d(ax, ay, bx, by, cx, cy):
     detsum = abs(left) + abs(right)
     if detsum >= FILTER_FLOOR and abs(det) > DOTERRBOUNDA * detsum:
         return det
-    return dot2d_exact(ax, ay, bx, by, cx, cy)
+    return _dot2d_exact(ax, ay, bx, by, cx, cy)

@@ -28,6 +28,7 @@ from .expansion import (
     two_two_sum,
     unscale,
 )
+from .external import compiled_once
 from .orient import orient_expansion
 
 __all__ = ["incircle", "ICCERRBOUNDA"]
@@ -199,6 +200,9 @@ def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     return unscale(_on_coordinates(ax, ay, bx, by, cx, cy, dx, dy), 4 * k)
 
 
+_incircle_exact = compiled_once(incircle_exact.py_func, 8)
+
+
 @njit(cache=True)
 def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     """For CCW a, b, c: > 0 iff d strictly inside their circle; 0 iff cocircular."""
@@ -229,4 +233,4 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     )
     if permanent >= FILTER_FLOOR and abs(det) > _ICC_FILTER * permanent:
         return det
-    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+    return _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)

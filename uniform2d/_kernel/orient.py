@@ -10,6 +10,7 @@ from ._jit import njit
 
 from .expansion import EPSILON, FILTER_FLOOR, TARGET_DEG2, differences3, leading_of_products
 from .expansion import leading_of_sum, scaled3, sum_of_products, unscale
+from .external import compiled_once
 
 __all__ = ["orient2d", "CCWERRBOUNDA"]
 
@@ -59,6 +60,9 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
     return unscale(leading_of_sum(np.int64(6), xs, ys), 2 * k)
 
 
+_orient2d_exact = compiled_once(orient2d_exact.py_func, 6)
+
+
 @njit(cache=True)
 def orient2d(ax, ay, bx, by, cx, cy):
     """> 0 iff a, b, c counter-clockwise; 0 iff collinear (exact sign)."""
@@ -68,4 +72,4 @@ def orient2d(ax, ay, bx, by, cx, cy):
     detsum = abs(detleft) + abs(detright)
     if detsum >= FILTER_FLOOR and abs(det) > CCWERRBOUNDA * detsum:
         return det
-    return orient2d_exact(ax, ay, bx, by, cx, cy)
+    return _orient2d_exact(ax, ay, bx, by, cx, cy)

@@ -1,0 +1,117 @@
+"""Kernels compiled once and called by name: the predicates' exact paths.
+
+numba compiles a kernel together with a copy of every kernel it calls, callees
+of callees included, and optimises and generates that copy again for each
+caller.  The exact paths of the predicates (:mod:`.expansion`'s arithmetic
+behind the filters of :func:`.orient.orient2d`, :func:`.dot.dot2d` and
+:func:`.incircle.incircle`) are below almost every kernel, so a good part of
+the first run's compile went into copies of code that runs only when a filter
+cannot decide.  :func:`compiled_once` turns such a function (float64
+arguments, a float64 result) into a C function, compiled once and cached on
+disk like the kernels (numba's ``cfunc``), and returns a kernel-side stub that
+calls it by a symbol name, as numba's compiled code calls numba's own C
+helpers: the callers hold a call, not a copy.  The same code runs, so the
+results are the same, bit for bit.
+
+The C functions are compiled (or loaded from the cache) on first need, not at
+import: :func:`ensure` runs when a kernel calling one is compiled (for that
+one: on a cold cache the command and its warmer then compile different ones
+at once) and before any kernel is loaded from numba's cache
+(:func:`uniform2d.compile_claims.before_load`; all of them, since a cached
+kernel may call any by name; not for the kernels the C functions are made of,
+which call none).  Each is claimed like a kernel
+while a second process fills the same cache (:mod:`uniform2d.compile_claims`).
+"""
+
+from __future__ import annotations
+
+import llvmlite.binding as ll
+from llvmlite import ir
+from numba import types
+from numba.core import cgutils, sigutils
+from numba.core.ccallback import CFunc
+from numba.core.compiler_lock import global_compiler_lock
+from numba.core.dispatcher import Dispatcher
+from numba.core.extending import intrinsic
+
+from ..compile_claims import ClaimedCache, before_load
+
+__all__ = ["compiled_once", "ensure"]
+
+_pending: dict = {}  # symbol -> (Python function, argument count): not compiled yet
+_made: dict = {}  # symbol -> its CFunc (kept alive: the symbol points into its code)
+_below: set = set()  # the Python functions of those C functions' kernels and their callees
+
+
+def _symbol(func) -> str:
+    return f"uniform2d_{func.__module__.rsplit('.', 1)[-1]}_{func.__name__}"
+
+
+def ensure(name: str | None = None) -> None:
+    """Compile (or load from the cache) the C function of symbol ``name``, or
+    every one :func:`compiled_once` made (None), unless it is already, and
+    register its symbol."""
+    if not _pending or (name is not None and name not in _pending):
+        return
+    with global_compiler_lock:
+        for symbol in [name] if name is not None else list(_pending):
+            if symbol not in _pending:
+                continue
+            func, nargs = _pending.pop(symbol)  # before compiling: its cache calls ensure()
+            sig = sigutils.normalize_signature(types.float64(*[types.float64] * nargs))
+            c = CFunc(func, sig, locals={}, options={"nopython": True, "nogil": True})
+            c._cache = ClaimedCache(func)
+            try:
+                c.compile()
+            except BaseException:
+                _pending[symbol] = (func, nargs)
+                raise
+            ll.add_symbol(symbol, c.address)
+            _made[symbol] = c
+
+
+def _before_load(func) -> None:
+    if func not in _below:  # (a callee of a C function cannot call one: no recursion)
+        ensure()  # any of them: which ones the cached code calls is not known
+
+
+before_load(_before_load)
+
+
+def _callees(func, seen: set) -> None:
+    """Add ``func`` and the Python functions of every kernel it calls, callees of
+    callees too, to ``seen``."""
+    if func in seen:
+        return
+    seen.add(func)
+    for word in func.__code__.co_names:
+        kernel = func.__globals__.get(word)
+        if isinstance(kernel, Dispatcher):
+            _callees(kernel.py_func, seen)
+
+
+def compiled_once(func, nargs: int):
+    """The kernel stub calling ``func(x_1, ..., x_nargs) -> float`` (a kernel's
+    Python function; 6 or 8 float64 arguments) compiled once as a C function."""
+    name = _symbol(func)
+    _pending[name] = (func, nargs)
+    _callees(func, _below)
+    floats = [types.float64] * nargs
+
+    def codegen(context, builder, signature, args):
+        ensure(name)
+        fnty = ir.FunctionType(ir.DoubleType(), [ir.DoubleType()] * nargs)
+        fn = cgutils.get_or_insert_function(builder.module, fnty, name)
+        return builder.call(fn, args)
+
+    if nargs == 6:
+        @intrinsic
+        def call(typingctx, a, b, c, d, e, f):
+            return types.float64(*floats), codegen
+    elif nargs == 8:
+        @intrinsic
+        def call(typingctx, a, b, c, d, e, f, g, h):
+            return types.float64(*floats), codegen
+    else:
+        raise ValueError(f"compiled_once takes 6 or 8 arguments, got {nargs}")
+    return call
