@@ -6,6 +6,7 @@ a front has thousands of edges a round and the walk is one step at a time.
 import numpy as np
 
 from ._jit import njit
+from .rank import _right_of
 
 __all__ = ["front_loops", "greedy_kept", "respace_chains"]
 
@@ -56,18 +57,6 @@ def front_loops(ends, n):
     return idx[:used].copy(), lens[:nloops].copy()
 
 
-@njit(cache=True, inline="always")
-def _right_of(c, lo, hi, x):
-    """np.searchsorted(c[lo:hi], x, side="right") + lo, for sorted c."""
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if c[mid] <= x:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
-
-
 @njit(cache=True)
 def respace_chains(cand, idx, lens, inv, d, boundary):
     """``cand`` (k, 2) with chains of its points respaced: chain c, the points
@@ -116,7 +105,7 @@ def respace_chains(cand, idx, lens, inv, d, boundary):
             m = int(np.rint(total))
             for j in range(m):
                 goal = total * j / m
-                s = _right_of(cum, o, o + n + 1, goal) - 1 - o
+                s = _right_of(cum[o:o + n + 1], goal) - 1
                 s = min(max(s, 0), n - 1)
                 frac = (goal - cum[o + s]) / max(inv[f + s], 1e-300)
                 frac = min(max(frac, 0.0), 1.0)
