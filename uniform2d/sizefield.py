@@ -74,6 +74,28 @@ class SizeField:
         p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         return _bilinear(self.x, self.y, self.values, p[:, 0], p[:, 1])
 
+    def with_gradient(self, points) -> tuple[np.ndarray, np.ndarray]:
+        """(values (K,), gradient (K, 2)) at points (K, 2): the values are
+        :meth:`__call__`'s, the gradient the bilinear interpolation's in the
+        point's cell (0 along an axis where the point is clamped to the grid).
+
+        Examples
+        --------
+        >>> f = SizeField([0, 2], [0, 1], [[1.0, 3.0], [1.0, 3.0]])
+        >>> h, g = f.with_gradient([(1.0, 0.5), (5.0, 0.5)])
+        >>> h.tolist(), g.tolist()
+        ([2.0, 3.0], [[1.0, 0.0], [0.0, 0.0]])
+        """
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        gx, gy, v = self.x, self.y, self.values
+        i, j, tx, ty = _cells(gx, gy, p[:, 0], p[:, 1])
+        v00, v10, v01, v11 = v[j, i], v[j, i + 1], v[j + 1, i], v[j + 1, i + 1]
+        inx = (p[:, 0] > gx[0]) & (p[:, 0] < gx[-1])
+        iny = (p[:, 1] > gy[0]) & (p[:, 1] < gy[-1])
+        dx = ((v10 - v00) * (1 - ty) + (v11 - v01) * ty) / (gx[i + 1] - gx[i]) * inx
+        dy = ((v01 - v00) * (1 - tx) + (v11 - v10) * tx) / (gy[j + 1] - gy[j]) * iny
+        return _bilinear(gx, gy, v, p[:, 0], p[:, 1]), np.stack([dx, dy], axis=1)
+
     def scaled(self, factor: float) -> "SizeField":
         """The same field with every size multiplied by ``factor`` (> 0)."""
         return SizeField(self.x, self.y, self.values * float(factor))
@@ -92,15 +114,20 @@ def _bilinear(gx, gy, v, px, py):
     run); the two must stay the same formula, so that the sizes the kernel works
     with are the field's values.
     """
-    px = np.clip(px, gx[0], gx[-1])
-    py = np.clip(py, gy[0], gy[-1])
-    i = np.clip(np.searchsorted(gx, px, side="right") - 1, 0, len(gx) - 2)
-    j = np.clip(np.searchsorted(gy, py, side="right") - 1, 0, len(gy) - 2)
-    tx = (px - gx[i]) / (gx[i + 1] - gx[i])
-    ty = (py - gy[j]) / (gy[j + 1] - gy[j])
+    i, j, tx, ty = _cells(gx, gy, px, py)
     return (
         v[j, i] * (1 - tx) * (1 - ty)
         + v[j, i + 1] * tx * (1 - ty)
         + v[j + 1, i] * (1 - tx) * ty
         + v[j + 1, i + 1] * tx * ty
     )
+
+
+def _cells(gx, gy, px, py):
+    """(i, j, tx, ty): each point's grid cell and its place in it (0..1 each way),
+    the points clamped to the grid."""
+    px = np.clip(px, gx[0], gx[-1])
+    py = np.clip(py, gy[0], gy[-1])
+    i = np.clip(np.searchsorted(gx, px, side="right") - 1, 0, len(gx) - 2)
+    j = np.clip(np.searchsorted(gy, py, side="right") - 1, 0, len(gy) - 2)
+    return i, j, (px - gx[i]) / (gx[i + 1] - gx[i]), (py - gy[j]) / (gy[j + 1] - gy[j])

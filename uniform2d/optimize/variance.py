@@ -63,25 +63,6 @@ def q_spread(points, edges, field: SizeField) -> tuple[float, float]:
     return float(q.std() / q.mean()), float(q.max() / q.min())
 
 
-def _field_gradient(field: SizeField, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The field at points p (K, 2) and its gradient (K, 2): the bilinear
-    interpolation differentiated in its cell (0 across the clamped outside)."""
-    gx, gy, v = field.x, field.y, field.values
-    px, py = p[:, 0], p[:, 1]
-    inx = (px > gx[0]) & (px < gx[-1])
-    iny = (py > gy[0]) & (py < gy[-1])
-    px, py = np.clip(px, gx[0], gx[-1]), np.clip(py, gy[0], gy[-1])
-    i = np.clip(np.searchsorted(gx, px, side="right") - 1, 0, len(gx) - 2)
-    j = np.clip(np.searchsorted(gy, py, side="right") - 1, 0, len(gy) - 2)
-    wx, wy = gx[i + 1] - gx[i], gy[j + 1] - gy[j]
-    tx, ty = (px - gx[i]) / wx, (py - gy[j]) / wy
-    v00, v10, v01, v11 = v[j, i], v[j, i + 1], v[j + 1, i], v[j + 1, i + 1]
-    h = v00 * (1 - tx) * (1 - ty) + v10 * tx * (1 - ty) + v01 * (1 - tx) * ty + v11 * tx * ty
-    dx = ((v10 - v00) * (1 - ty) + (v11 - v01) * ty) / wx * inx
-    dy = ((v01 - v00) * (1 - tx) + (v11 - v10) * tx) / wy * iny
-    return h, np.stack([dx, dy], axis=1)
-
-
 def lower_variance(polygon: Polygon, points, triangles, edges, field: SizeField, *,
                    iterations: int = ITERATIONS):
     """Lower the CV of q of a mesh by moving its points, its edges held (see the module).
@@ -186,7 +167,7 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
     def logq(X):
         dv = X[E[:, 1]] - X[E[:, 0]]
         L2 = (dv**2).sum(1)
-        h, gh = _field_gradient(field, 0.5 * (X[E[:, 0]] + X[E[:, 1]]))
+        h, gh = field.with_gradient(0.5 * (X[E[:, 0]] + X[E[:, 1]]))
         return 0.5 * np.log(L2) - np.log(h), dv, L2, h, gh
 
     lq0 = logq(X0)[0]
