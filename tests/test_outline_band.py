@@ -13,8 +13,11 @@ import shapely
 
 import uniform2d as u
 import uniform2d.outline_band as band
+import uniform2d.uniform as uniform_module
 from uniform2d.outline import resample_polygon
 from uniform2d.testing import check_mesh
+
+from support.halved_rings import assert_halved_from
 
 OUTLINES = Path(__file__).resolve().parents[1] / "data" / "outlines"
 
@@ -50,11 +53,13 @@ def test_the_point_next_to_a_spike_tip_is_pushed_off_the_long_side(monkeypatch):
 def test_tip_rule_meshes_chile_within_ratio_2(monkeypatch):
     p = u.read_polygon(OUTLINES / "chile.json")
     n, tol = 2000, 0.25
+    # the tip rule alone: no second mesh with whole ring edges halved (uniform2d.ring_split)
+    monkeypatch.setattr(uniform_module, "SPLIT_RATIO", np.inf)
 
     def run():
         r, left = resample_polygon(p, n, tolerance=tol)
         m = u.uniform_mesh(p, n, resample=tol)
-        assert m.polygon == r.polygon
+        assert_halved_from(m, r.polygon)
         check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
         assert len(m.points) == m.info["resample"]["kept_vertices"] + n
         assert left + r.n_boundary == n

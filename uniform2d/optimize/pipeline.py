@@ -251,6 +251,19 @@ def _tplus_again(polygon: Polygon, n: int, start) -> Mesh:
     return tp
 
 
+def _kept(v_new, v_tp, q_new, q_tp, near_tie: float, info: dict) -> bool:
+    """Whether the optimised mesh is kept over T+'s: its objective is no higher
+    (``v_tp`` is inf without a T+), or, with ``near_tie`` > 0, at most that
+    fraction higher and its edge CV lower (then ``info["near_tie"]`` is True)."""
+    if v_new <= v_tp:
+        return True
+    if near_tie and q_tp is not None and v_new <= v_tp * (1 + near_tie) \
+            and q_new.cv_edge < q_tp.cv_edge:
+        info["near_tie"] = True
+        return True
+    return False
+
+
 def _summary(q):
     if q is None:
         return None
@@ -270,6 +283,7 @@ def optimize_mesh(
     objective: str = "balanced",
     start: Mesh | None = None,
     progress=None,
+    near_tie: float = 0.0,
     **options,
 ) -> Mesh:
     """The most uniform mesh with exactly ``n`` Steiner points (see :mod:`uniform2d.optimize`).
@@ -287,6 +301,11 @@ def optimize_mesh(
     phase of :data:`PHASES` starts (``done`` 0) and as it advances (``done`` up to
     ``total``); it must not raise, except to stop the run (e.g. a
     ``KeyboardInterrupt``).  The phases are logged at INFO level either way.
+
+    ``near_tie`` (0: off, the default): the optimised mesh is also kept when its
+    objective is at most this fraction above T+'s and its edge CV is lower
+    (``info["near_tie"]`` True then); :func:`uniform2d.uniform_mesh` with
+    ``resample`` uses it.
     """
     if not isinstance(polygon, Polygon):
         polygon = Polygon(polygon)
@@ -340,16 +359,13 @@ def optimize_mesh(
         "angle_rounds": raised,
         "angle_attempt": angled,
         "angle_fits": fitted,
-        "start": (
-            None
-            if tp_info is None
-            else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}
-        ),
+        "start": (None if tp_info is None
+                  else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}),
         "before": _summary(q_tp),
         "after": _summary(q_new),
         "objective_value": v_new,
     }
-    if not (v_new <= v_tp) or len(pts) != nV + n:  # v_tp is inf without a T+
+    if not _kept(v_new, v_tp, q_new, q_tp, near_tie, info) or len(pts) != nV + n:
         if tp_info is None:
             raise InternalError(
                 f"uniform: {len(pts) - nV} Steiner points instead of {n} {PLEASE_REPORT}")

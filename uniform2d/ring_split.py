@@ -1,0 +1,105 @@
+"""Whole ring edges that set a resampled mesh's longest edge, halved for a second mesh.
+
+A ring edge between two points the resampling keeps (corners, or a stretch of
+outline one chord within the tolerance) is a polygon edge for the mesher, which
+splits it into ``round(L / (c h))`` pieces for its boundary spacing c (1, 0.95
+or 1.05): an edge of 1.4 to 1.5 spacings is left whole or halved as the spacing
+the optimiser picks falls, and whole it can be the mesh's longest edge by
+itself.  :func:`edges_to_halve` names the ring edges that are whole mesh edges
+longer than every other mesh edge and whose halves are no shorter than the
+mesh's shortest edge (halving them lowers the longest edge and leaves the
+shortest); :func:`halve_edges` inserts their midpoints as boundary points.  A
+midpoint lies on the ring edge, so the rings are the same point set: the
+deviation from the outline, the kept vertices and the corners are unchanged,
+and the new points count in n like every boundary point the resampling placed.
+:func:`uniform2d.uniform_mesh` with ``resample`` meshes again with them halved
+where its first mesh's ratio is above :data:`SPLIT_RATIO` and keeps the mesh
+with the lower edge ratio (its CV at most :data:`CV_SLACK` higher).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from .polygon import Polygon
+
+__all__ = ["CV_SLACK", "SPLIT_RATIO", "edges_to_halve", "halve_edges", "mesh_edges"]
+
+#: A second mesh is tried where the first has an edge ratio above this, and the
+#: mesh's mean edge over its shortest ring edge (a bound on the ratio) is at most it.
+SPLIT_RATIO = 2.0
+#: The second mesh is kept if its edge ratio is lower and its edge CV at most this
+#: fraction higher than the first's.
+CV_SLACK = 0.05
+
+
+def mesh_edges(triangles) -> np.ndarray:
+    """(E, 2) int64: a mesh's edges, each once, smaller index first (sorted)."""
+    T = np.asarray(triangles, dtype=np.int64)
+    return np.unique(np.sort(np.r_[T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]], axis=1), axis=0)
+
+
+def edges_to_halve(polygon: Polygon, points, triangles) -> np.ndarray:
+    """(q, 2) int64: the ring edges of ``polygon`` (vertex pairs, smaller first)
+    that are whole edges of the mesh, longer than every other mesh edge, with
+    halves no shorter than the mesh's shortest edge.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.triangulation import triangulate
+    >>> sq = Polygon([(0, 0), (1.5, 0), (1.5, 1.5), (0, 1.5)])
+    >>> P, T = triangulate(sq, [(0.75, 0.75), (0.75, 0.0)])   # one on the side 0-1
+    >>> edges_to_halve(sq, P, T).tolist()     # the three sides left whole
+    [[0, 3], [1, 2], [2, 3]]
+    """
+    P = np.asarray(points, dtype=np.float64)
+    E = mesh_edges(triangles)
+    L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
+    ring = np.sort(polygon.edges, axis=1)
+    n = len(P)
+    whole = np.isin(E[:, 0] * n + E[:, 1], ring[:, 0] * n + ring[:, 1])
+    if not whole.any() or whole.all():
+        return np.empty((0, 2), dtype=np.int64)
+    pick = whole & (L > L[~whole].max()) & (0.5 * L >= L.min())
+    return E[pick]
+
+
+def halve_edges(res, pairs):
+    """The resampled outline ``res`` (:class:`uniform2d.outline.Resampled`) with
+    the midpoints of its ring edges ``pairs`` ((q, 2) vertex indices) inserted
+    as boundary points (not kept input vertices): the same rings as point sets.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.outline import resample_polygon
+    >>> t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    >>> r, _ = resample_polygon(Polygon(np.c_[np.cos(t), np.sin(t)]), 100, tolerance=0.25)
+    >>> r2 = halve_edges(r, np.array([[0, 1]]))
+    >>> r2.n_boundary - r.n_boundary, r2.deviation == r.deviation
+    (1, True)
+    """
+    q = res.polygon
+    off = q.ring_offsets
+    pairs = {(int(a), int(b)) for a, b in np.sort(np.asarray(pairs).reshape(-1, 2), axis=1)}
+    rings, kept = [], []
+    for r, ring in enumerate(q.rings):
+        k = len(ring)
+        for i in range(k):
+            a, b = off[r] + i, off[r] + (i + 1) % k
+            pts = [ring[i]]
+            kept.append(res.kept[a])
+            if (min(a, b), max(a, b)) in pairs:
+                pts.append(0.5 * (ring[i] + ring[(i + 1) % k]))
+                kept.append(False)
+            rings.append((r, pts))
+    by_ring = [np.array([p for rr, pts in rings if rr == r for p in pts]) for r in range(len(q.rings))]
+    poly = Polygon(by_ring[0], by_ring[1:], segments=q.split_segments(), points=q.points,
+                   regions=q.region_seeds)
+    kept = np.concatenate([np.array(kept, dtype=bool), res.kept[q.n_ring_vertices:]])
+    return dataclasses.replace(res, polygon=poly, kept=kept)
