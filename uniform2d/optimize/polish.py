@@ -1,0 +1,182 @@
+"""A polish of a uniform mesh: its largest perimeter and longest edge lowered, the triangulation held.
+
+Not part of :func:`uniform2d.uniform_mesh` (docs/polish.md says why: on the
+benchmark polygons it gains well under 1 % of the largest perimeter for more
+time than the whole optimiser takes).  With the triangulation held, the
+longest edge and the largest triangle perimeter are convex functions of the
+free coordinates (maxima of norms and of sums of norms; a boundary point
+sliding on its edge is a linear parametrisation).  :func:`polish_extremes`
+minimises the sum of their smooth maxima (log-sum-exp, with its sharpness
+raised through ``BETAS``), each over the mesh's own value, by L-BFGS
+(:func:`uniform2d.optimize.variance.lbfgs`, the same variables as the graded
+path's last stage, :func:`uniform2d.optimize.variance.sliding_variables`),
+with penalties that keep every edge between the mesh's shortest and longest
+edges, every angle above its worst angle and its edge CV below its own.  The
+moved points are triangulated afresh (the exact constrained Delaunay
+triangulation); the result is kept only if none of the edge ratio, longest
+edge, largest perimeter and edge CV got worse, the worst angle did not drop
+and the longest edge or the largest perimeter got smaller; else the input
+comes back.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry import unique_edges
+from ..polygon import Polygon
+from ..quality import quality
+from .variance import areas, lbfgs, retriangulated, sliding_variables
+
+__all__ = ["BETAS", "ITERATIONS", "PENALTY", "polish_extremes"]
+
+#: Sharpness of the smooth maxima, raised in turn (each a run of L-BFGS from
+#: where the last one stopped): a blunt one moves the whole top of the
+#: distribution, a sharp one its very largest values.
+BETAS = (100.0, 300.0, 1000.0)
+#: L-BFGS iterations per sharpness, at most.
+ITERATIONS = 300
+#: Weight of the penalties (the objective itself is near 2).
+PENALTY = 1e4
+#: The penalties hold the edges, the CV and the angles this far inside the
+#: mesh's own limits (relative; the angles in radians): they are soft, and
+#: their optimum lies a hair outside the limit they state.
+LENGTH_MARGIN = 1e-4
+CV_MARGIN = 2e-3
+ANGLE_MARGIN = 1e-3
+
+
+def _smooth_max(v, beta: float):
+    """(log-sum-exp of ``beta * v`` over ``beta``, its gradient by ``v``)."""
+    m = v.max()
+    w = np.exp(beta * (v - m))
+    s = w.sum()
+    return m + np.log(s) / beta, w / s
+
+
+def _corner_angles(X, C):
+    """The angle at the first point of every corner ``C`` (3M, 3) and its
+    gradients by the three points, each (3M, 2)."""
+    u = X[C[:, 1]] - X[C[:, 0]]
+    w = X[C[:, 2]] - X[C[:, 0]]
+    A = np.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], (u * w).sum(axis=1))
+    # the angle is arg(w) - arg(u); d arg(v) / dv = perp(v) / |v|²
+    gw = np.stack([-w[:, 1], w[:, 0]], axis=1) / (w * w).sum(axis=1)[:, None]
+    gu = -np.stack([-u[:, 1], u[:, 0]], axis=1) / (u * u).sum(axis=1)[:, None]
+    return A, (-(gu + gw), gu, gw)
+
+
+def _accumulate(N: int, index, g):
+    """Sum of the rows of ``g`` (m, 2) into (N, 2) by ``index`` (m,)."""
+    return np.stack([np.bincount(index, g[:, k], N) for k in range(2)], axis=1)
+
+
+def _problem(polygon: Polygon, X0, T0, eid):
+    """(``fun(x, beta)`` with gradient, start, unpack) of :func:`polish_extremes`."""
+    N = len(X0)
+    E = unique_edges(T0, N)
+    key = E[:, 0] * N + E[:, 1]
+
+    def edge_of(i, j):
+        return np.searchsorted(key, np.minimum(i, j) * N + np.maximum(i, j))
+
+    TE = np.stack([edge_of(T0[:, k], T0[:, (k + 1) % 3]) for k in range(3)], axis=1)
+    C = np.concatenate([T0[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
+    L0 = np.hypot(*(X0[E[:, 1]] - X0[E[:, 0]]).T)
+    lmax, lmin, pmax = L0.max(), L0.min() * (1 + LENGTH_MARGIN), L0[TE].sum(axis=1).max()
+    cv2 = (L0.std() / L0.mean() * (1 - CV_MARGIN)) ** 2
+    amin = _corner_angles(X0, C)[0].min() + ANGLE_MARGIN
+    K = len(E)
+    x0, unpack, pull = sliding_variables(polygon, X0, eid, np.full(N, L0.mean()))
+
+    def fun(x, beta):
+        X = unpack(x)
+        if not np.all(areas(X, T0) > 0):
+            return np.inf, None
+        dv = X[E[:, 1]] - X[E[:, 0]]
+        L = np.hypot(dv[:, 0], dv[:, 1])
+        sL, wL = _smooth_max(L / lmax, beta)
+        sP, wP = _smooth_max(L[TE].sum(axis=1) / pmax, beta)
+        gl = wL / lmax + np.bincount(TE.ravel(), np.repeat(wP / pmax, 3), K)
+        under, over = np.minimum(L / lmin - 1, 0), np.maximum(L / lmax - 1, 0)
+        F = sL + sP + PENALTY * ((under**2).sum() + (over**2).sum())
+        gl += 2 * PENALTY * (under / lmin + over / lmax)
+        m = L.mean()
+        var = ((L - m) ** 2).mean()
+        spread = max(var / m**2 / cv2 - 1, 0.0)
+        F += PENALTY * spread**2
+        gl += 2 * PENALTY * spread / cv2 * (2 * (L - m) / K / m**2 - 2 * var / m**3 / K)
+        gb = gl[:, None] * dv / L[:, None]
+        G = _accumulate(N, E[:, 1], gb) - _accumulate(N, E[:, 0], gb)
+        A, grads = _corner_angles(X, C)
+        low = np.minimum(A - amin, 0)
+        F += PENALTY * (low**2).sum()
+        for k, g in enumerate(grads):
+            G += _accumulate(N, C[:, k], 2 * PENALTY * low[:, None] * g)
+        return F, pull(G)
+
+    return fun, x0, unpack
+
+
+def _measures(points, triangles):
+    q = quality(points, triangles)
+    return q.edge_ratio, q.longest_edge, q.max_perimeter, q.cv_edge, q.min_angle
+
+
+def polish_extremes(polygon: Polygon, points, triangles, edges, *, iterations: int = ITERATIONS):
+    """Lower the largest perimeter and the longest edge of a mesh, its triangulation held.
+
+    Parameters
+    ----------
+    polygon : Polygon
+    points : array_like, shape (|V| + k, 2)
+        The polygon's vertices, then the sites.  Not modified.
+    triangles : array_like, shape (M, 3)
+        A valid triangulation of ``points`` (held while the points move).
+    edges : array_like of int, shape (k,)
+        The polygon edge (``polygon_edges(..., constraints=True)`` order) each
+        site lies on, -1 inside (:func:`uniform2d.sites.site_edges` finds it).
+    iterations : int
+        L-BFGS iterations per sharpness of :data:`BETAS`, at most.
+
+    Returns
+    -------
+    points : ndarray, shape (|V| + k, 2)
+    triangles : ndarray, shape (M', 3), int64
+        The exact constrained Delaunay triangulation of the moved points, or
+        the input's points and triangles if that is not better (module
+        docstring).
+    info : dict
+        ``kept`` (bool); ``before`` and ``after``: (edge ratio, longest edge,
+        largest perimeter, edge CV, worst angle), the same twice when not kept.
+
+    Examples
+    --------
+    >>> from uniform2d.triangulation import triangulate
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> pts, tri = triangulate(sq, [(0.45, 0.5), (0.5, 0.0), (1.0, 0.55), (0.5, 1.0), (0.0, 0.5)],
+    ...                        [-1, 0, 1, 2, 3])
+    >>> p2, t2, info = polish_extremes(sq, pts, tri, [-1, 0, 1, 2, 3])
+    >>> info["kept"], info["after"][2] < info["before"][2], len(p2) == len(pts)
+    (True, True, True)
+    """
+    X0 = np.array(points, dtype=np.float64)
+    T0 = np.array(triangles, dtype=np.int64)
+    eid = np.array(edges, dtype=np.int64)
+    before = _measures(X0, T0)
+    info = {"kept": False, "before": before, "after": before}
+    if iterations <= 0:
+        return X0, T0, info
+    fun, x, unpack = _problem(polygon, X0, T0, eid)
+    for beta in BETAS:
+        x, _ = lbfgs(lambda y, b=beta: fun(y, b), x, iterations)
+    moved = retriangulated(polygon, unpack(x), T0, eid)
+    if moved is None:
+        return X0, T0, info
+    P2, T2 = moved
+    after = _measures(P2, T2)
+    no_worse = all(a <= b for a, b in zip(after[:4], before[:4])) and after[4] >= before[4]
+    if no_worse and (after[1] < before[1] or after[2] < before[2]):
+        info.update(kept=True, after=after)
+        return P2, T2, info
+    return X0, T0, info
