@@ -1,42 +1,47 @@
-"""A polish of a uniform mesh: its largest perimeter and longest edge lowered, the triangulation held.
+"""A polish of a uniform mesh: its edge extremes lowered, the triangulation held.
 
 Not part of :func:`uniform2d.uniform_mesh` (docs/polish.md says why: on the
-benchmark polygons it gains well under 1 % of the largest perimeter for more
-time than the whole optimiser takes).  With the triangulation held, the
+benchmark polygons it gains about 1 % of the edge ratio and under 1 % of the
+longest edge and largest perimeter, for as much time as the whole optimiser
+takes); :func:`polish_mesh` polishes a mesh made.  With the triangulation held, the
 longest edge and the largest triangle perimeter are convex functions of the
 free coordinates (maxima of norms and of sums of norms; a boundary point
 sliding on its edge is a linear parametrisation).  :func:`polish_extremes`
-minimises the sum of their smooth maxima (log-sum-exp, with its sharpness
-raised through ``BETAS``), each over the mesh's own value, by L-BFGS
+minimises their smooth maxima (log-sum-exp, with its sharpness raised
+through ``BETAS``) and that of minus the shortest edge, each over the mesh's
+own value and in the proportions of the balanced objective (the longest edge
+twice: it is in the edge ratio too), by L-BFGS
 (:func:`uniform2d.optimize.variance.lbfgs`, the same variables as the graded
 path's last stage, :func:`uniform2d.optimize.variance.sliding_variables`),
 with penalties that keep every edge between the mesh's shortest and longest
-edges, every angle above its worst angle and its edge CV below its own.  The
+edges, every angle above its worst angle and the edge CV below its own.  The
 moved points are triangulated afresh (the exact constrained Delaunay
 triangulation); the result is kept only if none of the edge ratio, longest
 edge, largest perimeter and edge CV got worse, the worst angle did not drop
-and the longest edge or the largest perimeter got smaller; else the input
-comes back.
+and one of the first three got smaller; else the input comes back.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InvalidArgumentError
 from ..geometry import unique_edges
+from ..mesh import Mesh
 from ..polygon import Polygon
 from ..quality import quality
+from ..sites import site_edges
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
-__all__ = ["BETAS", "ITERATIONS", "PENALTY", "polish_extremes"]
+__all__ = ["BETAS", "ITERATIONS", "PENALTY", "polish_extremes", "polish_mesh"]
 
 #: Sharpness of the smooth maxima, raised in turn (each a run of L-BFGS from
 #: where the last one stopped): a blunt one moves the whole top of the
 #: distribution, a sharp one its very largest values.
-BETAS = (100.0, 300.0, 1000.0)
+BETAS = (300.0, 1000.0)
 #: L-BFGS iterations per sharpness, at most.
 ITERATIONS = 300
-#: Weight of the penalties (the objective itself is near 2).
+#: Weight of the penalties (the objective itself is near 4).
 PENALTY = 1e4
 #: The penalties hold the edges, the CV and the angles this far inside the
 #: mesh's own limits (relative; the angles in radians): they are soft, and
@@ -44,6 +49,11 @@ PENALTY = 1e4
 LENGTH_MARGIN = 1e-4
 CV_MARGIN = 2e-3
 ANGLE_MARGIN = 1e-3
+#: The angle penalty watches the corners within NEAR_ANGLE (radians) of the
+#: worst angle at the start (the polish moves points by a fraction of a
+#: percent of an edge; a corner it would take below the worst angle anyway
+#: shows in the measures of the result, which is then not kept).
+NEAR_ANGLE = 0.1
 
 
 def _smooth_max(v, beta: float):
@@ -84,8 +94,12 @@ def _problem(polygon: Polygon, X0, T0, eid):
     C = np.concatenate([T0[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
     L0 = np.hypot(*(X0[E[:, 1]] - X0[E[:, 0]]).T)
     lmax, lmin, pmax = L0.max(), L0.min() * (1 + LENGTH_MARGIN), L0[TE].sum(axis=1).max()
+    lcap = lmax * (1 - LENGTH_MARGIN)
     cv2 = (L0.std() / L0.mean() * (1 - CV_MARGIN)) ** 2
-    amin = _corner_angles(X0, C)[0].min() + ANGLE_MARGIN
+    A0 = _corner_angles(X0, C)[0]
+    amin = A0.min() + ANGLE_MARGIN
+    # only the corners that can reach the worst angle by these small moves
+    C = C[A0 < amin + NEAR_ANGLE]
     K = len(E)
     x0, unpack, pull = sliding_variables(polygon, X0, eid, np.full(N, L0.mean()))
 
@@ -97,10 +111,12 @@ def _problem(polygon: Polygon, X0, T0, eid):
         L = np.hypot(dv[:, 0], dv[:, 1])
         sL, wL = _smooth_max(L / lmax, beta)
         sP, wP = _smooth_max(L[TE].sum(axis=1) / pmax, beta)
-        gl = wL / lmax + np.bincount(TE.ravel(), np.repeat(wP / pmax, 3), K)
-        under, over = np.minimum(L / lmin - 1, 0), np.maximum(L / lmax - 1, 0)
-        F = sL + sP + PENALTY * ((under**2).sum() + (over**2).sum())
-        gl += 2 * PENALTY * (under / lmin + over / lmax)
+        sS, wS = _smooth_max(-L / lmin, beta)
+        # the balanced objective's proportions: the longest edge is in the ratio too
+        gl = 2 * wL / lmax - wS / lmin + np.bincount(TE.ravel(), np.repeat(wP / pmax, 3), K)
+        under, over = np.minimum(L / lmin - 1, 0), np.maximum(L / lcap - 1, 0)
+        F = 2 * sL + sS + sP + PENALTY * ((under**2).sum() + (over**2).sum())
+        gl += 2 * PENALTY * (under / lmin + over / lcap)
         m = L.mean()
         var = ((L - m) ** 2).mean()
         spread = max(var / m**2 / cv2 - 1, 0.0)
@@ -124,7 +140,7 @@ def _measures(points, triangles):
 
 
 def polish_extremes(polygon: Polygon, points, triangles, edges, *, iterations: int = ITERATIONS):
-    """Lower the largest perimeter and the longest edge of a mesh, its triangulation held.
+    """Lower the edge ratio, longest edge and largest perimeter of a mesh, its triangulation held.
 
     Parameters
     ----------
@@ -176,7 +192,36 @@ def polish_extremes(polygon: Polygon, points, triangles, edges, *, iterations: i
     P2, T2 = moved
     after = _measures(P2, T2)
     no_worse = all(a <= b for a, b in zip(after[:4], before[:4])) and after[4] >= before[4]
-    if no_worse and (after[1] < before[1] or after[2] < before[2]):
+    if no_worse and any(a < b for a, b in zip(after[:3], before[:3])):
         info.update(kept=True, after=after)
         return P2, T2, info
     return X0, T0, info
+
+
+def polish_mesh(mesh: Mesh, *, iterations: int = ITERATIONS) -> Mesh:
+    """:func:`polish_extremes` of a uniform :class:`~uniform2d.Mesh`: a new mesh
+    (the same one if nothing was gained), its ``info`` the input's with
+    ``polish``, the dict :func:`polish_extremes` returns.
+
+    Raises :class:`~uniform2d.errors.InvalidArgumentError` for a graded mesh
+    (its edges are measured against its size field, which the polish does not
+    know).
+
+    Examples
+    --------
+    >>> import uniform2d
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> m = uniform2d.uniform_mesh(sq, 60)
+    >>> p = polish_mesh(m)
+    >>> p.n_steiner == m.n_steiner, p.quality().max_perimeter <= m.quality().max_perimeter
+    (True, True)
+    """
+    if mesh.size is not None:
+        raise InvalidArgumentError(
+            "polish_mesh polishes uniform meshes; this one follows a size field "
+            "(graded: its last stage, uniform2d.optimize.variance, evens q instead)")
+    nV = len(mesh.polygon.vertices)
+    _, edges = site_edges(mesh.polygon, mesh.points[nV:])
+    pts, tri, info = polish_extremes(mesh.polygon, mesh.points, mesh.triangles, edges,
+                                     iterations=iterations)
+    return Mesh(pts, tri, mesh.polygon, mesh.n_steiner, {**mesh.info, "polish": info})
