@@ -1,7 +1,8 @@
-"""The polish of a uniform mesh (uniform2d.optimize.polish.polish_extremes): it lowers the
-largest perimeter and the longest edge with exactly n points and a valid constrained
-Delaunay mesh, never raises the edge ratio or the edge CV nor lowers the worst angle,
-leaves its inputs alone, is deterministic, and gives the input back when it cannot gain."""
+"""The polish of a uniform mesh (uniform2d.optimize.polish): it lowers the edge ratio,
+longest edge and largest perimeter with exactly n points and a valid constrained Delaunay
+mesh, never raises any of them or the edge CV nor lowers the worst angle, leaves its inputs
+alone, is deterministic, gives the input back when it cannot gain, and is the optimiser's
+last stage for small meshes."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import shapely
 import uniform2d
 from uniform2d import Polygon
 from uniform2d.errors import InvalidArgumentError
+from uniform2d.optimize import pipeline
 from uniform2d.optimize.polish import polish_extremes, polish_mesh
 from uniform2d.sites import site_edges
 from uniform2d.testing import check_mesh
@@ -101,16 +103,22 @@ def test_no_iterations_gives_the_input_back():
 
 
 
-def test_polish_mesh_of_a_uniform_mesh():
-    # at n = 200 the optimiser's own mesh has a little left to gain (at 120 nothing)
+def test_uniform_mesh_polishes_small_meshes(monkeypatch):
+    # the optimiser's last stage for meshes of up to POLISH_MAX points is polish_mesh's
+    with monkeypatch.context() as mp:
+        mp.setattr(pipeline, "POLISH_MAX", 0)
+        raw = uniform2d.uniform_mesh(LSHAPE, 200)
     m = uniform2d.uniform_mesh(LSHAPE, 200)
-    p = polish_mesh(m)
-    check_mesh(p.points, p.triangles, LSHAPE, n_steiner=200)
-    assert p.n_steiner == 200 and len(p.points) == len(m.points)
-    before, after = measures(m.points, m.triangles), measures(p.points, p.triangles)
+    assert m.info["polished"] and not raw.info["polished"]
+    check_mesh(m.points, m.triangles, LSHAPE, n_steiner=200)
+    assert m.n_steiner == 200 and len(m.points) == len(LSHAPE.vertices) + 200
+    before, after = measures(raw.points, raw.triangles), measures(m.points, m.triangles)
     assert all(a <= b for a, b in zip(after[:4], before[:4])) and after[4] >= before[4]
-    assert p.info["polish"]["kept"] and after[2] < before[2]
-    assert {k: v for k, v in p.info.items() if k != "polish"} == m.info
+    assert after[2] < before[2]
+    p = polish_mesh(raw)
+    assert p.info["polish"]["kept"]
+    assert np.array_equal(p.points, m.points) and np.array_equal(p.triangles, m.triangles)
+    assert {k: v for k, v in p.info.items() if k != "polish"} == raw.info
 
 
 def test_polish_mesh_refuses_a_graded_mesh():

@@ -1,9 +1,8 @@
 """A polish of a uniform mesh: its edge extremes lowered, the triangulation held.
 
-Not part of :func:`uniform2d.uniform_mesh` (docs/polish.md says why: on the
-benchmark polygons it gains about 1 % of the edge ratio and under 1 % of the
-longest edge and largest perimeter, for as much time as the whole optimiser
-takes); :func:`polish_mesh` polishes a mesh made.  With the triangulation held, the
+The last stage of :func:`uniform2d.optimize.optimize_mesh` for meshes of up
+to :data:`POLISH_MAX` points (docs/optimizer.md); :func:`polish_mesh`
+polishes any uniform mesh made.  With the triangulation held, the
 longest edge and the largest triangle perimeter are convex functions of the
 free coordinates (maxima of norms and of sums of norms; a boundary point
 sliding on its edge is a linear parametrisation).  :func:`polish_extremes`
@@ -33,12 +32,16 @@ from ..quality import quality
 from ..sites import site_edges
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
-__all__ = ["BETAS", "ITERATIONS", "PENALTY", "polish_extremes", "polish_mesh"]
+__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "polish_extremes", "polish_mesh"]
 
+#: Meshes of up to POLISH_MAX points get the polish in
+#: :func:`uniform2d.uniform_mesh` (its cost grows with the mesh, its gain does
+#: not: at n = 1000 it would take more time than the whole optimiser).
+POLISH_MAX = 600
 #: Sharpness of the smooth maxima, raised in turn (each a run of L-BFGS from
-#: where the last one stopped): a blunt one moves the whole top of the
-#: distribution, a sharp one its very largest values.
-BETAS = (300.0, 1000.0)
+#: where the last one stopped; one value: 300 then 1000 gains a tenth more
+#: for twice the time).
+BETAS = (1000.0,)
 #: L-BFGS iterations per sharpness, at most.
 ITERATIONS = 300
 #: Weight of the penalties (the objective itself is near 4).
