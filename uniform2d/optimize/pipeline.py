@@ -358,11 +358,8 @@ def optimize_mesh(
         "angle_attempt": angled,
         "angle_fits": fitted,
         "polished": polished,
-        "start": (
-            None
-            if tp_info is None
-            else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}
-        ),
+        "start": (None if tp_info is None
+                  else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}),
         "before": _summary(q_tp),
         "after": _summary(q_new),
         "objective_value": v_new,

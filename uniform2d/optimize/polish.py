@@ -81,7 +81,7 @@ def _corner_angles(X, C):
 
 def _accumulate(N: int, index, g):
     """Sum of the rows of ``g`` (m, 2) into (N, 2) by ``index`` (m,)."""
-    return np.stack([np.bincount(index, g[:, k], N) for k in range(2)], axis=1)
+    return np.stack([np.bincount(index, g[:, 0], N), np.bincount(index, g[:, 1], N)], axis=1)
 
 
 def _problem(polygon: Polygon, X0, T0, eid):
@@ -104,6 +104,7 @@ def _problem(polygon: Polygon, X0, T0, eid):
     # only the corners that can reach the worst angle by these small moves
     C = C[A0 < amin + NEAR_ANGLE]
     K = len(E)
+    ends, corners = np.concatenate([E[:, 1], E[:, 0]]), C.T.ravel()
     x0, unpack, pull = sliding_variables(polygon, X0, eid, np.full(N, L0.mean()))
 
     def fun(x, beta):
@@ -122,16 +123,17 @@ def _problem(polygon: Polygon, X0, T0, eid):
         gl += 2 * PENALTY * (under / lmin + over / lcap)
         m = L.mean()
         var = ((L - m) ** 2).mean()
-        spread = max(var / m**2 / cv2 - 1, 0.0)
-        F += PENALTY * spread**2
-        gl += 2 * PENALTY * spread / cv2 * (2 * (L - m) / K / m**2 - 2 * var / m**3 / K)
+        spread = var / m**2 / cv2 - 1
+        if spread > 0:
+            F += PENALTY * spread**2
+            gl += 2 * PENALTY * spread / cv2 * (2 * (L - m) / K / m**2 - 2 * var / m**3 / K)
         gb = gl[:, None] * dv / L[:, None]
-        G = _accumulate(N, E[:, 1], gb) - _accumulate(N, E[:, 0], gb)
+        G = _accumulate(N, ends, np.concatenate([gb, -gb]))
         A, grads = _corner_angles(X, C)
         low = np.minimum(A - amin, 0)
-        F += PENALTY * (low**2).sum()
-        for k, g in enumerate(grads):
-            G += _accumulate(N, C[:, k], 2 * PENALTY * low[:, None] * g)
+        if low.any():  # most points meet the angle floor: no term
+            F += PENALTY * (low**2).sum()
+            G += _accumulate(N, corners, 2 * PENALTY * np.tile(low, 3)[:, None] * np.concatenate(grads))
         return F, pull(G)
 
     return fun, x0, unpack
