@@ -13,7 +13,8 @@ twice: it is in the edge ratio too), by L-BFGS
 (:func:`uniform2d.optimize.variance.lbfgs`, the same variables as the graded
 path's last stage, :func:`uniform2d.optimize.variance.sliding_variables`),
 with penalties that keep every edge between the mesh's shortest and longest
-edges, every angle above its worst angle and the edge CV below its own.  The
+edges, every perimeter below its largest, every angle above its worst angle
+and the edge CV below its own.  The
 moved points are triangulated afresh (the exact constrained Delaunay
 triangulation); the result is kept only if none of the edge ratio, longest
 edge, largest perimeter and edge CV got worse, the worst angle did not drop
@@ -97,7 +98,7 @@ def _problem(polygon: Polygon, X0, T0, eid):
     C = np.concatenate([T0[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
     L0 = np.hypot(*(X0[E[:, 1]] - X0[E[:, 0]]).T)
     lmax, lmin, pmax = L0.max(), L0.min() * (1 + LENGTH_MARGIN), L0[TE].sum(axis=1).max()
-    lcap = lmax * (1 - LENGTH_MARGIN)
+    lcap, pcap = lmax * (1 - LENGTH_MARGIN), pmax * (1 - LENGTH_MARGIN)
     cv2 = (L0.std() / L0.mean() * (1 - CV_MARGIN)) ** 2
     A0 = _corner_angles(X0, C)[0]
     amin = A0.min() + ANGLE_MARGIN
@@ -113,13 +114,16 @@ def _problem(polygon: Polygon, X0, T0, eid):
             return np.inf, None
         dv = X[E[:, 1]] - X[E[:, 0]]
         L = np.hypot(dv[:, 0], dv[:, 1])
+        P = L[TE].sum(axis=1)
         sL, wL = _smooth_max(L / lmax, beta)
-        sP, wP = _smooth_max(L[TE].sum(axis=1) / pmax, beta)
+        sP, wP = _smooth_max(P / pmax, beta)
         sS, wS = _smooth_max(-L / lmin, beta)
+        above = np.maximum(P / pcap - 1, 0)
         # the balanced objective's proportions: the longest edge is in the ratio too
-        gl = 2 * wL / lmax - wS / lmin + np.bincount(TE.ravel(), np.repeat(wP / pmax, 3), K)
+        gP = wP / pmax + 2 * PENALTY * above / pcap
+        gl = 2 * wL / lmax - wS / lmin + np.bincount(TE.ravel(), np.repeat(gP, 3), K)
         under, over = np.minimum(L / lmin - 1, 0), np.maximum(L / lcap - 1, 0)
-        F = 2 * sL + sS + sP + PENALTY * ((under**2).sum() + (over**2).sum())
+        F = 2 * sL + sS + sP + PENALTY * ((under**2).sum() + (over**2).sum() + (above**2).sum())
         gl += 2 * PENALTY * (under / lmin + over / lcap)
         m = L.mean()
         var = ((L - m) ** 2).mean()
