@@ -23,6 +23,7 @@ from .angles import ANGLE_FINE, ANGLES_MAX, angle_attempt_wins, raise_worst_angl
 from .boundary import target_size
 from .moves import KernelMesh, improve_best, improve_kept
 from .objective import objective_code, quality_objective
+from .polish import POLISH_MAX, polish_extremes
 from .relocate import relocate
 from .seed import start, start_parts, variants
 from .shift import shift_worst
@@ -118,6 +119,21 @@ def _fitted(polygon: Polygon, pts, tri, edges, q):
         ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
         q = quality(pts, tri)
     return pts, tri, q, fitted
+
+
+def _polished(polygon: Polygon, pts, tri, edges, q):
+    """The chosen mesh after :func:`~uniform2d.optimize.polish.polish_extremes`
+    where it has at most ``POLISH_MAX`` points, checked if it moved: (points,
+    triangles, quality, whether it moved)."""
+    if len(pts) > POLISH_MAX:
+        return pts, tri, q, False
+    pts, tri, made = polish_extremes(polygon, pts, tri, edges)
+    if made["kept"]:
+        log.info("uniform: polished (edge ratio %.4g -> %.4g, largest perimeter %.4g -> %.4g)",
+                 made["before"][0], made["after"][0], made["before"][2], made["after"][2])
+        ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
+        q = quality(pts, tri)
+    return pts, tri, q, made["kept"]
 
 
 def _small_holes(polygon: Polygon, h: float) -> bool:
@@ -341,6 +357,7 @@ def optimize_mesh(
             pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = other
             q_new, angled = q_other, True
     pts, tri, q_new, fitted = _fitted(polygon, pts, tri, edges, q_new)
+    pts, tri, q_new, polished = _polished(polygon, pts, tri, edges, q_new)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
 
@@ -359,6 +376,7 @@ def optimize_mesh(
         "angle_rounds": raised,
         "angle_attempt": angled,
         "angle_fits": fitted,
+        "polished": polished,
         "start": (None if tp_info is None
                   else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}),
         "before": _summary(q_tp),

@@ -30,7 +30,8 @@ from ..polygon import Polygon
 from ..sizefield import SizeField
 from ..triangulation import triangulate
 
-__all__ = ["lower_variance", "lbfgs", "q_spread", "ITERATIONS", "PENALTY", "RATIO_SLACK"]
+__all__ = ["lower_variance", "lbfgs", "q_spread", "sliding_variables", "retriangulated", "areas",
+           "ITERATIONS", "PENALTY", "RATIO_SLACK"]
 
 #: L-BFGS iterations, at most, the pairs it keeps, its first step (in local
 #: edge lengths), its sufficient-decrease constant and the step at which its
@@ -104,7 +105,6 @@ def lower_variance(polygon: Polygon, points, triangles, edges, field: SizeField,
     >>> info["kept"], info["cv"][1] < info["cv"][0], len(p2) == len(pts)
     (True, True, True)
     """
-    nV = len(polygon.vertices)
     X0 = np.array(points, dtype=np.float64)
     T0 = np.asarray(triangles, dtype=np.int64)
     eid = np.asarray(edges, dtype=np.int64)
@@ -115,9 +115,10 @@ def lower_variance(polygon: Polygon, points, triangles, edges, field: SizeField,
     X = unpack(x)
     info = {"kept": False, "cv": (before[0], before[0]), "ratio": (before[1], before[1]),
             "iterations": made}
-    if not np.all(_areas(X, T0) > 0):
+    moved = retriangulated(polygon, X, T0, eid)
+    if moved is None:
         return X0, T0, info
-    P2, T2 = triangulate(polygon, X[nV:], eid)
+    P2, T2 = moved
     after = q_spread(P2, unique_edges(T2, len(P2)), field)
     if after[0] < before[0] and after[1] <= before[1] * (1 + RATIO_SLACK):
         info.update(kept=True, cv=(before[0], after[0]), ratio=(before[1], after[1]))
@@ -132,29 +133,47 @@ def _dot(a, b) -> float:
     return float(np.multiply(a, b).sum())
 
 
-def _areas(X, T):
+def retriangulated(polygon: Polygon, X, T0, eid):
+    """(points, triangles): the exact constrained Delaunay triangulation of
+    the points ``X`` (N, 2), moved with the triangulation ``T0`` held and
+    the sites on the polygon edges ``eid``; None if a triangle of ``T0`` has
+    turned over (or flat), the points then possibly outside P."""
+    if not np.all(areas(X, T0) > 0):
+        return None
+    return triangulate(polygon, X[len(polygon.vertices):], eid)
+
+
+def areas(X, T):
+    """Twice the signed area of every triangle of T (M, 3) on the points X (N, 2), shape (M,)."""
     a, b, c = X[T[:, 0]], X[T[:, 1]], X[T[:, 2]]
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
 
-def _problem(polygon: Polygon, X0, T0, E, eid, field):
-    """(objective with gradient, start, unpack) of :func:`lower_variance`.
-    Each site's variables are in units of the mean length of its edges (the
-    graded mesh's local scale: L-BFGS's steps then suit the small and the large
-    triangles alike); a sliding site's variable is its distance along its edge.
-    A point where a triangle of ``T0`` has turned over (or flat) has the value
-    infinity, so that the line search steps back from it."""
-    nV, N, K = len(polygon.vertices), len(X0), len(E)
+def sliding_variables(polygon: Polygon, X0, eid, scale):
+    """(start, unpack, pull) of the coordinates a stage moves with the triangulation held.
+
+    Polygon vertices stay; a site with ``eid`` -1 has two variables, its
+    coordinates in units of ``scale`` (one value per point, shape (N,)), a
+    site on polygon edge ``eid`` one, its distance along that edge in units of
+    its ``scale``.  ``unpack(x)`` gives the points (N, 2), ``pull(G)`` turns
+    a gradient by the points (N, 2) into one by the variables.
+
+    Examples
+    --------
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> X0 = np.array([(0, 0), (1, 0), (1, 1), (0, 1), (0.5, 0.5), (0.25, 0.0)])
+    >>> x0, unpack, pull = sliding_variables(sq, X0, np.array([-1, 0]), np.full(6, 0.5))
+    >>> len(x0), bool(np.array_equal(unpack(x0), X0))
+    (3, True)
+    """
+    nV = len(polygon.vertices)
     a, d, _ = polygon_edges(polygon, constraints=True)
     slide = eid >= 0
     free = np.flatnonzero(~slide) + nV
     sl = np.flatnonzero(slide) + nV
     e = eid[slide]
-    L0 = np.hypot(*(X0[E[:, 1]] - X0[E[:, 0]]).T)
-    ell = (np.bincount(E.ravel(), np.repeat(L0, 2), N)
-           / np.maximum(np.bincount(E.ravel(), minlength=N), 1))
-    cf = ell[free][:, None]
-    Ld = np.hypot(d[e, 0], d[e, 1]) / ell[sl]
+    cf = scale[free][:, None]
+    Ld = np.hypot(d[e, 0], d[e, 1]) / scale[sl]
     t0 = ((X0[sl] - a[e]) * d[e]).sum(1) / (d[e] ** 2).sum(1)
     nf = len(free)
 
@@ -163,6 +182,25 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
         X[free] = x[: 2 * nf].reshape(-1, 2) * cf
         X[sl] = a[e] + (x[2 * nf:] / Ld)[:, None] * d[e]
         return X
+
+    def pull(G):
+        return np.concatenate([(G[free] * cf).ravel(), (G[sl] * d[e]).sum(1) / Ld])
+
+    return np.concatenate([(X0[free] / cf).ravel(), t0 * Ld]), unpack, pull
+
+
+def _problem(polygon: Polygon, X0, T0, E, eid, field):
+    """(objective with gradient, start, unpack) of :func:`lower_variance`.
+    Each site's variables are in units of the mean length of its edges (the
+    graded mesh's local scale: L-BFGS's steps then suit the small and the large
+    triangles alike; :func:`sliding_variables`).
+    A point where a triangle of ``T0`` has turned over (or flat) has the value
+    infinity, so that the line search steps back from it."""
+    N, K = len(X0), len(E)
+    L0 = np.hypot(*(X0[E[:, 1]] - X0[E[:, 0]]).T)
+    ell = (np.bincount(E.ravel(), np.repeat(L0, 2), N)
+           / np.maximum(np.bincount(E.ravel(), minlength=N), 1))
+    x0, unpack, pull = sliding_variables(polygon, X0, eid, ell)
 
     def logq(X):
         dv = X[E[:, 1]] - X[E[:, 0]]
@@ -175,7 +213,7 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
 
     def fun(x):
         X = unpack(x)
-        if not np.all(_areas(X, T0) > 0):
+        if not np.all(areas(X, T0) > 0):
             return np.inf, None
         lq, dv, L2, h, gh = logq(X)
         q = np.exp(lq)
@@ -190,9 +228,8 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
         gb, ga = g[:, None] * (u - w), g[:, None] * (-u - w)
         G = np.stack([np.bincount(E[:, 0], ga[:, k], N) + np.bincount(E[:, 1], gb[:, k], N)
                       for k in range(2)], axis=1)
-        return F, np.concatenate([(G[free] * cf).ravel(), (G[sl] * d[e]).sum(1) / Ld])
+        return F, pull(G)
 
-    x0 = np.concatenate([(X0[free] / cf).ravel(), t0 * Ld])
     return fun, x0, unpack
 
 
