@@ -46,6 +46,8 @@ def njit(*args, **options):
     cache, the kernel claimed while another process fills it too)."""
     options.setdefault("no_cfunc_wrapper", True)
     options.setdefault("nogil", True)
+    if options.pop("borrowed", False):
+        options["_nrt"] = False
     cache = options.pop("cache", False)
 
     def cached(dispatcher):

@@ -208,17 +208,17 @@ def reserve(m, k):
         m.ebuf = grown(m.ebuf, k)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def nxt(h):
     return h - 2 if h % 3 == 2 else h + 1
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def prv(h):
     return h + 2 if h % 3 == 0 else h - 1
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _orient_v(xy, u, v, x, y):
     return orient2d(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y)
 
@@ -252,7 +252,7 @@ def new_tag(m):
     return np.int32(m.tag)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def circumcircle(xy, a, b, c):
     """Circumcentre (x, y) and radius of triangle (a, b, c), computed relative to a."""
     ax, ay = xy[a, 0], xy[a, 1]
@@ -295,7 +295,7 @@ def _link(m, h, g):
 @njit(cache=True)
 def flip(m, h):
     """Flip the unconstrained edge h (see the module diagram)."""
-    g = m.tw[h]
+    g = np.int64(m.tw[h])  # an int64 half-edge: nxt/prv compile for one type
     t = h // 3
     u = g // 3
     a = m.tv[h]
@@ -373,7 +373,7 @@ def boundary_is(m, ring_next):
     exactly once: the covering count at a point is the rings' winding number."""
     seen = np.zeros(ring_next.shape[0], np.int8)
     for h in range(3 * m.nt):
-        g = m.tw[h]
+        g = np.int64(m.tw[h])  # an int64 half-edge: nxt compiles for one type
         if g >= 0:
             if m.tv[g] != m.tv[nxt(h)] or m.tv[nxt(g)] != m.tv[h]:
                 return False

@@ -46,7 +46,7 @@ def _edge_energy(ell, s, k, p, w_len, w_short, want):
     return E, d
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
     """The cached star's share of the energy with v at (x, y) (see :func:`gather`);
     its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths."""

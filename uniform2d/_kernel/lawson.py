@@ -19,7 +19,7 @@ __all__ = ["legalize_all", "legalize_stack", "lawson_recorded", "record_flip", "
 
 @njit(cache=True, inline="always")
 def _not_delaunay(m, h):
-    g = m.tw[h]
+    g = np.int64(m.tw[h])  # an int64 half-edge: prv compiles for one type
     if g < 0 or m.tc[h]:
         return False
     xy = m.xy
@@ -89,7 +89,8 @@ def lawson_recorded(m, todo, sp, tag, k, undo, nu):
                     reserve(m, k + 1)
                     m.cav[k] = s
                     k += 1
-        todo = grown(todo, sp + 4)
+        if sp + 4 > todo.shape[0]:  # grown only when full: each call counts references
+            todo = grown(todo, sp + 4)
         # the four outer edges of the new pair
         todo[sp] = 3 * t
         todo[sp + 1] = 3 * t + 1
@@ -113,7 +114,8 @@ def record_flip(m, h, undo, nu):
     :func:`flip` of h overwrites, for :func:`undo_flips`: the two slots and
     their vertices' ``vseg`` and ``vcs`` (the outer twins' links follow from
     the slots').  Returns (undo, nu + 1)."""
-    undo = grown(undo, (nu + 1) * UNDO)
+    if (nu + 1) * UNDO > undo.shape[0]:  # grown only when full: each call counts references
+        undo = grown(undo, (nu + 1) * UNDO)
     h = np.int64(h)
     g = np.int64(m.tw[h])
     r = nu * UNDO

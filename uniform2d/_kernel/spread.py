@@ -33,7 +33,7 @@ def _mean_length(m, hv, href, slots, alive, dead):
     return (s + dead[8]) / (k + dead[9])
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _star_spread(x, y, ns, nt, SP, TR, L, cbar, grad, ext, want):
     """Sum (l - cbar)^2 over the cached star's spokes with v at (x, y), its
     gradient into ``grad`` if ``want``, and the star's longest and shortest
