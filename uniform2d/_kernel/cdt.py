@@ -234,9 +234,14 @@ def snap(m, x, y):
     X - centre is then exact for every X in the polygon's box), X - centre and the
     division are exact; near the origin (centre 0) this is the identity.
     """
-    s = m.gs
-    cx = m.gc[0]
-    cy = m.gc[1]
+    return snap_to(m.gs, m.gc[0], m.gc[1], x, y)
+
+
+@njit(cache=True, borrowed=True)
+def snap_to(s, cx, cy, x, y):
+    """:func:`snap` with the triangulation's grid ``(m.gs, m.gc[0], m.gc[1])``
+    read once by the caller: the loops that snap every trial place would
+    otherwise pass the structref, and count a reference to it, each time."""
     return ((x * s + cx) - cx) / s, ((y * s + cy) - cy) / s
 
 

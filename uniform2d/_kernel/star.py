@@ -294,8 +294,8 @@ def stars(m, slots):
     return vh, np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
 
 
-@njit(cache=True)
-def gather(m, v, h0, hv, href, SP, TR):
+@njit(cache=True, borrowed=True)
+def gather(xy, tv, tw, v, h0, hv, href, SP, TR):
     """Cache the star of v (outgoing half-edge h0) for its line search.
 
     Spoke i: ``SP[i] = (x, y, target)`` of the i-th neighbour counter-clockwise;
@@ -303,9 +303,10 @@ def gather(m, v, h0, hv, href, SP, TR):
     ``TR[j] = (length of its edge opposite v, its perimeter target)``.  Returns
     (spokes, triangles): equal for an interior vertex, spokes = triangles + 1 on
     the boundary (an open fan).  Nothing of the star but v moves during the
-    search, so lengths opposite v are computed once here.
+    search, so lengths opposite v are computed once here.  The triangulation's
+    arrays ``m.xy, m.tv, m.tw`` are passed, not the structref, which would
+    count a reference at every visit.
     """
-    xy, tv, tw = m.xy, m.tv, m.tw
     h = h0
     j = 0
     while True:
@@ -359,6 +360,9 @@ def suspects(m, moved, todo, alive, slots):
     hot = np.zeros(m.nt, np.bool_)
     for t in slots:
         hot[t] = moved[tv[3 * t]] or moved[tv[3 * t + 1]] or moved[tv[3 * t + 2]]
+    # room for every half-edge of the slots at once: an array variable
+    # reassigned inside the loop would count references at every turn
+    todo = grown(todo, 3 * slots.shape[0])
     sp = 0
     for t in slots:
         for h in range(3 * t, 3 * t + 3):
@@ -366,8 +370,6 @@ def suspects(m, moved, todo, alive, slots):
             if g < 0 or not counted(tw, alive, h):  # boundary, or the twin's turn
                 continue
             if hot[t] or hot[g // 3]:
-                if sp >= todo.shape[0]:  # grown only when full: each call counts references
-                    todo = grown(todo, sp + 1)
                 todo[sp] = h
                 sp += 1
     return todo, sp
