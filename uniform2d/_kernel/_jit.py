@@ -46,8 +46,10 @@ def njit(*args, **options):
     cache, the kernel claimed while another process fills it too)."""
     options.setdefault("no_cfunc_wrapper", True)
     options.setdefault("nogil", True)
-    if options.pop("borrowed", False):
-        options["_nrt"] = False
+    # explicit either way: numba compiles a kernel's callees with the options
+    # it was not given inherited from the kernel being compiled, and a callee
+    # that allocates must not inherit a borrowed caller's
+    options["_nrt"] = not options.pop("borrowed", False)
     cache = options.pop("cache", False)
 
     def cached(dispatcher):

@@ -300,27 +300,46 @@ def _link(m, h, g):
 @njit(cache=True)
 def flip(m, h):
     """Flip the unconstrained edge h (see the module diagram)."""
-    g = np.int64(m.tw[h])  # an int64 half-edge: nxt/prv compile for one type
+    flip_on(m.tv, m.tw, m.tc, m.tstamp, m.vseg, m.vcs, h)
+
+
+@njit(cache=True, borrowed=True)
+def flip_on(tv, tw, tc, tstamp, vseg, vcs, h):
+    """:func:`flip` on the triangulation's arrays (``m.tv, m.tw, m.tc,
+    m.tstamp, m.vseg, m.vcs``), for the Lawson loop, which would otherwise
+    pass the structref, and count references to it and its arrays, at every
+    flip.  :func:`_set_triangle` and :func:`_link` on those arrays."""
+    g = np.int64(tw[h])  # an int64 half-edge: nxt/prv compile for one type
     t = h // 3
     u = g // 3
-    a = m.tv[h]
-    b = m.tv[nxt(h)]
-    c = m.tv[prv(h)]
-    d = m.tv[prv(g)]
-    n_bc = m.tw[nxt(h)]
-    n_ca = m.tw[prv(h)]
-    n_ad = m.tw[nxt(g)]
-    n_db = m.tw[prv(g)]
-    _set_triangle(m, np.int64(t), np.int64(c), np.int64(a), np.int64(d))
-    _set_triangle(m, np.int64(u), np.int64(d), np.int64(b), np.int64(c))
-    _link(m, 3 * t, n_ca)
-    _link(m, 3 * t + 1, n_ad)
-    _link(m, 3 * u, n_db)
-    _link(m, 3 * u + 1, n_bc)
-    m.tw[3 * t + 2] = 3 * u + 2
-    m.tw[3 * u + 2] = 3 * t + 2
-    m.tc[3 * t + 2] = 0
-    m.tc[3 * u + 2] = 0
+    a = tv[h]
+    b = tv[nxt(h)]
+    c = tv[prv(h)]
+    d = tv[prv(g)]
+    n_bc = tw[nxt(h)]
+    n_ca = tw[prv(h)]
+    n_ad = tw[nxt(g)]
+    n_db = tw[prv(g)]
+    for s, p, q, r in ((np.int64(t), np.int64(c), np.int64(a), np.int64(d)),
+                       (np.int64(u), np.int64(d), np.int64(b), np.int64(c))):
+        tv[3 * s] = p
+        tv[3 * s + 1] = q
+        tv[3 * s + 2] = r
+        tstamp[s] += 1
+    for e, f in ((3 * t, n_ca), (3 * t + 1, n_ad), (3 * u, n_db), (3 * u + 1, n_bc)):
+        tw[e] = f
+        if f >= 0:
+            tw[f] = e
+            tc[e] = tc[f]
+            if tc[f]:
+                vcs[tv[e]] = e
+        else:
+            tc[e] = 0
+            vseg[tv[e]] = e
+    tw[3 * t + 2] = 3 * u + 2
+    tw[3 * u + 2] = 3 * t + 2
+    tc[3 * t + 2] = 0
+    tc[3 * u + 2] = 0
 
 
 # --------------------------------------------------------------------------------------

@@ -173,7 +173,7 @@ def expansion_sum(elen, e, flen, f, h):
         findex += 1
         if findex < flen:
             fnow = f[findex]
-    hindex = 0
+    hindex = np.int64(0)  # not a literal 0: _keep compiles once
     while eindex < elen and findex < flen:
         if (fnow > enow) == (fnow > -enow):
             q, hh = two_sum(q, enow)
