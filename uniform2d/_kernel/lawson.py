@@ -71,7 +71,7 @@ def lawson_recorded(m, todo, sp, tag, k, undo, nu):
     """:func:`_lawson` that, with ``nu`` >= 0, first records every flip in ``undo``
     (:func:`record_flip`, from record nu on).  Returns (what :func:`_lawson`
     returns, undo (grown if needed), the new record count)."""
-    flips = 0
+    flips = np.int64(0)  # not a literal 0: _flips compiles for one type of count
     while sp > 0:
         # the room a flip needs (the four edges it pushes after one pop, its
         # record) is made here, out of the flips' loop: an array variable
