@@ -170,7 +170,7 @@ def _measure_weights(m, role, movable_short, hv, href, k, objective, slots, aliv
     return lmax, lmin, pmax, 2.0 / s_len, w_short, 1.0 / s_per
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, borrowed=True)
 def _line_search(grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
                  w_len, w_short, w_per, g2, E0, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from

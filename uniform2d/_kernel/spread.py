@@ -68,7 +68,7 @@ def _star_spread(x, y, ns, nt, SP, TR, L, cbar, grad, ext, want):
     return E
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, borrowed=True)
 def _line_search(grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
                  g2, ext, E0, lmax, lmin, pmax, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
