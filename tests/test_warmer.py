@@ -69,20 +69,28 @@ def _compiles(code: str, cache: Path) -> dict:
     return json.loads(done.stdout)
 
 
+@pytest.fixture(scope="module")
+def warmed_then_meshed(tmp_path_factory):
+    """(the warmer's compiles, the mesh's record) on one cold cache: the
+    README mesh after the warmer, as a first run makes them."""
+    cache = tmp_path_factory.mktemp("numba_cache")
+    return _compiles(WARM, cache)["compiled"], _compiles(MESH, cache)
+
+
 @pytest.mark.slow
 @pytest.mark.compile_cache
-def test_a_mesh_after_the_warmer_compiles_nothing_it_compiled_nor_anything_after_insert(tmp_path):
+def test_a_mesh_after_the_warmer_compiles_nothing_it_compiled_nor_anything_after_insert(
+        warmed_then_meshed):
     """The warmer's calls are typed as the run's: were one argument's type to
     drift (a dtype, a layout, int32 for int64), the run would compile that
     kernel again, under another signature, and this would fail."""
-    warmed = _compiles(WARM, tmp_path)["compiled"]
+    warmed, mesh = warmed_then_meshed
     names = {name for name, _ in warmed}
     later = {"uniform2d._kernel.cavity.insert_point", "uniform2d._kernel.distance.to_segments",
              "uniform2d._kernel.validity._unmatched", "uniform2d._kernel.spring.spring",
              "uniform2d._kernel.descent.descend", "uniform2d._kernel.spread.spread",
              "uniform2d._kernel.star.edge_cv", "uniform2d._kernel.star.refresh_sizes"}
     assert later <= names
-    mesh = _compiles(MESH, tmp_path)
     compiled, (insert_done,) = mesh["compiled"], mesh["marks"]
     assert "uniform2d._kernel.insert.run" in {name for name, _ in compiled[:insert_done]}
     assert {tuple(c) for c in compiled} & {tuple(w) for w in warmed} == set()  # the cache works
@@ -91,6 +99,26 @@ def test_a_mesh_after_the_warmer_compiles_nothing_it_compiled_nor_anything_after
     again = {name for name, _ in compiled} & names - {"uniform2d._kernel.heap.grown"}
     assert again == set()
     assert compiled[insert_done:] == []  # the optimiser compiles nothing
+
+
+@pytest.mark.slow
+@pytest.mark.compile_cache
+def test_the_first_run_compiles_every_kernel_for_one_type_of_arguments(warmed_then_meshed):
+    """Each specialisation is compiled with its callees: a kernel called
+    with an int32 here and an int64 there, or a literal 0 (numba types
+    ``Literal[int](0)`` apart from int64), would be compiled twice.  Only
+    heap.grown is meant for several array dtypes, and the half-edge steps
+    cdt.nxt and cdt.prv take the half-edges read from the int32 arrays as
+    they are (two one-line compiles; a cast at every call site would not be
+    worth them)."""
+    warmed, mesh = warmed_then_meshed
+    signatures: dict = {}
+    for name, args in warmed + mesh["compiled"]:
+        signatures.setdefault(name, set()).add(args)
+    twice = {name: sorted(s) for name, s in signatures.items() if len(s) > 1}
+    for meant in ("heap.grown", "cdt.nxt", "cdt.prv"):
+        twice.pop(f"uniform2d._kernel.{meant}", None)
+    assert twice == {}
 
 
 # -- the command -------------------------------------------------------------------------

@@ -20,6 +20,21 @@ inlines a function by running its front end again at every call site, while
 LLVM inlines a small separate function into its callers' machine code all
 the same.
 
+numba counts references to arrays (and structrefs): a function increfs
+each array argument on entry and decrefs it on every way out, and an array
+read from a structref, or an array variable reassigned in a loop, is counted
+at every use.  These are atomic operations, and numba's pruning pass leaves
+most of them in place where a function's exits branch: in the relaxation's
+per-vertex loops they took a third of the time.  So the small helpers called
+in the innermost loops, which allocate nothing and keep none of their
+arguments, are compiled without counting (``borrowed=True``: numba's
+``_nrt=False``; a function without it cannot read a structref's fields, so
+the loops pass them the structref's arrays), and the loops hoist arrays out of
+structrefs and keep array variables out of their reassignments.  ``_nrt`` is
+given explicitly to every kernel: numba compiles a callee with the options it
+was not given inherited from the kernel being compiled, and a kernel that
+allocates must not inherit a borrowed helper's.
+
 The disk cache is numba's, with one addition for the first run, where two
 processes compile into it at once: a kernel one of them compiles is claimed
 until it is cached, so the other waits for it rather than compiling it too
@@ -43,9 +58,15 @@ def njit(*args, **options):
     """``numba.njit`` with ``no_cfunc_wrapper=True`` and ``nogil=True`` (as a bare
     decorator or with options); ``cache=True`` gives the kernel numba's disk
     cache through :func:`uniform2d.compile_claims.enable_caching` (the same
-    cache, the kernel claimed while another process fills it too)."""
+    cache, the kernel claimed while another process fills it too);
+    ``borrowed=True`` compiles it without reference counting (see the module
+    docstring: for helpers that allocate no array and keep none)."""
     options.setdefault("no_cfunc_wrapper", True)
     options.setdefault("nogil", True)
+    # explicit either way: numba compiles a kernel's callees with the options
+    # it was not given inherited from the kernel being compiled, and a callee
+    # that allocates must not inherit a borrowed caller's
+    options["_nrt"] = not options.pop("borrowed", False)
     cache = options.pop("cache", False)
 
     def cached(dispatcher):

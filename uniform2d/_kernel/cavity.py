@@ -208,7 +208,7 @@ def _write_fan(m, x, y, ncav, nb, tag):
             m.vseg[p] = 3 * s + 2  # p -> u
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _link_arrays(tw, tc, tv, vcs, vseg, h, g):
     """:func:`.cdt._link` on the triangulation's arrays (h takes g as twin, and
     g's flag; g = -1 makes h a boundary half-edge): the fan links every

@@ -208,17 +208,17 @@ def reserve(m, k):
         m.ebuf = grown(m.ebuf, k)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def nxt(h):
     return h - 2 if h % 3 == 2 else h + 1
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def prv(h):
     return h + 2 if h % 3 == 0 else h - 1
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _orient_v(xy, u, v, x, y):
     return orient2d(xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], x, y)
 
@@ -234,9 +234,14 @@ def snap(m, x, y):
     X - centre is then exact for every X in the polygon's box), X - centre and the
     division are exact; near the origin (centre 0) this is the identity.
     """
-    s = m.gs
-    cx = m.gc[0]
-    cy = m.gc[1]
+    return snap_to(m.gs, m.gc[0], m.gc[1], x, y)
+
+
+@njit(cache=True, borrowed=True)
+def snap_to(s, cx, cy, x, y):
+    """:func:`snap` with the triangulation's grid ``(m.gs, m.gc[0], m.gc[1])``
+    read once by the caller: the loops that snap every trial place would
+    otherwise pass the structref, and count a reference to it, each time."""
     return ((x * s + cx) - cx) / s, ((y * s + cy) - cy) / s
 
 
@@ -252,7 +257,7 @@ def new_tag(m):
     return np.int32(m.tag)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def circumcircle(xy, a, b, c):
     """Circumcentre (x, y) and radius of triangle (a, b, c), computed relative to a."""
     ax, ay = xy[a, 0], xy[a, 1]
@@ -295,27 +300,46 @@ def _link(m, h, g):
 @njit(cache=True)
 def flip(m, h):
     """Flip the unconstrained edge h (see the module diagram)."""
-    g = m.tw[h]
+    flip_on(m.tv, m.tw, m.tc, m.tstamp, m.vseg, m.vcs, h)
+
+
+@njit(cache=True, borrowed=True)
+def flip_on(tv, tw, tc, tstamp, vseg, vcs, h):
+    """:func:`flip` on the triangulation's arrays (``m.tv, m.tw, m.tc,
+    m.tstamp, m.vseg, m.vcs``), for the Lawson loop, which would otherwise
+    pass the structref, and count references to it and its arrays, at every
+    flip.  :func:`_set_triangle` and :func:`_link` on those arrays."""
+    g = np.int64(tw[h])  # an int64 half-edge: nxt/prv compile for one type
     t = h // 3
     u = g // 3
-    a = m.tv[h]
-    b = m.tv[nxt(h)]
-    c = m.tv[prv(h)]
-    d = m.tv[prv(g)]
-    n_bc = m.tw[nxt(h)]
-    n_ca = m.tw[prv(h)]
-    n_ad = m.tw[nxt(g)]
-    n_db = m.tw[prv(g)]
-    _set_triangle(m, np.int64(t), np.int64(c), np.int64(a), np.int64(d))
-    _set_triangle(m, np.int64(u), np.int64(d), np.int64(b), np.int64(c))
-    _link(m, 3 * t, n_ca)
-    _link(m, 3 * t + 1, n_ad)
-    _link(m, 3 * u, n_db)
-    _link(m, 3 * u + 1, n_bc)
-    m.tw[3 * t + 2] = 3 * u + 2
-    m.tw[3 * u + 2] = 3 * t + 2
-    m.tc[3 * t + 2] = 0
-    m.tc[3 * u + 2] = 0
+    a = tv[h]
+    b = tv[nxt(h)]
+    c = tv[prv(h)]
+    d = tv[prv(g)]
+    n_bc = tw[nxt(h)]
+    n_ca = tw[prv(h)]
+    n_ad = tw[nxt(g)]
+    n_db = tw[prv(g)]
+    for s, p, q, r in ((np.int64(t), np.int64(c), np.int64(a), np.int64(d)),
+                       (np.int64(u), np.int64(d), np.int64(b), np.int64(c))):
+        tv[3 * s] = p
+        tv[3 * s + 1] = q
+        tv[3 * s + 2] = r
+        tstamp[s] += 1
+    for e, f in ((3 * t, n_ca), (3 * t + 1, n_ad), (3 * u, n_db), (3 * u + 1, n_bc)):
+        tw[e] = f
+        if f >= 0:
+            tw[f] = e
+            tc[e] = tc[f]
+            if tc[f]:
+                vcs[tv[e]] = e
+        else:
+            tc[e] = 0
+            vseg[tv[e]] = e
+    tw[3 * t + 2] = 3 * u + 2
+    tw[3 * u + 2] = 3 * t + 2
+    tc[3 * t + 2] = 0
+    tc[3 * u + 2] = 0
 
 
 # --------------------------------------------------------------------------------------
@@ -373,7 +397,7 @@ def boundary_is(m, ring_next):
     exactly once: the covering count at a point is the rings' winding number."""
     seen = np.zeros(ring_next.shape[0], np.int8)
     for h in range(3 * m.nt):
-        g = m.tw[h]
+        g = np.int64(m.tw[h])  # an int64 half-edge: nxt compiles for one type
         if g >= 0:
             if m.tv[g] != m.tv[nxt(h)] or m.tv[nxt(g)] != m.tv[h]:
                 return False

@@ -7,7 +7,7 @@ move keeps the mesh a valid constrained Delaunay triangulation.
 import numpy as np
 from ._jit import njit
 
-from .cdt import nxt, prv, snap
+from .cdt import nxt, prv, snap_to
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
 from .star import FIXED, TRIES, accept, counted, dead_part, gather, initial_steps
 from .star import keep_state, kept_state, legalize_live, live_slots, measure_live, objective_of
@@ -46,7 +46,7 @@ def _edge_energy(ell, s, k, p, w_len, w_short, want):
     return E, d
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
     """The cached star's share of the energy with v at (x, y) (see :func:`gather`);
     its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths."""
@@ -80,10 +80,10 @@ def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
     return E
 
 
-@njit(cache=True)
-def _wake(m, h0, active):
-    """Mark the vertex of outgoing half-edge h0 and all its neighbours active."""
-    tv, tw = m.tv, m.tw
+@njit(cache=True, borrowed=True)
+def _wake(tv, tw, h0, active):
+    """Mark the vertex of outgoing half-edge h0 and all its neighbours active
+    (``tv, tw``: the triangulation's arrays)."""
     active[tv[h0]] = True
     h = h0
     while True:
@@ -170,15 +170,16 @@ def _measure_weights(m, role, movable_short, hv, href, k, objective, slots, aliv
     return lmax, lmin, pmax, 2.0 / s_len, w_short, 1.0 / s_per
 
 
-@njit(cache=True, inline="always")
-def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
+@njit(cache=True, borrowed=True)
+def _line_search(grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
                  w_len, w_short, w_per, g2, E0, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
     (x0, y0) along (ux, uy) whose place keeps the star valid (``star_ok`` with
-    ``floor``) and lowers v's energy share below E0."""
+    ``floor``) and lowers v's energy share below E0.  ``grid``: the
+    triangulation's snapping grid (:func:`.cdt.snap_to`)."""
     for _k in range(TRIES):
         x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
-        x, y = snap(m, x, y)
+        x, y = snap_to(grid[0], grid[1], grid[2], x, y)
         if star_ok(x, y, x0, y0, ns, nt, SP, floor):
             E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, np.bool_(False))
             if E1 < E0:
@@ -193,7 +194,8 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
     """One sweep of :func:`descend` over the active vertices, in order; returns
     (moves made, the largest energy share met).  A vertex whose share is below
     ``floor`` rests; so does one whose line search fails, until a neighbour moves."""
-    xy = m.xy
+    xy, tv, tw = m.xy, m.tv, m.tw
+    grid = (m.gs, m.gc[0], m.gc[1])
     vh, SP, TR, L = stars(m, slots)
     grad = np.zeros(2)
     g2 = np.zeros(2)
@@ -205,7 +207,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
         h0 = vh[v]
         x0 = xy[v, 0]
         y0 = xy[v, 1]
-        ns, nt = gather(m, v, h0, hv, href, SP, TR)
+        ns, nt = gather(xy, tv, tw, v, h0, hv, href, SP, TR)
         E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, np.bool_(True))
         emax = max(emax, E0)
         if E0 < floor:
@@ -215,13 +217,13 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
         if st == 0.0:
             continue
         ok, x, y, tt, st = _line_search(
-            m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
+            grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
             w_len, w_short, w_per, g2, E0, flat * (href * hv[v]) ** 2,
         )  # fmt: skip
         if ok:
             accept(xy, t, step, moved, v, x, y, tt, st, href, hv[v])
             moves += 1
-            _wake(m, h0, active)
+            _wake(tv, tw, h0, active)
         else:
             refuse(step, v, href, hv[v])
             active[v] = False

@@ -104,7 +104,7 @@ def leading(x3, x2, x1, x0):
     return x0
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _keep(h, n, x):
     """Append x to h[:n] unless it is zero (zero elimination); returns the new length."""
     if x != 0.0:
@@ -113,10 +113,10 @@ def _keep(h, n, x):
     return n
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def store4(x3, x2, x1, x0, out):
     """Write x0..x3 to out as a zero-eliminated expansion; returns its length."""
-    n = _keep(out, 0, x0)
+    n = _keep(out, np.int64(0), x0)  # not a literal 0: _keep compiles once
     n = _keep(out, n, x1)
     n = _keep(out, n, x2)
     n = _keep(out, n, x3)
@@ -151,7 +151,7 @@ def _drain(q, e, i, n, h, hindex):
     return q, hindex
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def expansion_sum(elen, e, flen, f, h):
     """h <- e + f; returns len(h) (>= 1, <= elen + flen).
 
@@ -173,7 +173,7 @@ def expansion_sum(elen, e, flen, f, h):
         findex += 1
         if findex < flen:
             fnow = f[findex]
-    hindex = 0
+    hindex = np.int64(0)  # not a literal 0: _keep compiles once
     while eindex < elen and findex < flen:
         if (fnow > enow) == (fnow > -enow):
             q, hh = two_sum(q, enow)
@@ -191,14 +191,14 @@ def expansion_sum(elen, e, flen, f, h):
     return _close(h, hindex, q)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def scale_expansion(elen, e, b, h):
     """h <- b * e; returns len(h) (>= 1, <= 2 * elen).
 
     Shewchuk's scale_expansion_zeroelim, two_sum in place of fast_two_sum.
     """
     q, hh = two_product(e[0], b)
-    hindex = _keep(h, 0, hh)
+    hindex = _keep(h, np.int64(0), hh)  # not a literal 0: _keep compiles once
     for i in range(1, elen):
         p1, p0 = two_product(e[i], b)
         s, hh = two_sum(q, p0)
@@ -208,7 +208,7 @@ def scale_expansion(elen, e, b, h):
     return _close(h, hindex, q)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def mul_expansions(elen, e, flen, f, h, t, u):
     """h <- e * f = sum_i e[i] * f; returns len(h) (<= 2 * elen * flen).
 
@@ -223,7 +223,7 @@ def mul_expansions(elen, e, flen, f, h, t, u):
     return hlen
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def sum_of_products(n, xs, ys, out, tmp, term):
     """out <- exact expansion of sum(xs[i] * ys[i], i < n); returns its length.
 

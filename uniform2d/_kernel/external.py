@@ -59,7 +59,7 @@ def ensure(name: str | None = None) -> None:
                 continue
             func, nargs = _pending.pop(symbol)  # before compiling: its cache calls ensure()
             sig = sigutils.normalize_signature(types.float64(*[types.float64] * nargs))
-            c = CFunc(func, sig, locals={}, options={"nopython": True, "nogil": True})
+            c = CFunc(func, sig, locals={}, options={"nopython": True, "nogil": True, "_nrt": True})
             c._cache = ClaimedCache(func)
             try:
                 c.compile()

@@ -102,7 +102,7 @@ def push(H, key, a, b):
     H.size = n + 1
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def sift_up(K, PA, PB, n, key, a, b):
     """:func:`push` on the arrays of a heap with n entries and room for one more
     (the caller counts it): for loops that push many entries, where passing

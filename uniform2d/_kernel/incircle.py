@@ -48,7 +48,7 @@ ICCERRBOUNDA = (10.0 + 96.0 * EPSILON) * EPSILON
 _ICC_FILTER = ICCERRBOUNDA * (1.0 + 2.0**-20)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _lift_times(olen, o, px, py, sgn, t24, t48x, t48y, out):
     """out <- sgn * (px**2 + py**2) * o (o: an orientation expansion); length."""
     xlen = scale_expansion(olen, o, px, t24)
@@ -58,7 +58,7 @@ def _lift_times(olen, o, px, py, sgn, t24, t48x, t48y, out):
     return expansion_sum(xlen, t48x, ylen, t48y, out)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _lift_cross(px, py, ux, uy, vx, vy, lift, cross, t8, t32, out):
     """out <- (px^2 + py^2)(ux vy - vx uy) exactly; returns its length (<= 32)."""
     s1, s0 = two_product(px, px)

@@ -10,23 +10,24 @@ triangulation exactly: the relaxation's trial moves are undone that way.
 import numpy as np
 
 from ._jit import njit
-from .cdt import flip, nxt, prv, reserve
+from .cdt import flip_on, nxt, prv, reserve
 from .heap import grown
 from .predicates import incircle
 
 __all__ = ["legalize_all", "legalize_stack", "lawson_recorded", "record_flip", "undo_flips", "UNDO"]
 
 
-@njit(cache=True, inline="always")
-def _not_delaunay(m, h):
-    g = m.tw[h]
-    if g < 0 or m.tc[h]:
+@njit(cache=True, borrowed=True)
+def _not_delaunay(xy, tv, tw, tc, h):
+    """Whether the unconstrained edge h fails the in-circle test (on the
+    triangulation's arrays ``m.xy, m.tv, m.tw, m.tc``)."""
+    g = np.int64(tw[h])  # an int64 half-edge: prv compiles for one type
+    if g < 0 or tc[h]:
         return False
-    xy = m.xy
-    a = m.tv[h]
-    b = m.tv[nxt(h)]
-    c = m.tv[prv(h)]
-    d = m.tv[prv(g)]
+    a = tv[h]
+    b = tv[nxt(h)]
+    c = tv[prv(h)]
+    d = tv[prv(g)]
     return (
         incircle(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], xy[d, 0], xy[d, 1])
         > 0.0
@@ -70,33 +71,50 @@ def lawson_recorded(m, todo, sp, tag, k, undo, nu):
     """:func:`_lawson` that, with ``nu`` >= 0, first records every flip in ``undo``
     (:func:`record_flip`, from record nu on).  Returns (what :func:`_lawson`
     returns, undo (grown if needed), the new record count)."""
-    flips = 0
+    flips = np.int64(0)  # not a literal 0: _flips compiles for one type of count
     while sp > 0:
+        # the room a flip needs (the four edges it pushes after one pop, its
+        # record) is made here, out of the flips' loop: an array variable
+        # reassigned in that loop would count references at every turn
+        if sp + 3 > todo.shape[0]:
+            todo = grown(todo, sp + 3)
+        if nu >= 0 and (nu + 1) * UNDO > undo.shape[0]:
+            undo = grown(undo, (nu + 1) * UNDO)
+        sp, k, flips, nu = _flips(m, m.xy, m.tv, m.tw, m.tc, m.tstamp, m.vseg, m.vcs, m.tmark,
+                                  todo, sp, tag, k, undo, nu, flips)
+    return (k if tag >= 0 else flips), undo, nu
+
+
+@njit(cache=True)
+def _flips(m, xy, tv, tw, tc, tstamp, vseg, vcs, tmark, todo, sp, tag, k, undo, nu, flips):
+    """:func:`lawson_recorded`'s flips while ``todo`` and ``undo`` have room
+    for the next one; returns (sp, k, flips, nu).  The triangulation's arrays
+    are passed (``m`` only for ``cav``, which :func:`.cdt.reserve` may grow)."""
+    while sp > 0 and sp + 3 <= todo.shape[0] and (nu < 0 or (nu + 1) * UNDO <= undo.shape[0]):
         sp -= 1
-        h = todo[sp]
-        if not _not_delaunay(m, h):
+        h = np.int64(todo[sp])  # an int64 half-edge: nxt/prv compile for one type
+        if not _not_delaunay(xy, tv, tw, tc, h):
             continue
         t = h // 3
-        u = m.tw[h] // 3
+        u = tw[h] // 3
         if nu >= 0:
-            undo, nu = record_flip(m, h, undo, nu)
-        flip(m, h)
+            nu = _record(tv, tw, tc, vseg, vcs, h, undo, nu)
+        flip_on(tv, tw, tc, tstamp, vseg, vcs, h)
         flips += 1
         if tag >= 0:
             for s in (t, u):
-                if m.tmark[s] != tag:
-                    m.tmark[s] = tag
+                if tmark[s] != tag:
+                    tmark[s] = tag
                     reserve(m, k + 1)
                     m.cav[k] = s
                     k += 1
-        todo = grown(todo, sp + 4)
         # the four outer edges of the new pair
         todo[sp] = 3 * t
         todo[sp + 1] = 3 * t + 1
         todo[sp + 2] = 3 * u
         todo[sp + 3] = 3 * u + 1
         sp += 4
-    return (k if tag >= 0 else flips), undo, nu
+    return sp, k, flips, nu
 
 
 
@@ -113,26 +131,34 @@ def record_flip(m, h, undo, nu):
     :func:`flip` of h overwrites, for :func:`undo_flips`: the two slots and
     their vertices' ``vseg`` and ``vcs`` (the outer twins' links follow from
     the slots').  Returns (undo, nu + 1)."""
-    undo = grown(undo, (nu + 1) * UNDO)
+    if (nu + 1) * UNDO > undo.shape[0]:
+        undo = grown(undo, (nu + 1) * UNDO)
+    return undo, _record(m.tv, m.tw, m.tc, m.vseg, m.vcs, h, undo, nu)
+
+
+@njit(cache=True, borrowed=True)
+def _record(tv, tw, tc, vseg, vcs, h, undo, nu):
+    """:func:`record_flip` on the triangulation's arrays, ``undo`` holding
+    record nu already; returns nu + 1."""
     h = np.int64(h)
-    g = np.int64(m.tw[h])
+    g = np.int64(tw[h])
     r = nu * UNDO
     undo[r] = h // 3
     undo[r + 1] = g // 3
     i = r + 2
     for s in (h // 3, g // 3):
         for e in range(3 * s, 3 * s + 3):
-            undo[i] = m.tv[e]
-            undo[i + 1] = m.tw[e]
-            undo[i + 2] = m.tc[e]
+            undo[i] = tv[e]
+            undo[i + 1] = tw[e]
+            undo[i + 2] = tc[e]
             i += 3
     for e in (h, nxt(h), prv(h), prv(g)):  # the quad's four vertices
-        v = m.tv[e]
+        v = tv[e]
         undo[i] = v
-        undo[i + 1] = m.vseg[v]
-        undo[i + 2] = m.vcs[v]
+        undo[i + 1] = vseg[v]
+        undo[i + 2] = vcs[v]
         i += 3
-    return undo, nu + 1
+    return nu + 1
 
 
 

@@ -18,14 +18,14 @@ __all__ = ["orient2d", "CCWERRBOUNDA"]
 CCWERRBOUNDA = (3.0 + 16.0 * EPSILON) * EPSILON
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def orient_expansion(ax, ay, bx, by, cx, cy, xs, ys, out, tmp, term):
     """out <- exact [abc] = ax(by - cy) + bx(cy - ay) + cx(ay - by); length."""
     _monomials(ax, ay, bx, by, cx, cy, xs, ys)
     return sum_of_products(np.int64(6), xs, ys, out, tmp, term)
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _monomials(ax, ay, bx, by, cx, cy, xs, ys):
     """[abc] as sum(xs[i] * ys[i], i < 6)."""
     xs[0] = ax

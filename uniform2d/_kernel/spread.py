@@ -8,7 +8,7 @@ the mesh a valid constrained Delaunay triangulation.
 import numpy as np
 from ._jit import njit
 
-from .cdt import snap
+from .cdt import snap_to
 from .star import FIXED, TRIES, accept, counted, dead_part, edge, gather, initial_steps
 from .star import keep_state, kept_state, legalize_live, live_slots, measure_live, objective_of
 from .star import place_at, restore_state
@@ -33,7 +33,7 @@ def _mean_length(m, hv, href, slots, alive, dead):
     return (s + dead[8]) / (k + dead[9])
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def _star_spread(x, y, ns, nt, SP, TR, L, cbar, grad, ext, want):
     """Sum (l - cbar)^2 over the cached star's spokes with v at (x, y), its
     gradient into ``grad`` if ``want``, and the star's longest and shortest
@@ -68,16 +68,17 @@ def _star_spread(x, y, ns, nt, SP, TR, L, cbar, grad, ext, want):
     return E
 
 
-@njit(cache=True, inline="always")
-def _line_search(m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
+@njit(cache=True, borrowed=True)
+def _line_search(grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
                  g2, ext, E0, lmax, lmin, pmax, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
     (x0, y0) along (ux, uy) whose place keeps the star valid (``star_ok`` with
     ``floor``), lowers v's share of the spread below E0 and keeps the star's
-    extremes within (lmax, lmin, pmax)."""
+    extremes within (lmax, lmin, pmax).  ``grid``: the triangulation's snapping
+    grid (:func:`.cdt.snap_to`)."""
     for _k in range(TRIES):
         x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
-        x, y = snap(m, x, y)
+        x, y = snap_to(grid[0], grid[1], grid[2], x, y)
         if star_ok(x, y, x0, y0, ns, nt, SP, floor):
             E1 = _star_spread(x, y, ns, nt, SP, TR, L, cbar, g2, ext, np.bool_(False))
             if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:
@@ -91,7 +92,8 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, l
            flat, movers, slots, alive, dead):  # fmt: skip
     """One sweep of :func:`spread` over the movable vertices, in order, each move
     keeping its star within the extremes (lmax, lmin, pmax); returns the moves made."""
-    xy = m.xy
+    xy, tv, tw = m.xy, m.tv, m.tw
+    grid = (m.gs, m.gc[0], m.gc[1])
     vh, SP, TR, L = stars(m, slots)
     cbar = _mean_length(m, hv, href, slots, alive, dead)
     grad = np.zeros(2)
@@ -104,13 +106,13 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, l
         h0 = vh[v]
         x0 = xy[v, 0]
         y0 = xy[v, 1]
-        ns, nt = gather(m, v, h0, hv, href, SP, TR)
+        ns, nt = gather(xy, tv, tw, v, h0, hv, href, SP, TR)
         E0 = _star_spread(x0, y0, ns, nt, SP, TR, L, cbar, grad, ext, np.bool_(True))
         ux, uy, st = search(role, eid, t, ed, prevb, nextb, v, grad, step[v])
         if st == 0.0:
             continue
         ok, x, y, tt, st = _line_search(
-            m, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
+            grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, cbar,
             g2, ext, E0, lmax, lmin, pmax, flat * (href * hv[v]) ** 2,
         )  # fmt: skip
         if ok:

@@ -7,7 +7,7 @@ the mesh a valid constrained Delaunay triangulation.
 import numpy as np
 from ._jit import njit
 
-from .cdt import nxt, snap
+from .cdt import nxt, snap_to
 from .predicates import orient2d
 from .star import FIXED, FREE, SLIDE, counted, dead_part, legalize_live, live_slots
 from .star import refresh_sizes, ring_neighbours, t_of
@@ -96,6 +96,7 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
            movers):  # fmt: skip
     """Trial places ``new``/``newt`` of all ``movers``; returns the largest move."""
     xy = m.xy
+    gs, gx, gy = m.gs, m.gc[0], m.gc[1]  # the snapping grid (:func:`.cdt.snap_to`), read once
     biggest = 0.0
     for v in movers:
         moved[v] = False
@@ -112,7 +113,7 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
                 step = lim
             if step == 0.0:
                 continue
-            new[v, 0], new[v, 1] = snap(m, xy[v, 0] + dx, xy[v, 1] + dy)
+            new[v, 0], new[v, 1] = snap_to(gs, gx, gy, xy[v, 0] + dx, xy[v, 1] + dy)
             moved[v] = True
             biggest = max(biggest, step)
         else:
@@ -128,7 +129,8 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
             if dtv == 0.0:
                 continue
             newt[v] = t[v] + dtv
-            new[v, 0], new[v, 1] = snap(m, ea[e, 0] + newt[v] * ex, ea[e, 1] + newt[v] * ey)
+            new[v, 0], new[v, 1] = snap_to(gs, gx, gy, ea[e, 0] + newt[v] * ex,
+                                           ea[e, 1] + newt[v] * ey)
             moved[v] = True
             biggest = max(biggest, abs(dtv) * np.sqrt(L2))
     return biggest

@@ -35,7 +35,7 @@ TRIES = 8
 LIVE_RINGS = 2
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def pw(x, k):
     """x ** (2 ** k), by k squarings (the exponents are powers of two: fast, exact enough)."""
     for _ in range(k):
@@ -43,7 +43,7 @@ def pw(x, k):
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def counted(tw, alive, h):
     """Whether half-edge h stands for its edge in a pass over the live slots:
     each edge once, by the smaller of two live twins, by the live one of a
@@ -155,7 +155,7 @@ def refresh_sizes(m, hv, which):
             hv[v] = size_at(m, m.xy[v, 0], m.xy[v, 1])
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def edge(xy, tv, hv, href, h):
     """(length, target) of the edge of half-edge h."""
     a = tv[h]
@@ -165,7 +165,7 @@ def edge(xy, tv, hv, href, h):
     return np.sqrt(dx * dx + dy * dy), 0.5 * (hv[a] + hv[b]) * href
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def triangle_terms(xy, tv, hv, href, t):
     """The terms every pass over the triangles reads of slot t: its three edges'
     lengths and targets (:func:`edge`, in half-edge order) and its perimeter
@@ -262,7 +262,7 @@ def ring_neighbours(m, role, eid, t, ea):
     return prevb, nextb
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def t_of(role, t, u, at_start):
     """Parameter of ring neighbour u on the edge of a SLIDE vertex (0/1 at its ends)."""
     if role[u] == SLIDE:
@@ -294,8 +294,8 @@ def stars(m, slots):
     return vh, np.empty((s, 3)), np.empty((s, 2)), np.empty(s)
 
 
-@njit(cache=True)
-def gather(m, v, h0, hv, href, SP, TR):
+@njit(cache=True, borrowed=True)
+def gather(xy, tv, tw, v, h0, hv, href, SP, TR):
     """Cache the star of v (outgoing half-edge h0) for its line search.
 
     Spoke i: ``SP[i] = (x, y, target)`` of the i-th neighbour counter-clockwise;
@@ -303,9 +303,10 @@ def gather(m, v, h0, hv, href, SP, TR):
     ``TR[j] = (length of its edge opposite v, its perimeter target)``.  Returns
     (spokes, triangles): equal for an interior vertex, spokes = triangles + 1 on
     the boundary (an open fan).  Nothing of the star but v moves during the
-    search, so lengths opposite v are computed once here.
+    search, so lengths opposite v are computed once here.  The triangulation's
+    arrays ``m.xy, m.tv, m.tw`` are passed, not the structref, which would
+    count a reference at every visit.
     """
-    xy, tv, tw = m.xy, m.tv, m.tw
     h = h0
     j = 0
     while True:
@@ -330,7 +331,7 @@ def gather(m, v, h0, hv, href, SP, TR):
             return j, j
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def star_ok(x, y, x0, y0, ns, nt, SP, floor):
     """Whether every triangle of the cached star stays strictly CCW with v moved
     from (x0, y0) to (x, y) (exact), and none whose doubled area is below
@@ -359,6 +360,9 @@ def suspects(m, moved, todo, alive, slots):
     hot = np.zeros(m.nt, np.bool_)
     for t in slots:
         hot[t] = moved[tv[3 * t]] or moved[tv[3 * t + 1]] or moved[tv[3 * t + 2]]
+    # room for every half-edge of the slots at once: an array variable
+    # reassigned inside the loop would count references at every turn
+    todo = grown(todo, 3 * slots.shape[0])
     sp = 0
     for t in slots:
         for h in range(3 * t, 3 * t + 3):
@@ -366,13 +370,12 @@ def suspects(m, moved, todo, alive, slots):
             if g < 0 or not counted(tw, alive, h):  # boundary, or the twin's turn
                 continue
             if hot[t] or hot[g // 3]:
-                todo = grown(todo, sp + 1)
                 todo[sp] = h
                 sp += 1
     return todo, sp
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def search(role, eid, t, ed, prevb, nextb, v, grad, step_v):
     """Direction (ux, uy) against the gradient and the first trial step for v: in
     the plane for a FREE vertex; along its edge for a SLIDE one, at most 0.45 of
@@ -396,7 +399,7 @@ def search(role, eid, t, ed, prevb, nextb, v, grad, step_v):
     return -grad[0] / gn, -grad[1] / gn, step_v
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, s):
     """(x, y, t) of v moved by s along (ux, uy); a SLIDE vertex stays on its edge."""
     if role[v] == SLIDE:
@@ -437,7 +440,7 @@ def initial_steps(m, hv, href, step0):
     return step
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def accept(xy, t, step, moved, v, x, y, tt, st, href, hvv):
     """Move v to (x, y) (edge parameter tt) found with trial step st; its next
     first step is 1.5 st, at most 0.3 of its target size ``href * hvv``."""
@@ -448,7 +451,7 @@ def accept(xy, t, step, moved, v, x, y, tt, st, href, hvv):
     moved[v] = True
 
 
-@njit(cache=True)
+@njit(cache=True, borrowed=True)
 def refuse(step, v, href, hvv):
     """A failed line search halves v's first step (not below 1e-9 of its target)."""
     step[v] = max(0.5 * step[v], 1e-9 * href * hvv)
