@@ -100,6 +100,17 @@ def test_lbfgs_minimises_a_quadratic():
     assert np.allclose(x, 1.0 / np.diag(A), rtol=1e-6) and made <= 200
 
 
+def test_lbfgs_stops_where_the_curvature_underflows():
+    """At this scale the gradient change's square underflows (y . y = 0 with
+    s . y > 0): the next direction's scaling is undefined, and the run stops at
+    the point reached instead of dividing by zero (a 6-point mesh of the
+    constrained fuzz corpus met it in the polish)."""
+    x0 = np.array([1.0, -2.0, 0.5])
+    x, made = lbfgs(lambda x: (1e-200 * (x @ x), 2e-200 * x), x0, 50)
+    assert np.all(np.isfinite(x)) and 1 <= made <= 50
+    assert x @ x < x0 @ x0
+
+
 def test_uniform_path_never_runs_the_stage(monkeypatch):
     def boom(*a, **k):
         raise AssertionError("the uniform path ran the variance stage")

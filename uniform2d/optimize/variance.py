@@ -23,6 +23,8 @@ by more than ``RATIO_SLACK``, else the input comes back unchanged.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..geometry import polygon_edges, unique_edges
@@ -280,11 +282,16 @@ def lbfgs(fun, x, iterations: int, memory: int | None = None):
                 return x, it
         s, y = xn - x, gn - g
         sy = _dot(s, y)
+        x, f, g = xn, fn, gn
         if sy > 0:
+            rho = 1.0 / sy
+            if not 0.0 < rho * _dot(y, y) < math.inf:
+                # the step's curvature is below rounding (y . y underflows) or
+                # beyond range: the next direction would be zero or undefined
+                return x, it + 1
             S.append(s)
             Y.append(y)
-            R.append(1.0 / sy)
+            R.append(rho)
             if len(S) > memory:
                 del S[0], Y[0], R[0]
-        x, f, g = xn, fn, gn
     return x, int(iterations)
