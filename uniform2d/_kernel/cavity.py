@@ -39,7 +39,7 @@ import numpy as np
 from ._jit import njit
 
 from .cdt import (
-    ERR_ORIENT, _orient_v, _set_triangle, locate, locate_scan, new_tag, nxt, prv, reserve,
+    ERR_ORIENT, _orient_v, _set_triangle, link_on, locate, locate_scan, new_tag, nxt, prv, reserve,
 )  # fmt: skip
 from .lawson import _lawson
 from .predicates import incircle
@@ -186,7 +186,7 @@ def _write_fan(m, x, y, ncav, nb, tag):
         s = m.cav[k]
         u = bu[k]
         _set_triangle(m, np.int64(s), np.int64(u), np.int64(m.ebuf[k]), np.int64(p))
-        _link_arrays(tw, m.tc, tv, m.vcs, m.vseg, 3 * s, m.stack[k])
+        link_on(tw, m.tc, tv, m.vcs, m.vseg, 3 * s, m.stack[k])
         tw[3 * s + 1] = -1
         tw[3 * s + 2] = -1
         m.tc[3 * s + 1] = 0
@@ -206,23 +206,6 @@ def _write_fan(m, x, y, ncav, nb, tag):
             m.vseg[tv[3 * s + 1]] = 3 * s + 1  # v -> p is a new boundary half-edge
         if tw[3 * s + 2] < 0:
             m.vseg[p] = 3 * s + 2  # p -> u
-
-
-@njit(cache=True, borrowed=True)
-def _link_arrays(tw, tc, tv, vcs, vseg, h, g):
-    """:func:`.cdt._link` on the triangulation's arrays (h takes g as twin, and
-    g's flag; g = -1 makes h a boundary half-edge): the fan links every
-    boundary edge, and passing the structref would cost a counted reference
-    each time.  The two must stay the same."""
-    tw[h] = g
-    if g >= 0:
-        tw[g] = h
-        tc[h] = tc[g]
-        if tc[g]:
-            vcs[tv[h]] = h
-    else:
-        tc[h] = 0
-        vseg[tv[h]] = h
 
 
 @njit(cache=True)

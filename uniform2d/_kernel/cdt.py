@@ -20,7 +20,7 @@ neighbours for walks and turns around a vertex, but flips, Bowyer-Watson
 cavities, searches and visibility stop at it as at the boundary.  So **a
 half-edge is constrained exactly when ``tw[h] < 0 or tc[h]``**.  A flag lives
 with the edge, not the slot: whoever links a half-edge to an existing twin
-copies the twin's flag (:func:`_link`), new inner edges are unflagged, and only
+copies the twin's flag (:func:`link_on`), new inner edges are unflagged, and only
 splitting a piece (:mod:`.cavity`) and loading the segments
 (:mod:`.polytri`) set flags.  ``vseg[v]`` is the boundary half-edge leaving
 boundary vertex ``v`` (each boundary vertex has exactly one: rings are disjoint
@@ -282,19 +282,22 @@ def _set_triangle(m, t, a, b, c):
     m.tstamp[t] += 1
 
 
-@njit(cache=True)
-def _link(m, h, g):
+@njit(cache=True, borrowed=True)
+def link_on(tw, tc, tv, vcs, vseg, h, g):
     """Make h and g twins (g may be -1: then h is a boundary half-edge); h takes
-    g's constrained flag, g being the side that stays."""
-    m.tw[h] = g
+    g's constrained flag, g being the side that stays.  On the triangulation's
+    arrays (``m.tw, m.tc, m.tv, m.vcs, m.vseg``): the flips and the cavity's fan
+    link edges in their loops, where passing the structref would count a
+    reference at every call."""
+    tw[h] = g
     if g >= 0:
-        m.tw[g] = h
-        m.tc[h] = m.tc[g]
-        if m.tc[g]:
-            m.vcs[m.tv[h]] = h
+        tw[g] = h
+        tc[h] = tc[g]
+        if tc[g]:
+            vcs[tv[h]] = h
     else:
-        m.tc[h] = 0
-        m.vseg[m.tv[h]] = h
+        tc[h] = 0
+        vseg[tv[h]] = h
 
 
 @njit(cache=True)
@@ -308,7 +311,7 @@ def flip_on(tv, tw, tc, tstamp, vseg, vcs, h):
     """:func:`flip` on the triangulation's arrays (``m.tv, m.tw, m.tc,
     m.tstamp, m.vseg, m.vcs``), for the Lawson loop, which would otherwise
     pass the structref, and count references to it and its arrays, at every
-    flip.  :func:`_set_triangle` and :func:`_link` on those arrays."""
+    flip.  :func:`_set_triangle` on those arrays, then :func:`link_on`."""
     g = np.int64(tw[h])  # an int64 half-edge: nxt/prv compile for one type
     t = h // 3
     u = g // 3
@@ -327,15 +330,7 @@ def flip_on(tv, tw, tc, tstamp, vseg, vcs, h):
         tv[3 * s + 2] = r
         tstamp[s] += 1
     for e, f in ((3 * t, n_ca), (3 * t + 1, n_ad), (3 * u, n_db), (3 * u + 1, n_bc)):
-        tw[e] = f
-        if f >= 0:
-            tw[f] = e
-            tc[e] = tc[f]
-            if tc[f]:
-                vcs[tv[e]] = e
-        else:
-            tc[e] = 0
-            vseg[tv[e]] = e
+        link_on(tw, tc, tv, vcs, vseg, e, f)
     tw[3 * t + 2] = 3 * u + 2
     tw[3 * u + 2] = 3 * t + 2
     tc[3 * t + 2] = 0
