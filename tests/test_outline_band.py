@@ -9,22 +9,14 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import shapely
 
 import uniform2d as u
 import uniform2d.outline_band as band
 import uniform2d.uniform as uniform_module
-from uniform2d.outline import resample_polygon
-from uniform2d.testing import check_mesh
 
-from support.halved_rings import assert_halved_from
+from support.halved_rings import resampled_and_meshed
 
 OUTLINES = Path(__file__).resolve().parents[1] / "data" / "outlines"
-
-
-def _hausdorff(a, b):
-    return max(shapely.hausdorff_distance(shapely.LinearRing(ra), shapely.LinearRing(rb),
-                                          densify=0.1) for ra, rb in zip(a.rings, b.rings))
 
 
 def _spike():
@@ -57,14 +49,7 @@ def test_tip_rule_meshes_chile_within_ratio_2(monkeypatch):
     monkeypatch.setattr(uniform_module, "SPLIT_RATIO", np.inf)
 
     def run():
-        r, left = resample_polygon(p, n, tolerance=tol)
-        m = u.uniform_mesh(p, n, resample=tol)
-        assert_halved_from(m, r.polygon)
-        check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
-        assert len(m.points) == m.info["resample"]["kept_vertices"] + n
-        assert left + r.n_boundary == n
-        d = _hausdorff(p, r.polygon)
-        assert d <= r.deviation * (1 + 1e-9) <= tol * r.spacing * (1 + 1e-9)
+        r, m = resampled_and_meshed(p, n, tol)
         return r, m.quality().edge_ratio
 
     r1, ratio1 = run()

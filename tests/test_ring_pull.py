@@ -17,7 +17,7 @@ from uniform2d.ring_pull import SHARP, pull_apart
 from uniform2d.ring_slide import point_at
 from uniform2d.testing import check_mesh
 
-from support.halved_rings import assert_halved_from
+from support.halved_rings import assert_halved_from, resampled_and_meshed
 
 OUTLINES = Path(__file__).resolve().parents[1] / "data" / "outlines"
 
@@ -138,15 +138,7 @@ def test_across_narrow_features_outline_meshes_better(name, monkeypatch):
     tol, n = 0.25, 2000
 
     def run():
-        r, left = resample_polygon(p, n, tolerance=tol)
-        m = u.uniform_mesh(p, n, resample=tol)
-        assert_halved_from(m, r.polygon)
-        check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
-        assert len(m.points) == m.info["resample"]["kept_vertices"] + n
-        assert left + r.n_boundary == n
-        d = shapely.hausdorff_distance(shapely.LinearRing(p.outer),
-                                       shapely.LinearRing(r.polygon.outer), densify=0.1)
-        assert d <= r.deviation * (1 + 1e-9) <= tol * r.spacing * (1 + 1e-9)
+        r, m = resampled_and_meshed(p, n, tol)
         return r, m.quality().edge_ratio
 
     r, ratio = run()

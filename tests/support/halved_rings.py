@@ -1,9 +1,15 @@
 """The rings a resampled mesh was made of: the resampled polygon, with the ring
-edges uniform_mesh halved (uniform2d.ring_split) as midpoints inserted."""
+edges uniform_mesh halved (uniform2d.ring_split) as midpoints inserted; and a
+resampled mesh checked against its outline."""
 
 from __future__ import annotations
 
 import numpy as np
+import shapely
+
+from uniform2d import uniform_mesh
+from uniform2d.outline import resample_polygon
+from uniform2d.testing import check_mesh
 
 
 def assert_halved_from(mesh, polygon) -> None:
@@ -25,3 +31,21 @@ def assert_halved_from(mesh, polygon) -> None:
             assert np.array_equal(ring[i], 0.5 * (a + b))
         halved -= int((~old).sum())
     assert halved == 0
+
+
+def resampled_and_meshed(polygon, n: int, tol: float):
+    """(resampled outline, mesh) of ``polygon`` at ``n`` points and tolerance
+    ``tol``, checked: the mesh's rings are the resampled ones (whole edges
+    halved aside), a valid mesh with exact n, and every ring within the
+    resampling's deviation of the input by shapely's Hausdorff distance, which
+    is within ``tol`` spacings."""
+    r, left = resample_polygon(polygon, n, tolerance=tol)
+    m = uniform_mesh(polygon, n, resample=tol)
+    assert_halved_from(m, r.polygon)
+    check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
+    assert len(m.points) == m.info["resample"]["kept_vertices"] + n
+    assert left + r.n_boundary == n
+    d = max(shapely.hausdorff_distance(shapely.LinearRing(a), shapely.LinearRing(b), densify=0.1)
+            for a, b in zip(polygon.rings, r.polygon.rings))
+    assert d <= r.deviation * (1 + 1e-9) <= tol * r.spacing * (1 + 1e-9)
+    return r, m
