@@ -108,11 +108,12 @@ def test_lloyd_in_the_kernel_is_lloyd_with_a_fresh_triangulation_each_time():
 
 
 def test_compiled_grid_size_is_the_fields_bilinear():
-    """The cells' lookup starts from where a point would be on an even grid: on an
-    uneven one, and outside the grid (clamped), the very values of SizeField."""
+    """The cells' lookup (one point, and the batched grid_sizes) starts from where a
+    point would be on an even grid: on an uneven one, and outside the grid
+    (clamped), the very values of SizeField."""
     from numba import njit
 
-    from uniform2d._kernel.cells import grid_size
+    from uniform2d._kernel.cells import grid_size, grid_sizes
 
     @njit
     def sizes(gx, gy, gv, P):
@@ -128,3 +129,4 @@ def test_compiled_grid_size_is_the_fields_bilinear():
         P = np.column_stack([rng.uniform(-2, 4, 2000), rng.uniform(-1, 5, 2000)])
         P = np.vstack([P, np.column_stack([np.repeat(x, len(y)), np.tile(y, len(x))])])
         assert sizes(f.x, f.y, f.values, P).tobytes() == f(P).tobytes()
+        assert grid_sizes(f.x, f.y, f.values, P).tobytes() == f(P).tobytes()
