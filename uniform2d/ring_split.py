@@ -23,9 +23,10 @@ import dataclasses
 
 import numpy as np
 
+from .geometry import unique_edges
 from .polygon import Polygon
 
-__all__ = ["CV_SLACK", "SPLIT_RATIO", "edges_to_halve", "halve_edges", "mesh_edges"]
+__all__ = ["CV_SLACK", "SPLIT_RATIO", "edges_to_halve", "halve_edges"]
 
 #: A second mesh is tried where the first has an edge ratio above this, and the
 #: mesh's mean edge over its shortest ring edge (a bound on the ratio) is at most it.
@@ -33,12 +34,6 @@ SPLIT_RATIO = 2.0
 #: The second mesh is kept if its edge ratio is lower and its edge CV at most this
 #: fraction higher than the first's.
 CV_SLACK = 0.05
-
-
-def mesh_edges(triangles) -> np.ndarray:
-    """(E, 2) int64: a mesh's edges, each once, smaller index first (sorted)."""
-    T = np.asarray(triangles, dtype=np.int64)
-    return np.unique(np.sort(np.r_[T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]], axis=1), axis=0)
 
 
 def edges_to_halve(polygon: Polygon, points, triangles) -> np.ndarray:
@@ -57,7 +52,7 @@ def edges_to_halve(polygon: Polygon, points, triangles) -> np.ndarray:
     [[0, 3], [1, 2], [2, 3]]
     """
     P = np.asarray(points, dtype=np.float64)
-    E = mesh_edges(triangles)
+    E = unique_edges(triangles, len(P))
     L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
     ring = np.sort(polygon.edges, axis=1)
     n = len(P)
@@ -87,18 +82,17 @@ def halve_edges(res, pairs):
     q = res.polygon
     off = q.ring_offsets
     pairs = {(int(a), int(b)) for a, b in np.sort(np.asarray(pairs).reshape(-1, 2), axis=1)}
-    rings, kept = [], []
+    by_ring, kept = [], []
     for r, ring in enumerate(q.rings):
-        k = len(ring)
+        k, pts = len(ring), []
         for i in range(k):
             a, b = off[r] + i, off[r] + (i + 1) % k
-            pts = [ring[i]]
+            pts.append(ring[i])
             kept.append(res.kept[a])
             if (min(a, b), max(a, b)) in pairs:
                 pts.append(0.5 * (ring[i] + ring[(i + 1) % k]))
                 kept.append(False)
-            rings.append((r, pts))
-    by_ring = [np.array([p for rr, pts in rings if rr == r for p in pts]) for r in range(len(q.rings))]
+        by_ring.append(np.array(pts))
     poly = Polygon(by_ring[0], by_ring[1:], segments=q.split_segments(), points=q.points,
                    regions=q.region_seeds)
     kept = np.concatenate([np.array(kept, dtype=bool), res.kept[q.n_ring_vertices:]])
