@@ -37,7 +37,7 @@ __all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "polish_extremes", "p
 
 #: Meshes of up to POLISH_MAX points get the polish in
 #: :func:`uniform2d.uniform_mesh` (its cost grows with the mesh, its gain does
-#: not: at n = 1000 it would take nearly as long as the whole optimiser).
+#: not: at n = 1000 it would take longer than the whole optimiser).
 POLISH_MAX = 600
 #: Sharpness of the smooth maxima, raised in turn (each a run of L-BFGS from
 #: where the last one stopped; one value: 300 then 1000 gains a tenth more
