@@ -35,7 +35,7 @@ __all__ = ["ITERATIONS", "PENALTY", "SPREAD_MIN", "SPREAD_MAX", "lower_spread"]
 SPREAD_MIN = 1200
 SPREAD_MAX = 20000
 #: L-BFGS iterations, at most.
-ITERATIONS = 20
+ITERATIONS = 10
 #: Weight of the penalties (the objective itself is near 1).
 PENALTY = 3000.0
 #: The penalties hold the edges and the angles this far inside the mesh's own
