@@ -122,11 +122,16 @@ def test_no_iterations_gives_the_input_back():
     assert np.array_equal(p2, pts) and np.array_equal(t2, tri)
 
 
-def test_uniform_mesh_lowers_the_cv_above_spread_min(monkeypatch):
+@pytest.fixture(scope="module")
+def rect_raw():
+    polygon = read_polygon(DATA / "rect4x1.json")
+    return polygon, uniform2d.uniform_mesh(polygon, 300)
+
+
+def test_uniform_mesh_lowers_the_cv_above_spread_min(monkeypatch, rect_raw):
     # the optimiser's last stage for meshes of more than SPREAD_MIN points: lowered
     # here at 300 points by moving the threshold, against the same mesh without it
-    polygon = read_polygon(DATA / "rect4x1.json")
-    raw = uniform2d.uniform_mesh(polygon, 300)
+    polygon, raw = rect_raw
     with monkeypatch.context() as mp:
         mp.setattr(pipeline, "SPREAD_MIN", 0)
         m = uniform2d.uniform_mesh(polygon, 300)
@@ -138,3 +143,14 @@ def test_uniform_mesh_lowers_the_cv_above_spread_min(monkeypatch):
     assert all(a <= b for a, b in zip(after[:3], before[:3])) and after[4] >= before[4]
     assert {k: v for k, v in m.info.items() if k not in ("spread_lowered", "after")} \
         == {k: v for k, v in raw.info.items() if k not in ("spread_lowered", "after")}
+
+
+def test_uniform_mesh_leaves_meshes_above_spread_max(monkeypatch, rect_raw):
+    # beyond SPREAD_MAX points the mesh is the one made without the stage, bit for bit
+    polygon, raw = rect_raw
+    with monkeypatch.context() as mp:
+        mp.setattr(pipeline, "SPREAD_MIN", 0)
+        mp.setattr(pipeline, "SPREAD_MAX", len(raw.points) - 1)
+        m = uniform2d.uniform_mesh(polygon, 300)
+    assert not m.info["spread_lowered"]
+    assert np.array_equal(m.points, raw.points) and np.array_equal(m.triangles, raw.triangles)

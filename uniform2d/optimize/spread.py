@@ -1,18 +1,32 @@
 """The edge CV of a uniform mesh lowered, its extremes and worst angle held.
 
 The descent's spread sweeps (:mod:`~uniform2d.optimize.moves`) stop short
-of the lowest edge CV the triangulation allows, most where the lattice meets
-the polygon's sides.  :func:`lower_spread` takes the mesh's triangulation as
-it is and minimises the squared edge CV over the free coordinates (the same
-variables as the polish, :func:`uniform2d.optimize.variance.sliding_variables`:
-a boundary point slides along its polygon edge) by a short run of L-BFGS
-(:func:`uniform2d.optimize.variance.lbfgs`), with the polish's penalties
-(:mod:`~uniform2d.optimize.polish`) keeping every edge between the mesh's
-shortest and longest edges, every triangle perimeter below its largest and
-every angle above its worst angle.  The moved points are triangulated afresh
-(the exact constrained Delaunay triangulation); the result is kept only if
-its edge CV is lower and none of the edge ratio, longest edge, largest
-perimeter and worst angle got worse; else the input comes back.
+of the lowest edge CV the triangulation allows.  :func:`lower_spread` takes
+the mesh's triangulation as it is and minimises the squared edge CV over the
+free coordinates (the same variables as the polish,
+:func:`uniform2d.optimize.variance.sliding_variables`: a boundary point
+slides along its polygon edge) by a short run of L-BFGS
+(:func:`uniform2d.optimize.variance.lbfgs`).  The mesh's extremes hold in
+three ways:
+
+* the points of the elements within ``HOLD`` of an extreme (edges near the
+  longest or the shortest, triangles near the largest perimeter, corners
+  near the worst angle) stay where they are: the extremes are often tied (a
+  polygon side split evenly, a row of lattice edges), and no move of a point
+  between two tied edges keeps both within the limit;
+* the limits are walls: a point of the search where an edge is longer or
+  shorter than the mesh's longest or shortest, a perimeter larger than its
+  largest or a watched angle smaller than its worst has the value infinity,
+  and the line search steps back from it (as from a triangle turned over);
+* penalties, as the polish's (:mod:`~uniform2d.optimize.polish`), push the
+  elements back from a margin inside those limits, so that the search seldom
+  meets a wall (without them the line search stepped back so often that the
+  stage took two to three times as long and gained less on ``star10``).
+
+The moved points are triangulated afresh (the exact constrained Delaunay
+triangulation); the result is kept only if its edge CV is lower and none of
+the edge ratio, longest edge, largest perimeter and worst angle got worse;
+else the input comes back.
 """
 
 from __future__ import annotations
@@ -23,6 +37,7 @@ from ..geometry import unique_edges
 from ..polygon import Polygon
 from ..quality import quality
 from .polish import accumulate, corner_angles
+from .schedule import SMALL
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
 __all__ = ["ITERATIONS", "PENALTY", "SPREAD_MIN", "SPREAD_MAX", "lower_spread"]
@@ -33,7 +48,10 @@ __all__ = ["ITERATIONS", "PENALTY", "SPREAD_MIN", "SPREAD_MAX", "lower_spread"]
 #: little (0.01-0.2 % of the CV at n = 300); at n = 1000 it would gain 0-7 %
 #: for some 5 % more time, where the time is tight.
 SPREAD_MIN = 1200
-SPREAD_MAX = 20000
+#: Above ``schedule.SMALL`` points the optimiser tries fewer starts and the
+#: mesh costs less per point: there this stage would add 17-27 % of the CPU
+#: time at n = 10000 (5-9 % at 1500 to 5000), where the speed goal is tight.
+SPREAD_MAX = SMALL
 #: L-BFGS iterations, at most.
 ITERATIONS = 10
 #: Weight of the penalties (the objective itself is near 1).
