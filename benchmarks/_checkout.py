@@ -18,8 +18,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _after_pythonpath() -> int:
-    """Index in ``sys.path`` just after the script's directory and PYTHONPATH."""
+    """Index in ``sys.path`` just after the script's directory and PYTHONPATH
+    (the script's directory may stand there twice: a benchmark that imports
+    another puts ``benchmarks/`` first itself)."""
     env = {os.path.abspath(p) for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p}
+    env.add(str(ROOT / "benchmarks"))
     i = 1
     while i < len(sys.path) and os.path.abspath(sys.path[i]) in env:
         i += 1

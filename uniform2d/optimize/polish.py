@@ -33,7 +33,8 @@ from ..quality import quality
 from ..sites import site_edges
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
-__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "polish_extremes", "polish_mesh"]
+__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "accumulate", "corner_angles",
+           "polish_extremes", "polish_mesh"]
 
 #: Meshes of up to POLISH_MAX points get the polish in
 #: :func:`uniform2d.uniform_mesh` (its cost grows with the mesh, its gain does
@@ -71,7 +72,7 @@ def _smooth_max(v, beta: float):
     return m + np.log(s) / beta, w / s
 
 
-def _corner_angles(X, C):
+def corner_angles(X, C):
     """The angle at the first point of every corner ``C`` (3M, 3) and its
     gradients by the three points, each (3M, 2)."""
     u = X[C[:, 1]] - X[C[:, 0]]
@@ -83,7 +84,7 @@ def _corner_angles(X, C):
     return A, (-(gu + gw), gu, gw)
 
 
-def _accumulate(N: int, index, g):
+def accumulate(N: int, index, g):
     """Sum of the rows of ``g`` (m, 2) into (N, 2) by ``index`` (m,)."""
     return np.stack([np.bincount(index, g[:, 0], N), np.bincount(index, g[:, 1], N)], axis=1)
 
@@ -103,7 +104,7 @@ def _problem(polygon: Polygon, X0, T0, eid):
     lmax, lmin, pmax = L0.max(), L0.min() * (1 + LENGTH_MARGIN), L0[TE].sum(axis=1).max()
     lcap, pcap = lmax * (1 - LENGTH_MARGIN), pmax * (1 - LENGTH_MARGIN)
     cv2 = (L0.std() / L0.mean() * (1 - CV_MARGIN)) ** 2
-    A0 = _corner_angles(X0, C)[0]
+    A0 = corner_angles(X0, C)[0]
     amin = A0.min() + ANGLE_MARGIN
     # only the corners that can reach the worst angle by these small moves
     C = C[A0 < amin + NEAR_ANGLE]
@@ -135,12 +136,12 @@ def _problem(polygon: Polygon, X0, T0, eid):
             F += PENALTY * spread**2
             gl += 2 * PENALTY * spread / cv2 * (2 * (L - m) / K / m**2 - 2 * var / m**3 / K)
         gb = gl[:, None] * dv / L[:, None]
-        G = _accumulate(N, ends, np.concatenate([gb, -gb]))
-        A, grads = _corner_angles(X, C)
+        G = accumulate(N, ends, np.concatenate([gb, -gb]))
+        A, grads = corner_angles(X, C)
         low = np.minimum(A - amin, 0)
         if low.any():  # most points meet the angle floor: no term
             F += PENALTY * (low**2).sum()
-            G += _accumulate(N, corners, 2 * PENALTY * np.tile(low, 3)[:, None] * np.concatenate(grads))
+            G += accumulate(N, corners, 2 * PENALTY * np.tile(low, 3)[:, None] * np.concatenate(grads))
         return F, pull(G)
 
     return fun, x0, unpack
