@@ -27,7 +27,7 @@ from .polish import POLISH_MAX, polish_extremes
 from .relocate import relocate
 from .seed import start, start_parts, variants
 from .shift import shift_worst
-from .spread import SPREAD_MAX, SPREAD_MIN, lower_spread
+from .edge_cv import CV_STAGE_MAX, CV_STAGE_MIN, lower_edge_cv
 from .transition import SMALL_PIECE
 
 __all__ = ["optimize_mesh"]
@@ -137,13 +137,13 @@ def _polished(polygon: Polygon, pts, tri, edges, q):
     return pts, tri, q, made["kept"]
 
 
-def _spread_lowered(polygon: Polygon, pts, tri, edges, q):
-    """The chosen mesh after :func:`~uniform2d.optimize.spread.lower_spread`
-    where it has more than ``SPREAD_MIN`` and at most ``SPREAD_MAX`` points,
+def _cv_lowered(polygon: Polygon, pts, tri, edges, q):
+    """The chosen mesh after :func:`~uniform2d.optimize.edge_cv.lower_edge_cv`
+    where it has more than ``CV_STAGE_MIN`` and at most ``CV_STAGE_MAX`` points,
     checked if it moved: (points, triangles, quality, whether it moved)."""
-    if not SPREAD_MIN < len(pts) <= SPREAD_MAX:
+    if not CV_STAGE_MIN < len(pts) <= CV_STAGE_MAX:
         return pts, tri, q, False
-    pts, tri, made = lower_spread(polygon, pts, tri, edges)
+    pts, tri, made = lower_edge_cv(polygon, pts, tri, edges)
     if made["kept"]:
         log.info("uniform: edge CV lowered (%.4g -> %.4g)", made["before"][3], made["after"][3])
         ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
@@ -153,12 +153,12 @@ def _spread_lowered(polygon: Polygon, pts, tri, edges, q):
 
 def _last_stages(polygon: Polygon, pts, tri, edges, q):
     """The chosen mesh after the angle fit (:func:`_fitted`), the polish
-    (:func:`_polished`) and the spread stage (:func:`_spread_lowered`):
+    (:func:`_polished`) and the CV stage (:func:`_cv_lowered`):
     (points, triangles, quality, angle-fit rounds, polished, CV lowered)."""
     pts, tri, q, fitted = _fitted(polygon, pts, tri, edges, q)
     pts, tri, q, polished = _polished(polygon, pts, tri, edges, q)
-    pts, tri, q, spread = _spread_lowered(polygon, pts, tri, edges, q)
-    return pts, tri, q, fitted, polished, spread
+    pts, tri, q, lowered = _cv_lowered(polygon, pts, tri, edges, q)
+    return pts, tri, q, fitted, polished, lowered
 
 
 def _small_holes(polygon: Polygon, h: float) -> bool:
@@ -381,7 +381,7 @@ def optimize_mesh(
         if angle_attempt_wins(q_new, q_other):
             pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = other
             q_new, angled = q_other, True
-    pts, tri, q_new, fitted, polished, spread = _last_stages(polygon, pts, tri, edges, q_new)
+    pts, tri, q_new, fitted, polished, cv_lowered = _last_stages(polygon, pts, tri, edges, q_new)
     v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
 
@@ -401,7 +401,7 @@ def optimize_mesh(
         "angle_attempt": angled,
         "angle_fits": fitted,
         "polished": polished,
-        "spread_lowered": spread,
+        "cv_lowered": cv_lowered,
         "start": (None if tp_info is None
                   else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}),
         "before": _summary(q_tp),

@@ -1,7 +1,7 @@
 """The edge CV of a uniform mesh lowered, its extremes and worst angle held.
 
 The descent's spread sweeps (:mod:`~uniform2d.optimize.moves`) stop short
-of the lowest edge CV the triangulation allows.  :func:`lower_spread` takes
+of the lowest edge CV the triangulation allows.  :func:`lower_edge_cv` takes
 the mesh's triangulation as it is and minimises the squared edge CV over the
 free coordinates (the same variables as the polish,
 :func:`uniform2d.optimize.variance.sliding_variables`: a boundary point
@@ -40,18 +40,18 @@ from .polish import accumulate, corner_angles
 from .schedule import SMALL
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
-__all__ = ["ITERATIONS", "PENALTY", "SPREAD_MIN", "SPREAD_MAX", "lower_spread"]
+__all__ = ["ITERATIONS", "PENALTY", "CV_STAGE_MIN", "CV_STAGE_MAX", "lower_edge_cv"]
 
-#: The optimiser lowers the edge CV of meshes of more than SPREAD_MIN and up
-#: to SPREAD_MAX points this way.  Meshes of up to 600 points get the polish
+#: The optimiser lowers the edge CV of meshes of more than CV_STAGE_MIN and up
+#: to CV_STAGE_MAX points this way.  Meshes of up to 600 points get the polish
 #: (:data:`uniform2d.optimize.polish.POLISH_MAX`), which leaves this stage
 #: little (0.01-0.2 % of the CV at n = 300); at n = 1000 it would gain 0-7 %
 #: for some 5 % more time, where the time is tight.
-SPREAD_MIN = 1200
+CV_STAGE_MIN = 1200
 #: Above ``schedule.SMALL`` points the optimiser tries fewer starts and the
 #: mesh costs less per point: there this stage would add 17-27 % of the CPU
 #: time at n = 10000 (5-9 % at 1500 to 5000), where the speed goal is tight.
-SPREAD_MAX = SMALL
+CV_STAGE_MAX = SMALL
 #: L-BFGS iterations, at most.
 ITERATIONS = 10
 #: Weight of the penalties (the objective itself is near 1).
@@ -73,7 +73,7 @@ NEAR_ANGLE = 0.1
 
 
 def _problem(polygon: Polygon, X0, T0, eid):
-    """(``fun(x)`` with gradient, start, unpack) of :func:`lower_spread`."""
+    """(``fun(x)`` with gradient, start, unpack) of :func:`lower_edge_cv`."""
     N = len(X0)
     E = unique_edges(T0, N)
     key = E[:, 0] * N + E[:, 1]
@@ -156,7 +156,7 @@ def _measures(points, triangles):
     return q.edge_ratio, q.longest_edge, q.max_perimeter, q.cv_edge, q.min_angle
 
 
-def lower_spread(polygon: Polygon, points, triangles, edges, *, iterations: int = ITERATIONS):
+def lower_edge_cv(polygon: Polygon, points, triangles, edges, *, iterations: int = ITERATIONS):
     """Lower the edge CV of a uniform mesh, its extremes and worst angle held (see the module).
 
     Parameters
@@ -190,7 +190,7 @@ def lower_spread(polygon: Polygon, points, triangles, edges, *, iterations: int 
     >>> sites = [(0.3, 0.3), (0.7, 0.35), (0.5, 0.7), (0.5, 0.0), (1.0, 0.5),
     ...          (0.5, 1.0), (0.0, 0.5)]
     >>> pts, tri = triangulate(sq, sites, [-1, -1, -1, 0, 1, 2, 3])
-    >>> p2, t2, info = lower_spread(sq, pts, tri, [-1, -1, -1, 0, 1, 2, 3])
+    >>> p2, t2, info = lower_edge_cv(sq, pts, tri, [-1, -1, -1, 0, 1, 2, 3])
     >>> info["kept"], info["after"][3] < info["before"][3], len(p2) == len(pts)
     (True, True, True)
     """
