@@ -12,6 +12,7 @@ import numpy as np
 
 import uniform2d as u
 import uniform2d.outline_band as band
+import uniform2d.ring_relocate as ring_relocate
 import uniform2d.uniform as uniform_module
 
 from support.halved_rings import resampled_and_meshed
@@ -45,8 +46,10 @@ def test_the_point_next_to_a_spike_tip_is_pushed_off_the_long_side(monkeypatch):
 def test_tip_rule_meshes_chile_within_ratio_2(monkeypatch):
     p = u.read_polygon(OUTLINES / "chile.json")
     n, tol = 2000, 0.25
-    # the tip rule alone: no second mesh with whole ring edges halved (uniform2d.ring_split)
+    # the tip rule alone: no second mesh with whole ring edges halved (uniform2d.ring_split),
+    # no relocation moves (uniform2d.ring_relocate)
     monkeypatch.setattr(uniform_module, "SPLIT_RATIO", np.inf)
+    monkeypatch.setattr(ring_relocate, "SPLIT_RATIO", np.inf)
 
     def run():
         r, m = resampled_and_meshed(p, n, tol)

@@ -26,7 +26,8 @@ def _donor(pts, E, L, nV, free):
     return int(np.argmin(mean))
 
 
-def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, options, edges):
+def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, options, edges,
+             tries: int | None = None):
     """Move single points to where the mesh is sparsest while the objective improves.
 
     Each try takes the interior point whose edges are shortest on average (away
@@ -34,7 +35,8 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
     re-relaxes the points within ``schedule.RELOCATE_RADIUS`` sizes of either
     place (``schedule.RELOCATE``); the move is kept if the objective improves.
     A failed edge is not tried again until a move succeeds; at most
-    ``schedule.RELOCATE_TRIES`` tries.  The count of points never changes.
+    ``tries`` tries (``schedule.RELOCATE_TRIES`` by default).  The count of points
+    never changes.
     ``edges`` (as :func:`~uniform2d.optimize.improve`'s) says which sites are on
     the boundary: they are known by construction, never judged by distance.
 
@@ -45,7 +47,7 @@ def relocate(polygon: Polygon, pts, tri, frozen, objective: str, h: float, optio
     fixed = np.asarray(frozen, dtype=bool).copy()
     failed = set()
     kept = 0
-    for _ in range(S.RELOCATE_TRIES):
+    for _ in range(S.RELOCATE_TRIES if tries is None else tries):
         E, L = edge_lengths(pts, tri)
         target = next((E[j] for j in np.lexsort((np.arange(len(L)), -L)) if tuple(E[j]) not in failed), None)
         if target is None:
