@@ -13,6 +13,7 @@ import pytest
 import shapely
 
 from support.benchmarks import benchmark_polygons
+from uniform2d import Polygon
 from uniform2d.io import read_polygon
 from uniform2d.optimize.boundary import target_size
 from uniform2d.optimize.lattice import Candidates, hex_lattice
