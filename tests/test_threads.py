@@ -51,6 +51,25 @@ def test_thread_map_keeps_the_order_and_raises(restore_threads):
         thread_map(bad, range(6))
 
 
+def test_maps_run_on_kept_threads_and_a_map_inside_a_map_ends(restore_threads):
+    import threading
+
+    set_threads(2)
+
+    def kept():
+        return {t.ident for t in threading.enumerate() if t.name.startswith("uniform2d-map")}
+
+    names = thread_map(lambda x: threading.current_thread().name, range(8))
+    assert all(name.startswith("uniform2d-map") for name in names)
+    before = kept()
+    assert 1 <= len(before) <= 2
+    thread_map(lambda x: x, range(8))
+    assert kept() == before  # the same threads, none started or ended
+    # a map inside a map runs its calls on the outer map's thread, in order
+    got = thread_map(lambda x: thread_map(lambda y: 10 * x + y, range(3)), range(4))
+    assert got == [[10 * x + y for y in range(3)] for x in range(4)]
+
+
 def test_thread_count_from_the_call_the_environment_or_the_cores(monkeypatch, restore_threads):
     monkeypatch.setenv(ENV, "3")
     assert get_threads() == 3
