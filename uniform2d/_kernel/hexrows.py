@@ -84,7 +84,7 @@ def lattice_inside(frame, origin, bounds, ua, va, ub, vb):
     (u along the rows, v across, from ``origin``), run from (ua, va) to (ub,
     vb): row by row, in each row by u, as ``hex_lattice`` orders them."""
     out = np.empty((0, 2))
-    n = _rows(frame, origin, bounds, ua, va, ub, vb, out, False)
+    n = _rows(frame, origin, bounds, ua, va, ub, vb, out, np.bool_(False))
     out = np.empty((n, 2))
-    _rows(frame, origin, bounds, ua, va, ub, vb, out, True)
+    _rows(frame, origin, bounds, ua, va, ub, vb, out, np.bool_(True))
     return out
