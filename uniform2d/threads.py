@@ -43,6 +43,18 @@ def _mark_worker() -> None:
     _worker.inside = True
 
 
+def _forgotten_in_child() -> None:
+    """A forked child has none of the parent's threads, and its lock may have
+    been held by one of them at the fork: a new lock, and pools made anew."""
+    global _pools_lock
+    _pools_lock = threading.Lock()
+    _pools.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forgotten_in_child)
+
+
 def _pool(kind: str, size: int) -> ThreadPoolExecutor:
     """The kept executor of ``size`` threads for ``kind`` ("map": thread_map's,
     "background": in_background's), made on first use in this process."""
