@@ -1,8 +1,9 @@
 """The lattice points inside a polygon found row by row (uniform2d._kernel.hexrows),
 against the lattice of hex_lattice tested point by point by shapely: the same
-points wherever one is not within rounding of the boundary, in the same order,
-and the optimiser's candidates (farther than half a spacing from it) the same
-bytes."""
+points wherever one is not within rounding of the boundary, in the same order;
+their capped distances to the boundary the bits of the brute force over every
+segment (to_segments); and the optimiser's candidates (farther than half a
+spacing from it) the same bytes."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import shapely
 
 from support.benchmarks import benchmark_polygons
 from uniform2d import Polygon
+from uniform2d._kernel.distance import to_segments
 from uniform2d.io import read_polygon
 from uniform2d.optimize.boundary import target_size
 from uniform2d.optimize.lattice import Candidates, hex_lattice
@@ -30,6 +32,12 @@ def _polygons() -> dict:
     return out
 
 
+def _brute(P, a, b) -> np.ndarray:
+    """Each point's distance to the nearest segment, every segment measured
+    (to_segments without a cap measures every one)."""
+    return to_segments(P, a, b, np.inf)
+
+
 def _by_shapely(cand: Candidates, polygon: Polygon, sp: float) -> np.ndarray:
     P = hex_lattice(cand.bounds, sp, cand.angle, cand.origin)
     return P[shapely.contains_xy(polygon.to_shapely(), P[:, 0], P[:, 1])]
@@ -44,8 +52,11 @@ def test_rows_find_the_lattice_points_shapely_finds(name):
         for edge in (0, len(p.edges) - 1):
             cand = Candidates(p, h, edge, None)
             for sp in np.linspace(0.7 * h, 1.3 * h, 7):
-                got, want = cand._inside(sp), _by_shapely(cand, p, sp)
+                cap = (1.0 + 2.0 * edge / len(p.edges)) * sp
+                (got, dist), want = cand._inside(sp, cap), _by_shapely(cand, p, sp)
                 assert len(got) > 0
+                # the distances: every segment measured, capped (its bits)
+                assert dist.tobytes() == np.minimum(_brute(got, cand.sa, cand.sb), cap).tobytes()
                 # the same points, in the same order, away from the boundary
                 far = 1e-9 * h
                 g = got[shapely.distance(ring, shapely.points(got)) > far]
@@ -61,7 +72,8 @@ def test_the_starts_candidates_are_the_same_bytes(name):
     for r in (None, rows):
         cand = Candidates(p, h, None, r)
         reference = Candidates(p, h, None, r)
-        reference._inside = lambda sp, c=reference: _by_shapely(c, p, sp)
+        reference._inside = lambda sp, cap, c=reference: (
+            lambda Q: (Q, to_segments(Q, c.sa, c.sb, cap)))(_by_shapely(c, p, sp))
         for sp in np.linspace(0.6 * h, 1.4 * h, 9):
             (P, d), (Q, e) = cand(sp), reference(sp)
             assert len(P) > 0

@@ -165,31 +165,38 @@ class Candidates:
         # points placed before the lattice anywhere (rows around small holes)
         self.held = cKDTree(held) if held is not None and len(held) else None
 
-    def _inside(self, sp) -> np.ndarray:
-        """The lattice points of spacing ``sp`` inside (see :meth:`__call__`)."""
+    def _inside(self, sp, cap):
+        """The lattice points of spacing ``sp`` inside and their distance to
+        what they keep clear of, capped at ``cap`` (see :meth:`__call__`)."""
         if self.face is not None:
             P = hex_lattice(self.bounds, sp, self.angle, self.origin)
-            return P[shapely.contains_xy(self.face, P[:, 0], P[:, 1])]
+            P = P[shapely.contains_xy(self.face, P[:, 0], P[:, 1])]
+            return P, to_segments(P, self.sa, self.sb, cap)
         origin = np.asarray(self.origin, dtype=float)
         key = (origin[0], origin[1], self.angle)
         if self._uv is None or self._uv[0] != key:
             c, s = math.cos(self.angle), math.sin(self.angle)
+
+            def uv(P):  # the lattice's coordinates of points (k, 2)
+                X, Y = P[:, 0] - origin[0], P[:, 1] - origin[1]
+                return c * X + s * Y, -s * X + c * Y
+
             V, E = self.rings  # each vertex once: the edges meeting there meet exactly
-            X, Y = V[:, 0] - origin[0], V[:, 1] - origin[1]
-            U, W = c * X + s * Y, -s * X + c * Y
-            self._uv = (key, U[E[:, 0]], W[E[:, 0]], U[E[:, 1]], W[E[:, 1]])
+            U, W = uv(V)
+            self._uv = (key, (U[E[:, 0]], W[E[:, 0]], U[E[:, 1]], W[E[:, 1]]),
+                        (self.sa, self.sb, *uv(self.sa), *uv(self.sb)))
         dy, c, s, i0, i1, j0, j1 = _frame(self.bounds, sp, self.angle, origin)
         frame = np.array([sp, dy, c, s, i0, i1, j0, j1], dtype=float)
-        return lattice_inside(frame, origin, np.asarray(self.bounds, dtype=float), *self._uv[1:])
+        return lattice_inside(frame, origin, np.asarray(self.bounds, dtype=float),
+                              *self._uv[1], self._uv[2], float(cap))
 
     def __call__(self, sp):
         # a point within rounding of the boundary may be counted inside or
         # not (lattice_inside); none within half a spacing of it is kept
-        P = self._inside(sp)
         rows = self.rows is not None
         # only distances below the cap matter, here and in the drop below
         cap = (2.0 * self.band + 2.0 * sp) if rows else 2.0 * sp
-        dist = to_segments(P, self.sa, self.sb, cap)
+        P, dist = self._inside(sp, cap)
         ok = dist >= 0.5 * sp
         # a neighbour beyond 0.75 sp is all the tests below need to know of
         # (the query returns inf for it, then): the trees' searches stop there
