@@ -1,6 +1,7 @@
 """uniform2d.threads: the optimiser's starts on several threads, the same bytes on any count."""
 
 import hashlib
+import os
 from pathlib import Path
 
 import pytest
@@ -49,6 +50,53 @@ def test_thread_map_keeps_the_order_and_raises(restore_threads):
 
     with pytest.raises(KeyError):
         thread_map(bad, range(6))
+
+
+def test_maps_run_on_kept_threads_and_a_map_inside_a_map_ends(restore_threads):
+    import threading
+
+    set_threads(2)
+
+    def kept():
+        return {t.ident for t in threading.enumerate() if t.name.startswith("uniform2d-map")}
+
+    names = thread_map(lambda x: threading.current_thread().name, range(8))
+    assert all(name.startswith("uniform2d-map") for name in names)
+    before = kept()
+    assert 1 <= len(before) <= 2
+    thread_map(lambda x: x, range(8))
+    assert kept() == before  # the same threads, none started or ended
+    # a map inside a map runs its calls on the outer map's thread, in order
+    got = thread_map(lambda x: thread_map(lambda y: 10 * x + y, range(3)), range(4))
+    assert got == [[10 * x + y for y in range(3)] for x in range(4)]
+
+
+def _map_in_child(queue) -> None:
+    queue.put(thread_map(lambda x: 2 * x, range(6)))
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="no fork here")
+def test_a_forked_child_maps_on_threads_of_its_own(restore_threads):
+    """The kept threads are the parent's: a child forked after a map (whose
+    copy of the pool has no threads) makes its own, instead of waiting."""
+    import multiprocessing
+    import queue as queues
+
+    set_threads(2)
+    assert thread_map(lambda x: x, range(6)) == list(range(6))  # the parent's pool
+    ctx = multiprocessing.get_context("fork")
+    results = ctx.Queue()
+    child = ctx.Process(target=_map_in_child, args=(results,))
+    child.start()
+    try:
+        got = results.get(timeout=60)
+    except queues.Empty:
+        got = None
+    finally:
+        child.join(5)
+        if child.is_alive():
+            child.kill()
+    assert got == [2 * x for x in range(6)]
 
 
 def test_thread_count_from_the_call_the_environment_or_the_cores(monkeypatch, restore_threads):

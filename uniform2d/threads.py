@@ -9,13 +9,20 @@ same, bit for bit, on any number of threads.
 
 The count is, in order: what :func:`set_threads` set; the environment variable
 ``UNIFORM2D_THREADS``; the cores this process may run on.
+
+The threads are started once per process and kept (:func:`_pool`): a mesh maps
+over its starts some seven times, and a thread started while other work keeps
+the cores busy waits for a time slice (the scheduler lets new threads queue),
+some milliseconds each on a loaded machine, where a kept thread woken for the
+next map runs at once.
 """
 
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Callable, Iterable
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor, wait
 
 from .errors import InvalidArgumentError
 
@@ -24,6 +31,41 @@ __all__ = ["ENV", "get_threads", "in_background", "set_threads", "thread_map"]
 #: The environment variable read when :func:`set_threads` was not called.
 ENV = "UNIFORM2D_THREADS"
 _chosen: list = [None]
+#: Kept executors, by (process id, kind, size): a forked child starts its own.
+_pools: dict = {}
+_pools_lock = threading.Lock()
+_worker = threading.local()  # ``inside`` on the threads of thread_map's executors
+#: Threads in_background may run at once before a task waits for one.
+BACKGROUND = 64
+
+
+def _mark_worker() -> None:
+    _worker.inside = True
+
+
+def _forgotten_in_child() -> None:
+    """A forked child has none of the parent's threads, and its lock may have
+    been held by one of them at the fork: a new lock, and pools made anew."""
+    global _pools_lock
+    _pools_lock = threading.Lock()
+    _pools.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forgotten_in_child)
+
+
+def _pool(kind: str, size: int) -> ThreadPoolExecutor:
+    """The kept executor of ``size`` threads for ``kind`` ("map": thread_map's,
+    "background": in_background's), made on first use in this process."""
+    key = (os.getpid(), kind, size)
+    with _pools_lock:
+        pool = _pools.get(key)
+        if pool is None:
+            pool = ThreadPoolExecutor(max_workers=size, thread_name_prefix=f"uniform2d-{kind}",
+                                      initializer=_mark_worker if kind == "map" else None)
+            _pools[key] = pool
+        return pool
 
 
 def _check(count, what: str) -> int:
@@ -64,7 +106,9 @@ def get_threads() -> int:
 
 def thread_map(fn: Callable, items: Iterable) -> list:
     """``[fn(item) for item in items]``, the calls spread over :func:`get_threads`
-    threads; the first exception raised is raised here.
+    threads; the first exception raised is raised here.  Called from one of
+    those threads (a map inside a map), it runs the calls there, in turn: the
+    outer map's threads are busy, and waiting for them would never end.
 
     Examples
     --------
@@ -72,11 +116,18 @@ def thread_map(fn: Callable, items: Iterable) -> list:
     [0, 1, 4, 9, 16]
     """
     items = list(items)
-    k = min(get_threads(), len(items))
-    if k <= 1:
+    k = get_threads()
+    if min(k, len(items)) <= 1 or getattr(_worker, "inside", False):
         return [fn(item) for item in items]
-    with ThreadPoolExecutor(max_workers=k) as pool:
-        return list(pool.map(fn, items))
+    pool = _pool("map", k)
+    futures = [pool.submit(fn, item) for item in items]
+    try:
+        wait(futures)  # every call ended before any result or exception is given
+    except BaseException:  # an interrupt: start no more of them
+        for f in futures:
+            f.cancel()
+        raise
+    return [f.result() for f in futures]
 
 
 def in_background(fn: Callable) -> Future:
@@ -91,8 +142,5 @@ def in_background(fn: Callable) -> Future:
     >>> in_background(lambda: sum(range(10))).result()
     45
     """
-    pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="uniform2d-background")
-    try:
-        return pool.submit(fn)
-    finally:
-        pool.shutdown(wait=False)  # the task still runs; the thread ends with it
+    # a kept thread that is idle, else a new one (up to BACKGROUND at once)
+    return _pool("background", BACKGROUND).submit(fn)

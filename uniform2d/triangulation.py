@@ -14,6 +14,7 @@ pieces (:func:`piece_chains`, :func:`rebuild`).
 
 from __future__ import annotations
 
+import functools
 import logging
 import numbers
 from dataclasses import dataclass
@@ -62,28 +63,47 @@ def _initial_triangles(xy: np.ndarray, rings: list[list[int]]) -> np.ndarray:
 
     GEOS returns the input coordinates unchanged, so vertices are matched exactly.
     Its in-circle decisions are not exact; :func:`lawson.legalize_all` fixes that.
+    The last few are kept (:func:`_ring_triangles`): the optimiser's starts of
+    one boundary spacing have the same rings, and GEOS gives the same triangles
+    for the same coordinates.
     """
-    shell = xy[rings[0]]
-    holes = [xy[r] for r in rings[1:]]
-    geom = shapely.constrained_delaunay_triangles(shapely.Polygon(shell, holes))
+    idx = np.concatenate([np.asarray(r, dtype=np.int64) for r in rings])
+    key = (np.ascontiguousarray(xy[idx]).tobytes(), idx.tobytes(), tuple(len(r) for r in rings))
+    return _ring_triangles(key).copy()
+
+
+#: How many ring sets :func:`_ring_triangles` keeps (a mesh's starts have up
+#: to three boundary spacings; threads may interleave several meshes).
+RING_CACHE = 16
+
+
+@functools.lru_cache(maxsize=RING_CACHE)
+def _ring_triangles(key) -> np.ndarray:
+    """:func:`_initial_triangles` of the rings ``key`` = (their vertices'
+    coordinates, their indices, each ring's length), as bytes and a tuple."""
+    pts = np.frombuffer(key[0], dtype=np.float64).reshape(-1, 2)
+    idx = np.frombuffer(key[1], dtype=np.int64)
+    parts = np.split(pts, np.cumsum(key[2])[:-1])
+    geom = shapely.constrained_delaunay_triangles(shapely.Polygon(parts[0], parts[1:]))
     rings_ = shapely.get_exterior_ring(shapely.get_parts(geom))
     corners = shapely.get_coordinates(rings_).reshape(len(rings_), 4, 2)[:, :3]
     # exact matching on (x, y) through a complex key (ordered by x, then y)
-    idx = np.concatenate([np.asarray(r, dtype=np.int64) for r in rings])
-    key = _complex_key(xy[idx])
-    order = np.argsort(key, kind="stable")
+    key_ = _complex_key(pts)
+    order = np.argsort(key_, kind="stable")
     want = _complex_key(corners.reshape(-1, 2))
-    pos = np.minimum(np.searchsorted(key[order], want), len(key) - 1)
-    if not np.array_equal(key[order][pos], want):
+    pos = np.minimum(np.searchsorted(key_[order], want), len(key_) - 1)
+    if not np.array_equal(key_[order][pos], want):
         raise InternalError(f"GEOS returned a vertex that is not a polygon vertex {PLEASE_REPORT}")
     tris = idx[order[pos]].astype(np.int32).reshape(-1, 3)
-    p = xy[tris]
+    p = pts[order[pos]].reshape(-1, 3, 2)  # the vertices of tris: xy[idx[j]] is pts[j]
     cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
         p[:, 1, 1] - p[:, 0, 1]
     ) * (p[:, 2, 0] - p[:, 0, 0])
     flip = cross < 0
     tris[flip] = tris[flip][:, ::-1]
-    return np.ascontiguousarray(tris)
+    tris = np.ascontiguousarray(tris)
+    tris.flags.writeable = False  # kept: callers get copies
+    return tris
 
 
 @dataclass(frozen=True, eq=False)

@@ -17,6 +17,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from .._kernel.distance import to_segments
+from .._kernel.hexrows import lattice_inside
 from ..geometry import polygon_edges
 from ..polygon import Polygon
 from .boundary import target_size
@@ -33,20 +34,28 @@ __all__ = ["lattice_seed", "seed_interior", "Fit", "Candidates", "closest_count"
 LATTICE_ROWS = 64
 
 
-def hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
-    """The points of a hexagonal lattice (anchored at ``origin``, rows at ``angle``)
-    within ``bounds`` = (xmin, ymin, xmax, ymax): the only ones that can lie inside
-    a shape with those bounds.  Row by row, in a fixed order."""
+def _frame(bounds, spacing: float, angle: float, origin) -> tuple:
+    """(dy, cos, sin, i0, i1, j0, j1): the row step, the rows' direction and
+    the columns and rows of the lattice of :func:`hex_lattice` that can reach
+    ``bounds`` (a margin of two steps for the half-step shift of odd rows and
+    for rounding)."""
     xmin, ymin, xmax, ymax = bounds
     dy = spacing * math.sqrt(3.0) / 2
     c, s = math.cos(angle), math.sin(angle)
-    # the rows and columns that can reach the box (a margin of two steps for
-    # the half-step shift of odd rows and for rounding), in lattice coordinates
     X = np.array([xmin, xmax, xmax, xmin]) - origin[0]
     Y = np.array([ymin, ymin, ymax, ymax]) - origin[1]
     U, V = c * X + s * Y, -s * X + c * Y
     j0, j1 = math.floor(V.min() / dy) - 2, math.ceil(V.max() / dy) + 2
     i0, i1 = math.floor(U.min() / spacing) - 2, math.ceil(U.max() / spacing) + 2
+    return dy, c, s, i0, i1, j0, j1
+
+
+def hex_lattice(bounds, spacing: float, angle: float, origin) -> np.ndarray:
+    """The points of a hexagonal lattice (anchored at ``origin``, rows at ``angle``)
+    within ``bounds`` = (xmin, ymin, xmax, ymax): the only ones that can lie inside
+    a shape with those bounds.  Row by row, in a fixed order."""
+    xmin, ymin, xmax, ymax = bounds
+    dy, c, s, i0, i1, j0, j1 = _frame(bounds, spacing, angle, origin)
     out = []
     i = np.arange(i0, i1 + 1)[None, :]
     for jb in range(j0, j1 + 1, LATTICE_ROWS):
@@ -140,9 +149,14 @@ class Candidates:
         self.origin = a[e] + nrm * h * math.sqrt(3) / 2 + d[e] / L[e] * (h / 2)
         if origin is not None:
             self.origin = origin
-        self.shape = polygon.to_shapely() if face is None else face
+        # inside P: row by row (lattice_inside), without a point-in-polygon
+        # query per point of the box; inside a region (a shapely face): by shapely
+        self.face = face
         self.bounds = polygon.bounds if face is None else face.bounds
-        shapely.prepare(self.shape)
+        if face is not None:
+            shapely.prepare(self.face)
+        self.rings = polygon.vertices, polygon.edges
+        self._uv = None  # the rings in the lattice's coordinates, for its origin and angle
         self.sa, self.sb = keep_clear(polygon)  # clear of the segments and fixed points too
         self.rows = rows
         if rows is not None:
@@ -151,14 +165,38 @@ class Candidates:
         # points placed before the lattice anywhere (rows around small holes)
         self.held = cKDTree(held) if held is not None and len(held) else None
 
+    def _inside(self, sp, cap):
+        """The lattice points of spacing ``sp`` inside and their distance to
+        what they keep clear of, capped at ``cap`` (see :meth:`__call__`)."""
+        if self.face is not None:
+            P = hex_lattice(self.bounds, sp, self.angle, self.origin)
+            P = P[shapely.contains_xy(self.face, P[:, 0], P[:, 1])]
+            return P, to_segments(P, self.sa, self.sb, cap)
+        origin = np.asarray(self.origin, dtype=float)
+        key = (origin[0], origin[1], self.angle)
+        if self._uv is None or self._uv[0] != key:
+            c, s = math.cos(self.angle), math.sin(self.angle)
+
+            def uv(P):  # the lattice's coordinates of points (k, 2)
+                X, Y = P[:, 0] - origin[0], P[:, 1] - origin[1]
+                return c * X + s * Y, -s * X + c * Y
+
+            V, E = self.rings  # each vertex once: the edges meeting there meet exactly
+            U, W = uv(V)
+            self._uv = (key, (U[E[:, 0]], W[E[:, 0]], U[E[:, 1]], W[E[:, 1]]),
+                        (self.sa, self.sb, *uv(self.sa), *uv(self.sb)))
+        dy, c, s, i0, i1, j0, j1 = _frame(self.bounds, sp, self.angle, origin)
+        frame = np.array([sp, dy, c, s, i0, i1, j0, j1], dtype=float)
+        return lattice_inside(frame, origin, np.asarray(self.bounds, dtype=float),
+                              *self._uv[1], self._uv[2], float(cap))
+
     def __call__(self, sp):
-        P = hex_lattice(self.bounds, sp, self.angle, self.origin)
-        inside = shapely.contains_xy(self.shape, P[:, 0], P[:, 1])
-        P = P[inside]
+        # a point within rounding of the boundary may be counted inside or
+        # not (lattice_inside); none within half a spacing of it is kept
         rows = self.rows is not None
         # only distances below the cap matter, here and in the drop below
         cap = (2.0 * self.band + 2.0 * sp) if rows else 2.0 * sp
-        dist = to_segments(P, self.sa, self.sb, cap)
+        P, dist = self._inside(sp, cap)
         ok = dist >= 0.5 * sp
         # a neighbour beyond 0.75 sp is all the tests below need to know of
         # (the query returns inf for it, then): the trees' searches stop there
