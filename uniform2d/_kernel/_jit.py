@@ -74,9 +74,10 @@ def njit(*args, **options):
     # that allocates must not inherit a borrowed caller's
     options["_nrt"] = not options.pop("borrowed", False)
     cache = options.pop("cache", False)
+    hot = options.pop("hot", False)
 
     def cached(dispatcher):
-        register(dispatcher)
+        register(dispatcher, hot)
         if cache:
             enable_caching(dispatcher)
         return dispatcher

@@ -33,18 +33,22 @@ from contextlib import contextmanager
 from numba.core import config, event
 from numba.core.registry import cpu_target
 
-__all__ = ["KERNEL_OPT", "register", "kernel_level"]
+__all__ = ["KERNEL_OPT", "HOT_OPT", "register", "kernel_level"]
 
 #: LLVM optimisation level of the kernels' compile (0-3).
 KERNEL_OPT = 1
 
-_kernels: weakref.WeakSet = weakref.WeakSet()  # dispatchers compiled at KERNEL_OPT
+#: LLVM optimisation level of the kernels a mesh spends its time in (``njit(hot=True)``).
+HOT_OPT = 3
+
+_kernels: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # dispatcher -> hot
 _saved: list = []  # config.OPT as it was when each compile under way started
 
 
-def register(dispatcher) -> None:
-    """Compile ``dispatcher`` (a kernel's numba dispatcher) at :data:`KERNEL_OPT`."""
-    _kernels.add(dispatcher)
+def register(dispatcher, hot: bool = False) -> None:
+    """Compile ``dispatcher`` (a kernel's numba dispatcher) at :data:`KERNEL_OPT`,
+    or at :data:`HOT_OPT` if ``hot``."""
+    _kernels[dispatcher] = hot
 
 
 def _user_level():
@@ -52,9 +56,9 @@ def _user_level():
     return _saved[0] if _saved else config.OPT
 
 
-def _kernel_level():
+def _kernel_level(hot: bool = False):
     user = _user_level()
-    return type(user)(min(int(user), KERNEL_OPT))
+    return type(user)(min(int(user), HOT_OPT if hot else KERNEL_OPT))
 
 
 @contextmanager
@@ -68,13 +72,13 @@ def kernel_level():
         _leave()
 
 
-def _enter(kernel: bool) -> None:
+def _enter(kernel: bool, hot: bool = False) -> None:
     if not _saved:
         config.reload_config()  # a changed NUMBA_ variable applies before it is saved
         # numba's code generator reads the level once, when it is made: made
         # here if not yet, it takes the user's
         cpu_target.target_context.codegen()
-    level = _kernel_level() if kernel else _user_level()
+    level = _kernel_level(hot) if kernel else _user_level()
     _saved.append(config.OPT)
     config.OPT = level
 
@@ -87,7 +91,9 @@ class _Scope(event.Listener):
     """Sets the level for each compile numba starts, puts it back at its end."""
 
     def on_start(self, ev):
-        _enter(ev.data.get("dispatcher") in _kernels)
+        dispatcher = ev.data.get("dispatcher")
+        hot = _kernels.get(dispatcher) if dispatcher is not None else None
+        _enter(hot is not None, bool(hot))
 
     def on_end(self, ev):
         _leave()
