@@ -35,10 +35,6 @@ given explicitly to every kernel: numba compiles a callee with the options it
 was not given inherited from the kernel being compiled, and a kernel that
 allocates must not inherit a borrowed helper's.
 
-Every kernel compiles at LLVM's ``-O1`` rather than numba's ``-O3``: as fast
-at run time, less to optimise on the first run, the same bits
-(:mod:`.opt_level`, which sets the level for the kernels' compiles only).
-
 The disk cache is numba's, with one addition for the first run, where two
 processes compile into it at once: a kernel one of them compiles is claimed
 until it is cached, so the other waits for it rather than compiling it too
@@ -54,15 +50,13 @@ from __future__ import annotations
 from numba import njit as _njit
 
 from ..compile_claims import enable_caching
-from .opt_level import register
 
 __all__ = ["njit"]
 
 
 def njit(*args, **options):
     """``numba.njit`` with ``no_cfunc_wrapper=True`` and ``nogil=True`` (as a bare
-    decorator or with options), compiled at the kernels' LLVM optimisation level
-    (:mod:`.opt_level`); ``cache=True`` gives the kernel numba's disk
+    decorator or with options); ``cache=True`` gives the kernel numba's disk
     cache through :func:`uniform2d.compile_claims.enable_caching` (the same
     cache, the kernel claimed while another process fills it too);
     ``borrowed=True`` compiles it without reference counting (see the module
@@ -74,10 +68,8 @@ def njit(*args, **options):
     # that allocates must not inherit a borrowed caller's
     options["_nrt"] = not options.pop("borrowed", False)
     cache = options.pop("cache", False)
-    hot = options.pop("hot", False)
 
     def cached(dispatcher):
-        register(dispatcher, hot)
         if cache:
             enable_caching(dispatcher)
         return dispatcher

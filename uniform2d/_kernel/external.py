@@ -35,7 +35,6 @@ from numba.core.dispatcher import Dispatcher
 from numba.core.extending import intrinsic
 
 from ..compile_claims import ClaimedCache, before_load
-from .opt_level import kernel_level
 
 __all__ = ["compiled_once", "ensure"]
 
@@ -63,8 +62,7 @@ def ensure(name: str | None = None) -> None:
             c = CFunc(func, sig, locals={}, options={"nopython": True, "nogil": True, "_nrt": True})
             c._cache = ClaimedCache(func)
             try:
-                with kernel_level():
-                    c.compile()
+                c.compile()
             except BaseException:
                 _pending[symbol] = (func, nargs)
                 raise
