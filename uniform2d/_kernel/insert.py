@@ -57,7 +57,8 @@ from ._jit import njit
 
 from . import heap
 from .borrow import borrowed, settle
-from .cavity import insert_point
+from .cavity import _insert_point
+from .external import called_by_name
 from .cdt import allocate, circumcircle, constrained, locate, locate_scan, nxt, prv, snap
 from .predicates import dot2d
 from .outcomes import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
@@ -249,7 +250,7 @@ def _gather(m, M, P, xtol):
         if P.pgen[s] != g:
             heap.pop(pv)
             continue
-        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)) or _revalidate(
+        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)) or _revalidate_bn(
             m, M, P, np.int64(s), np.inf, xtol
         ):
             W = w
@@ -276,7 +277,7 @@ def _lclean(m, M, P, L, loc, thr, xtol):
     have ploc == loc); returns the top x, or inf when L is empty."""
     while True:
         x, s = _ltop(P, L, loc, m.tstamp)
-        if s < 0 or _revalidate(m, M, P, np.int64(s), thr, xtol):
+        if s < 0 or _revalidate_bn(m, M, P, np.int64(s), thr, xtol):
             return x
 
 
@@ -333,7 +334,7 @@ def _choose(m, M, P, W, xtol):
             heap.lpop(lo)
             if not (
                 _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
-                or _revalidate(m, M, P, np.int64(s), thr, xtol)
+                or _revalidate_bn(m, M, P, np.int64(s), thr, xtol)
             ):
                 restart = True  # a re-filed member may have moved the anchor
                 break
@@ -351,7 +352,7 @@ def _choose(m, M, P, W, xtol):
                 break
             if not (
                 _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
-                or _revalidate(m, M, P, np.int64(s), thr, xtol)
+                or _revalidate_bn(m, M, P, np.int64(s), thr, xtol)
             ):
                 restart = True
                 break
@@ -455,7 +456,7 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
         out_b[j] = hsplit >= 0
         k = ERR_PRECISION
         if between(m, hsplit, x, y):
-            k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
+            k = _insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
             k, x, y = insert_nearby(m, x, y, t0, hsplit)
             if k < 0:
@@ -486,3 +487,6 @@ def warm_first_step() -> None:
     triangulation of P and INSERT's queues, then :func:`_gather` around it."""
     m, _ = allocate(4, 4)
     _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
+
+
+_revalidate_bn = called_by_name(_revalidate)

@@ -10,6 +10,7 @@ triangulation exactly: the relaxation's trial moves are undone that way.
 import numpy as np
 
 from ._jit import njit
+from .external import called_by_name
 from .cdt import flip, nxt, prv, reserve
 from .heap import grown
 from .predicates import incircle
@@ -61,7 +62,7 @@ def _lawson(m, todo, sp, tag, k):
     """:func:`legalize_stack`; with ``tag`` >= 0 also appends every rewritten slot
     not yet marked ``tag`` to ``cav`` from ``cav[k]`` on, and returns the new k."""
     # no flip recorded (a negative count): the log argument is never touched
-    return lawson_recorded(m, todo, sp, tag, k, todo, np.int64(-1))[0]
+    return _lawson_recorded(m, todo, sp, tag, k, todo, np.int64(-1))[0]
 
 
 
@@ -161,3 +162,6 @@ def undo_flips(m, undo, nu):
             m.vseg[v] = undo[i + 1]
             m.vcs[v] = undo[i + 2]
             i += 3
+
+
+_lawson_recorded = called_by_name(lawson_recorded)
