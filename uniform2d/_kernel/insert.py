@@ -224,7 +224,7 @@ def _revalidate(m, M, P, s, thr, xtol):
     if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)):
         return True
     a, b = P.pa[s], P.pb[s]
-    alive, w, x, y = _current(m, a, b, xtol, P.pw[s])
+    alive, w, x, y = _current_bn(m, a, b, xtol, P.pw[s])
     if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
         return True
     pool_kill(P, np.int64(s))
@@ -257,7 +257,7 @@ def _gather(m, M, P, xtol):
             break
     while M.size > 0 and (W < 0.0 or heap.top_key(M) >= tied_above(W, m.wg)):
         key, a, b = heap.pop(M)
-        alive, w, x, y = _current(m, a, b, xtol, key)
+        alive, w, x, y = _current_bn(m, a, b, xtol, key)
         if not alive:
             continue
         if w < key and (W < 0.0 or w < tied_above(W, m.wg)):
@@ -486,7 +486,8 @@ def warm_first_step() -> None:
     compiles (:func:`uniform2d.warmup.warm`), while the run compiles the exact
     triangulation of P and INSERT's queues, then :func:`_gather` around it."""
     m, _ = allocate(4, 4)
-    _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
+    _current_bn(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
 
 
+_current_bn = called_by_name(_current)  # before its caller: loaded first
 _revalidate_bn = called_by_name(_revalidate)
