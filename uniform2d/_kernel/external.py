@@ -30,12 +30,15 @@ symbol with numba's own calling convention (status, exceptions and references
 as for a linked call).  The symbol is named from the callee and its argument
 types, the same in every process, so a cached caller finds it once the callee
 is loaded: before any kernel is read from the cache, every kernel called by
-name is loaded for every signature its cache holds.
+name is loaded (or compiled, if its entry is stale) for every signature it
+was called by name with, listed in the cache beside it.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
+import pickle
 
 import llvmlite.binding as ll
 from llvmlite import ir
@@ -48,7 +51,7 @@ from numba.core.extending import intrinsic
 
 from ..compile_claims import ClaimedCache, before_load
 
-__all__ = ["called_by_name", "compiled_once", "ensure"]
+__all__ = ["called_by_name", "compiled_once", "ensure", "named_kernels"]
 
 _pending: dict = {}  # symbol -> (Python function, argument count): not compiled yet
 _made: dict = {}  # symbol -> its CFunc (kept alive: the symbol points into its code)
@@ -153,7 +156,40 @@ def _register(disp, argtys):
             raise RuntimeError(f"{cres.fndesc.llvm_func_name} has no address")
         ll.add_symbol(symbol, address)
         _named_done[symbol] = cres
+        _remember(disp, argtys)
     return symbol, _named_done[symbol]
+
+
+def _signatures_file(disp):
+    cache = getattr(disp, "_cache", None)
+    path = getattr(cache, "_cache_path", None)
+    return None if path is None else os.path.join(path, f"{_symbol(disp.py_func)}.named.pkl")
+
+
+def _remembered(disp) -> list:
+    """The signatures ``disp`` was called by name with, in this cache: kept
+    apart from its own cache entries, which go stale when it is edited while its
+    cached callers (numba does not look at their callees) still call it."""
+    path = _signatures_file(disp)
+    try:
+        with open(path, "rb") as f:
+            return list(pickle.load(f))
+    except (OSError, TypeError, EOFError, pickle.UnpicklingError):
+        return []
+
+
+def _remember(disp, argtys) -> None:
+    path = _signatures_file(disp)
+    known = _remembered(disp)
+    if path is None or argtys in known:
+        return
+    tmp = f"{path}.{os.getpid()}.tmp"
+    try:
+        with open(tmp, "wb") as f:
+            pickle.dump(known + [argtys], f)
+        os.replace(tmp, path)
+    except OSError:  # an unwritable cache: numba caches nothing there either
+        pass
 
 
 def _load_named(func) -> None:
@@ -167,15 +203,18 @@ def _load_named(func) -> None:
         ensure()  # the kernels called by name may call the C functions
         with global_compiler_lock:
             for disp in _named:
-                cache = getattr(disp, "_cache", None)
-                index = cache._cache_file._load_index() if cache is not None else {}
-                for key in index:
-                    _register(disp, tuple(key[0]))
+                for argtys in _remembered(disp):
+                    _register(disp, tuple(argtys))
     finally:
         _loading[0] = False
 
 
 before_load(_load_named)
+
+
+def named_kernels() -> list:
+    """The kernels :func:`called_by_name` made stubs for (callees first)."""
+    return list(_named)
 
 
 def called_by_name(disp):

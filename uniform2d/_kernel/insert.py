@@ -486,7 +486,7 @@ def warm_first_step() -> None:
     compiles (:func:`uniform2d.warmup.warm`), while the run compiles the exact
     triangulation of P and INSERT's queues, then :func:`_gather` around it."""
     m, _ = allocate(4, 4)
-    _current_bn(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
+    _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
 
 
 _current_bn = called_by_name(_current)  # before its caller: loaded first
