@@ -58,7 +58,6 @@ from ._jit import njit
 from . import heap
 from .borrow import borrowed, settle
 from .cavity import _insert_point
-from .external import called_by_name
 from .cdt import allocate, circumcircle, constrained, locate, locate_scan, nxt, prv, snap
 from .predicates import dot2d
 from .outcomes import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
@@ -224,7 +223,7 @@ def _revalidate(m, M, P, s, thr, xtol):
     if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)):
         return True
     a, b = P.pa[s], P.pb[s]
-    alive, w, x, y = _current_bn(m, a, b, xtol, P.pw[s])
+    alive, w, x, y = _current(m, a, b, xtol, P.pw[s])
     if alive and w == P.pw[s] and x == P.px[s] and y == P.py[s]:
         return True
     pool_kill(P, np.int64(s))
@@ -250,14 +249,14 @@ def _gather(m, M, P, xtol):
         if P.pgen[s] != g:
             heap.pop(pv)
             continue
-        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)) or _revalidate_bn(
+        if _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s)) or _revalidate(
             m, M, P, np.int64(s), np.inf, xtol
         ):
             W = w
             break
     while M.size > 0 and (W < 0.0 or heap.top_key(M) >= tied_above(W, m.wg)):
         key, a, b = heap.pop(M)
-        alive, w, x, y = _current_bn(m, a, b, xtol, key)
+        alive, w, x, y = _current(m, a, b, xtol, key)
         if not alive:
             continue
         if w < key and (W < 0.0 or w < tied_above(W, m.wg)):
@@ -277,7 +276,7 @@ def _lclean(m, M, P, L, loc, thr, xtol):
     have ploc == loc); returns the top x, or inf when L is empty."""
     while True:
         x, s = _ltop(P, L, loc, m.tstamp)
-        if s < 0 or _revalidate_bn(m, M, P, np.int64(s), thr, xtol):
+        if s < 0 or _revalidate(m, M, P, np.int64(s), thr, xtol):
             return x
 
 
@@ -334,7 +333,7 @@ def _choose(m, M, P, W, xtol):
             heap.lpop(lo)
             if not (
                 _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
-                or _revalidate_bn(m, M, P, np.int64(s), thr, xtol)
+                or _revalidate(m, M, P, np.int64(s), thr, xtol)
             ):
                 restart = True  # a re-filed member may have moved the anchor
                 break
@@ -352,7 +351,7 @@ def _choose(m, M, P, W, xtol):
                 break
             if not (
                 _kept(m.tstamp, P.pa, P.pb, P.pw, P.px, P.py, np.int64(s))
-                or _revalidate_bn(m, M, P, np.int64(s), thr, xtol)
+                or _revalidate(m, M, P, np.int64(s), thr, xtol)
             ):
                 restart = True
                 break
@@ -489,5 +488,3 @@ def warm_first_step() -> None:
     _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
 
 
-_current_bn = called_by_name(_current)  # before its caller: loaded first
-_revalidate_bn = called_by_name(_revalidate)
