@@ -57,7 +57,7 @@ from ._jit import njit
 
 from . import heap
 from .borrow import borrowed, settle
-from .cavity import insert_point
+from .cavity import _insert_point
 from .cdt import allocate, circumcircle, constrained, locate, locate_scan, nxt, prv, snap
 from .predicates import dot2d
 from .outcomes import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
@@ -455,7 +455,7 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
         out_b[j] = hsplit >= 0
         k = ERR_PRECISION
         if between(m, hsplit, x, y):
-            k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
+            k = _insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
             k, x, y = insert_nearby(m, x, y, t0, hsplit)
             if k < 0:
@@ -486,3 +486,5 @@ def warm_first_step() -> None:
     triangulation of P and INSERT's queues, then :func:`_gather` around it."""
     m, _ = allocate(4, 4)
     _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
+
+
