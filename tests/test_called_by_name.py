@@ -24,10 +24,13 @@ digest = hashlib.sha256(np.asarray(mesh.points).tobytes()
 hits = sum(d.stats.cache_hits.get(s, 0) for d in (lawson._lawson, insert.run)
            for s in d.signatures)
 ir = "" if hits else "".join(lawson._lawson.inspect_llvm().values())
+run_ir = "" if hits else "".join(insert.run.inspect_llvm().values())
 print(json.dumps({"digest": digest, "points": len(mesh.points), "hits": hits,
                   "declares": "declare i32 @uniform2d_named_uniform2d_lawson_lawson_recorded_" in ir,
                   "copy": "define linkonce_odr i32 @_ZN9uniform2d7_kernel6lawson15lawson_recorded"
-                          in ir}))
+                          in ir,
+                  "run_declares": [f"declare i32 @uniform2d_named_uniform2d_insert_{f}_" in run_ir
+                                   for f in ("_gather", "_choose")]}))
 """
 
 
@@ -43,6 +46,7 @@ def test_a_kernel_called_by_name_is_a_call_not_a_copy_and_loads_from_the_cache(t
     cold = _run(tmp_path)  # an empty cache: every kernel compiled here
     assert cold["hits"] == 0 and cold["points"] == 5 + 80  # the corners and n
     assert cold["declares"] and not cold["copy"]
+    assert cold["run_declares"] == [True, True]  # INSERT's steps call them by name
     warm = _run(tmp_path)  # the callers read back, calling the callee's cached code
     assert warm["hits"] > 0
     assert warm["digest"] == cold["digest"]

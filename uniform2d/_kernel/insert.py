@@ -58,6 +58,7 @@ from ._jit import njit
 from . import heap
 from .borrow import borrowed, settle
 from .cavity import _insert_point
+from .external import called_by_name
 from .cdt import allocate, circumcircle, constrained, locate, locate_scan, nxt, prv, snap
 from .predicates import dot2d
 from .outcomes import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
@@ -376,6 +377,12 @@ def _choose(m, M, P, W, xtol):
             dump_window(P)
 
 
+# called once per step: run holds two calls, not a copy of each one's tree
+# (with the candidates' re-evaluation), which it would optimise and generate again
+_gather_bn = called_by_name(_gather)
+_choose_bn = called_by_name(_choose)
+
+
 @njit(cache=True)
 def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
     """Insert n points; returns n, or a negative status on failure (:func:`_steps`).
@@ -420,11 +427,11 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
     pv, lo, wx, wy = P.pv, P.lo, P.wx, P.wy
     room = _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.e, wx.e, wy.e)
     for j in range(j0, n):
-        w, a, b, x, y = _gather(m, M, P, xtol)
+        w, a, b, x, y = _gather_bn(m, M, P, xtol)
         if w < 0.0:
             return ERR_EMPTY - 100 * j
         if a == -1 and b == -1:
-            s = _choose(m, M, P, w, xtol)
+            s = _choose_bn(m, M, P, w, xtol)
             if s < 0:
                 return ERR_EMPTY - 100 * j
             a, b, w, x, y = P.pa[s], P.pb[s], P.pw[s], P.px[s], P.py[s]
