@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/bench_compile.py [--n 400] [--top 15] [--one-cpu]
+    python benchmarks/bench_compile.py [--n 400] [--top 15] [--one-cpu] [--llvm]
 
 Runs ``uniform2d mesh data/plate_bolts.json -n 400 -o plate.vtu --stats --plot
 plate.png`` (README command 1) in a fresh process whose numba cache is an empty
@@ -17,7 +17,11 @@ function's own compile, without the callees it compiled on the way; the wall
 time the command spent in compiles is printed beside them (it includes waits
 for kernels the warmer was compiling, :mod:`uniform2d.compile_claims`).  Functions compiled more than once (one
 specialisation per argument types) are listed: each extra one is compile time a
-caller could save.  ``--one-cpu`` runs the command on one CPU, where it starts
+caller could save.  ``--llvm`` adds LLVM's share of the command's compile
+(function passes, module passes, machine-code generation: CPU seconds) and the
+lines of IR its module passes optimised against the same with each function
+counted once: numba links a copy of every callee into each caller's module and
+optimises and generates it again there.  ``--one-cpu`` runs the command on one CPU, where it starts
 no second process: the first run as it is without one.  The second process
 starts only if a CPU is idle (``uniform2d/cli/_warmer.py``); on a shared
 machine, ``nice -n -10 python benchmarks/bench_compile.py --ignore-load`` comes
@@ -67,12 +71,47 @@ class Listener(ev.Listener):
             wall[0] += time.perf_counter() - w0
 
 ev.register("numba:compile", Listener())
+llvm = collections.Counter()
+if os.environ.get("BENCH_LLVM"):  # LLVM's share of the compile, and its work on copies
+    import re
+    from llvmlite.binding import newpassmanagers as npm
+    from numba.core import codegen
+
+    def timed(cls, name, key):
+        f = getattr(cls, name)
+        def run(self, *a, **k):
+            t = time.thread_time()
+            try:
+                return f(self, *a, **k)
+            finally:
+                llvm[key] += time.thread_time() - t
+        setattr(cls, name, run)
+
+    timed(npm.FunctionPassManager, "run", "function passes")
+    timed(npm.ModulePassManager, "run", "module passes")
+    timed(codegen.JitEngine, "finalize_object", "machine code")
+    lines, optimise = {}, codegen.CPUCodeLibrary._optimize_final_module
+
+    def counted(self):  # a kernel's module, its callees' copies linked in
+        t = time.thread_time()
+        for m in re.finditer(r'^define [^@]*@"?([^"(]+)"?\(.*?^}', str(self._final_module),
+                             re.S | re.M):
+            n = m.group(0).count("\n")
+            llvm["IR lines optimised"] += n
+            lines[m.group(1)] = max(lines.get(m.group(1), 0), n)
+        llvm["counting"] += time.thread_time() - t
+        optimise(self)
+
+    codegen.CPUCodeLibrary._optimize_final_module = counted
 if os.environ.get("BENCH_IGNORE_LOAD"):  # measure what an idle machine's run does
     import uniform2d.cli._warmer as warmer
     warmer.busy = lambda cpus: False
 from uniform2d.cli.main import main
 code = main(sys.argv[1:])
-json.dump({"code": code, "own": own, "count": count, "compile_wall": wall[0]}, sys.stderr)
+if llvm:
+    llvm["IR lines, each function once"] = sum(lines.values())
+json.dump({"code": code, "own": own, "count": count, "compile_wall": wall[0], "llvm": llvm},
+          sys.stderr)
 """
 
 
@@ -85,15 +124,19 @@ def _one_cpu() -> None:
     os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
 
 
-def first_run(n: int = 400, one_cpu: bool = False, ignore_load: bool = False) -> dict | None:
+def first_run(n: int = 400, one_cpu: bool = False, ignore_load: bool = False,
+              llvm: bool = False) -> dict | None:
     """README command 1 (``mesh -n n``) in a fresh process on an empty numba cache:
-    {"wall", "cpu" (with the warmer's), "code", "own", "count"} (own compile
-    seconds and compilations per function), or None (its stderr printed) if the
-    command's compile record cannot be read."""
+    {"wall", "cpu" (with the warmer's), "code", "own", "count", "llvm"} (own
+    compile seconds and compilations per function; with ``llvm``, LLVM's CPU
+    seconds by stage and the IR lines its module passes optimised), or None (its
+    stderr printed) if the command's compile record cannot be read."""
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache}
         if ignore_load:
             env["BENCH_IGNORE_LOAD"] = "1"
+        if llvm:
+            env["BENCH_LLVM"] = "1"
         cmd = [sys.executable, "-c", CHILD, "mesh", str(ROOT / "data" / "plate_bolts.json"),
                "-n", str(n), "-o", str(Path(out) / "plate.vtu"), "--stats",
                "--plot", str(Path(out) / "plate.png")]
@@ -119,10 +162,14 @@ def main(argv=None) -> int:
     ap.add_argument("--ignore-load", action="store_true",
                     help="start the second compiling process even if the machine's load says "
                     "its CPUs are busy (e.g. under 'nice -n -10' on a shared machine)")
+    ap.add_argument("--llvm", action="store_true",
+                    help="also LLVM's CPU time by stage in the command's process, and how much "
+                    "of the IR it optimised are copies of callees linked into their callers "
+                    "(counting them adds a fraction of a second to the compile figures)")
     args = ap.parse_args(argv)
     if args.one_cpu and not hasattr(os, "sched_setaffinity"):
         ap.error("--one-cpu needs os.sched_setaffinity (Linux)")
-    res = first_run(args.n, one_cpu=args.one_cpu, ignore_load=args.ignore_load)
+    res = first_run(args.n, one_cpu=args.one_cpu, ignore_load=args.ignore_load, llvm=args.llvm)
     if res is None:
         return 1
     wall, cpu = res["wall"], res["cpu"]
@@ -139,6 +186,17 @@ def main(argv=None) -> int:
           "was compiling, and for the CPU on a loaded machine)")
     print("compile per module (s): " + ", ".join(
         f"{m} {t:.1f}" for m, t in sorted(modules.items(), key=lambda kv: -kv[1])))
+    llvm = res.get("llvm") or {}
+    if llvm:
+        stages = ("function passes", "module passes", "machine code")
+        print("LLVM in the command's process: " + ", ".join(f"{k} {llvm.get(k, 0.0):.1f} s"
+                                                             for k in stages)
+              + f" (CPU); counting the IR took {llvm.get('counting', 0.0):.1f} s of the compile")
+        once = llvm.get("IR lines, each function once", 0)
+        total = llvm.get("IR lines optimised", 0)
+        print(f"IR optimised by module passes: {total:,.0f} lines, {once:,.0f} with each function "
+              f"counted once ({total / max(once, 1):.1f}x: callees are linked into every caller "
+              "and optimised and generated again there)")
     print("longest functions:")
     for name, t in sorted(own.items(), key=lambda kv: -kv[1])[: args.top]:
         print(f"  {t:6.2f} s  x{count[name]}  {name}")

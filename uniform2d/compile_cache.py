@@ -76,8 +76,11 @@ def entry_kernels(dispatchers) -> list:
     """The ``dispatchers`` that Python code of uniform2d calls, as far as the
     package's imported modules tell: a kernel a plain function (or method) names,
     directly or as an attribute of a kernel module it imported (``cdt.flip``).
+    Kernels that kernels call by name (:func:`._kernel.external.called_by_name`)
+    count too: their own entries are loaded, not copies in their callers.
     Every other kernel is a callee of kernels, compiled with its callers."""
     from . import _kernel
+    from ._kernel.external import named_kernels
 
     kernel = _kernel.__name__ + "."
     wanted = {id(d): d for d in dispatchers}
@@ -95,6 +98,9 @@ def entry_kernels(dispatchers) -> list:
                 for t in targets:
                     if id(t) in wanted:
                         called[id(t)] = t
+    for d in named_kernels():
+        if id(d) in wanted:
+            called[id(d)] = d
     return list(called.values())
 
 

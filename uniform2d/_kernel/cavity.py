@@ -37,6 +37,7 @@ sites known to lie on a polygon edge split that edge's constraint by index
 
 import numpy as np
 from ._jit import njit
+from .external import called_by_name
 
 from .cdt import (
     ERR_ORIENT, _orient_v, _set_triangle, link_on, locate, locate_scan, new_tag, nxt, prv, reserve,
@@ -299,7 +300,7 @@ def insert_sites(m, idx):
                 m.nv = nv
                 return -(k + 1)
         m.nv = v
-        if insert_point(m, x, y, np.int64(loc), np.int64(-1)) < 0:
+        if _insert_point(m, x, y, np.int64(loc), np.int64(-1)) < 0:
             m.nv = nv
             return -(k + 1)
         t = m.cav[0]
@@ -327,3 +328,6 @@ def split_sites(m, idx, first):
             return -(k + 1)
     m.nv = nv
     return 0
+
+
+_insert_point = called_by_name(insert_point)

@@ -21,9 +21,24 @@ at once) and before any kernel is loaded from numba's cache
 kernel may call any by name; not for the kernels the C functions are made of,
 which call none).  Each is claimed like a kernel
 while a second process fills the same cache (:mod:`uniform2d.compile_claims`).
+
+:func:`called_by_name` does the same for larger kernels of any argument types
+that several compiled kernels call (the Lawson flips behind every insertion,
+the point insertion, INSERT's revalidation): the callee stays a numba kernel
+with its own cache entry, and its callers call its machine code through a
+symbol with numba's own calling convention (status, exceptions and references
+as for a linked call).  The symbol is named from the callee and its argument
+types, the same in every process, so a cached caller finds it once the callee
+is loaded: before any kernel is read from the cache, every kernel called by
+name is loaded (or compiled, if its entry is stale) for every signature it
+was called by name with, listed in the cache beside it.
 """
 
 from __future__ import annotations
+
+import hashlib
+import os
+import pickle
 
 import llvmlite.binding as ll
 from llvmlite import ir
@@ -36,7 +51,7 @@ from numba.core.extending import intrinsic
 
 from ..compile_claims import ClaimedCache, before_load
 
-__all__ = ["compiled_once", "ensure"]
+__all__ = ["called_by_name", "compiled_once", "ensure", "named_kernels"]
 
 _pending: dict = {}  # symbol -> (Python function, argument count): not compiled yet
 _made: dict = {}  # symbol -> its CFunc (kept alive: the symbol points into its code)
@@ -115,3 +130,117 @@ def compiled_once(func, nargs: int):
     else:
         raise ValueError(f"compiled_once takes 6 or 8 arguments, got {nargs}")
     return call
+
+
+
+_named: list = []  # the dispatchers called by name, in the order made (callees first)
+_named_done: dict = {}  # symbol -> the compile result its address points into (kept alive)
+_loading = [False]
+
+
+def _named_symbol(disp, argtys) -> str:
+    # stable across processes (a cached caller names it): not numba's mangled
+    # name, whose version counter depends on the order of compilation
+    digest = hashlib.sha1(str(argtys).encode()).hexdigest()[:16]
+    return f"uniform2d_named_{_symbol(disp.py_func)}_{digest}"
+
+
+def _register(disp, argtys):
+    """Compile (or load) ``disp`` for ``argtys`` and register its symbol."""
+    symbol = _named_symbol(disp, argtys)
+    if symbol not in _named_done:
+        disp.compile(argtys)
+        cres = disp.overloads[argtys]
+        address = cres.library.get_pointer_to_function(cres.fndesc.llvm_func_name)
+        if not address:
+            raise RuntimeError(f"{cres.fndesc.llvm_func_name} has no address")
+        ll.add_symbol(symbol, address)
+        _named_done[symbol] = cres
+        _remember(disp, argtys)
+    return symbol, _named_done[symbol]
+
+
+def _signatures_file(disp):
+    cache = getattr(disp, "_cache", None)
+    path = getattr(cache, "_cache_path", None)
+    return None if path is None else os.path.join(path, f"{_symbol(disp.py_func)}.named.pkl")
+
+
+def _remembered(disp) -> list:
+    """The signatures ``disp`` was called by name with, in this cache: kept
+    apart from its own cache entries, which go stale when it is edited while its
+    cached callers (numba does not look at their callees) still call it."""
+    path = _signatures_file(disp)
+    try:
+        with open(path, "rb") as f:
+            return list(pickle.load(f))
+    except (OSError, TypeError, EOFError, pickle.UnpicklingError):
+        return []
+
+
+def _remember(disp, argtys) -> None:
+    path = _signatures_file(disp)
+    known = _remembered(disp)
+    if path is None or argtys in known:
+        return
+    tmp = f"{path}.{os.getpid()}.tmp"
+    try:
+        with open(tmp, "wb") as f:
+            pickle.dump(known + [argtys], f)
+        os.replace(tmp, path)
+    except OSError:  # an unwritable cache: numba caches nothing there either
+        pass
+
+
+def _load_named(func) -> None:
+    """Before any kernel is read from the cache: every kernel called by name,
+    for every signature in its cache, loaded and its symbol registered (which
+    ones the cached code calls is not known)."""
+    if _loading[0] or func in _below:  # (the C functions' kernels call none by name)
+        return
+    _loading[0] = True
+    try:
+        ensure()  # the kernels called by name may call the C functions
+        with global_compiler_lock:
+            for disp in _named:
+                for argtys in _remembered(disp):
+                    _register(disp, tuple(argtys))
+    finally:
+        _loading[0] = False
+
+
+before_load(_load_named)
+
+
+def named_kernels() -> list:
+    """The kernels :func:`called_by_name` made stubs for (callees first)."""
+    return list(_named)
+
+
+def called_by_name(disp):
+    """The kernel stub calling the kernel ``disp`` (its own compile, cached) by
+    a symbol name with numba's calling convention, rather than linking a copy
+    of it (and of its callees) into every caller."""
+    _named.append(disp)
+    nargs = disp.py_func.__code__.co_argcount
+
+    def typer(typingctx, *args):
+        argtys = tuple(types.unliteral(a) for a in args)
+        symbol, cres = _register(disp, argtys)
+        fndesc = cres.fndesc
+
+        def codegen(context, builder, signature, llargs):
+            fnty = context.call_conv.get_function_type(fndesc.restype, fndesc.argtypes)
+            fn = cgutils.get_or_insert_function(builder.module, fnty, symbol)
+            status, res = context.call_conv.call_function(
+                builder, fn, fndesc.restype, fndesc.argtypes, llargs)
+            with cgutils.if_unlikely(builder, status.is_error):
+                context.call_conv.return_status_propagate(builder, status)
+            return res
+
+        return cres.signature.return_type(*argtys), codegen
+
+    names = ", ".join(f"a{i}" for i in range(nargs))
+    namespace = {"typer": typer}
+    exec(f"def call(typingctx, {names}):\n    return typer(typingctx, {names})\n", namespace)
+    return intrinsic(namespace["call"])

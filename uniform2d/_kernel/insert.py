@@ -57,7 +57,8 @@ from ._jit import njit
 
 from . import heap
 from .borrow import borrowed, settle
-from .cavity import insert_point
+from .cavity import _insert_point
+from .external import called_by_name
 from .cdt import allocate, circumcircle, constrained, locate, locate_scan, nxt, prv, snap
 from .predicates import dot2d
 from .outcomes import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
@@ -376,6 +377,12 @@ def _choose(m, M, P, W, xtol):
             dump_window(P)
 
 
+# called once per step: run holds two calls, not a copy of each one's tree
+# (with the candidates' re-evaluation), which it would optimise and generate again
+_gather_bn = called_by_name(_gather)
+_choose_bn = called_by_name(_choose)
+
+
 @njit(cache=True)
 def run(m, M, P, n, out_xy, out_w, out_b, xtol, snap_d):
     """Insert n points; returns n, or a negative status on failure (:func:`_steps`).
@@ -420,11 +427,11 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
     pv, lo, wx, wy = P.pv, P.lo, P.wx, P.wy
     room = _room(m.stack, M.keys, P.pa, P.sel, pv.keys, lo.e, wx.e, wy.e)
     for j in range(j0, n):
-        w, a, b, x, y = _gather(m, M, P, xtol)
+        w, a, b, x, y = _gather_bn(m, M, P, xtol)
         if w < 0.0:
             return ERR_EMPTY - 100 * j
         if a == -1 and b == -1:
-            s = _choose(m, M, P, w, xtol)
+            s = _choose_bn(m, M, P, w, xtol)
             if s < 0:
                 return ERR_EMPTY - 100 * j
             a, b, w, x, y = P.pa[s], P.pb[s], P.pw[s], P.px[s], P.py[s]
@@ -455,7 +462,7 @@ def _steps(m, M, P, j0, n, out_xy, out_w, out_b, xtol, snap_d):
         out_b[j] = hsplit >= 0
         k = ERR_PRECISION
         if between(m, hsplit, x, y):
-            k = insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
+            k = _insert_point(m, x, y, np.int64(t0), np.int64(hsplit))
         if k < 0:
             k, x, y = insert_nearby(m, x, y, t0, hsplit)
             if k < 0:
@@ -486,3 +493,5 @@ def warm_first_step() -> None:
     triangulation of P and INSERT's queues, then :func:`_gather` around it."""
     m, _ = allocate(4, 4)
     _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
+
+

@@ -11,6 +11,7 @@ import numpy as np
 
 from ._jit import njit
 from .cdt import flip_on, nxt, prv, reserve
+from .external import called_by_name
 from .heap import grown
 from .predicates import incircle
 
@@ -62,7 +63,7 @@ def _lawson(m, todo, sp, tag, k):
     """:func:`legalize_stack`; with ``tag`` >= 0 also appends every rewritten slot
     not yet marked ``tag`` to ``cav`` from ``cav[k]`` on, and returns the new k."""
     # no flip recorded (a negative count): the log argument is never touched
-    return lawson_recorded(m, todo, sp, tag, k, todo, np.int64(-1))[0]
+    return _lawson_recorded(m, todo, sp, tag, k, todo, np.int64(-1))[0]
 
 
 
@@ -187,3 +188,6 @@ def undo_flips(m, undo, nu):
             m.vseg[v] = undo[i + 1]
             m.vcs[v] = undo[i + 2]
             i += 3
+
+
+_lawson_recorded = called_by_name(lawson_recorded)

@@ -11,7 +11,7 @@ point is tried (:func:`insert_nearby`).
 import numpy as np
 
 from ._jit import njit
-from .cavity import insert_point
+from .cavity import _insert_point
 from .cdt import constrained, nxt
 from .outcomes import ERR_PRECISION
 from .predicates import dot2d
@@ -61,7 +61,7 @@ def insert_nearby(m, x, y, t0, hs):
             yn = (Yn - cy) / s
             if not between(m, hs, xn, yn):
                 continue
-            k = insert_point(m, xn, yn, np.int64(t0), np.int64(hs))
+            k = _insert_point(m, xn, yn, np.int64(t0), np.int64(hs))
             if k >= 0:
                 return k, xn, yn
     return ERR_PRECISION, x, y

@@ -22,6 +22,7 @@ GEOS's result fails the exact check.
 
 import numpy as np
 from ._jit import njit
+from .external import called_by_name
 
 from ..errors import InternalError, PLEASE_REPORT
 from .cavity import insert_sites
@@ -163,7 +164,7 @@ def recover_pieces(m, us, vs):
     -(k + 1) if piece k could not be recovered."""
     for k in range(us.shape[0]):
         u, v = us[k], vs[k]
-        if not _recover(m, u, v):
+        if not _recover_bn(m, u, v):
             return -(k + 1)
         h = _out_edge(m, u, v)
         g = m.tw[h]
@@ -215,7 +216,7 @@ def _inside(m, ring_next, nV):
 def _edges_ok(m, ring_next, nV):
     for u in range(nV):
         v = ring_next[u]
-        if v >= 0 and not _recover(m, u, v):
+        if v >= 0 and not _recover_bn(m, u, v):
             return False
     return True
 
@@ -247,3 +248,6 @@ def triangulate(xy: np.ndarray, rings) -> np.ndarray:
             f"exact triangulation: a ring edge could not be recovered {PLEASE_REPORT}")
     tris = triangle_list(m)
     return np.ascontiguousarray(tris[_inside(m, ring_next, nV)], dtype=np.int32)
+
+
+_recover_bn = called_by_name(_recover)

@@ -21,7 +21,7 @@ from ._jit import njit
 
 from .cdt import new_tag, nxt, prv
 from .heap import grown
-from .lawson import UNDO, lawson_recorded, undo_flips
+from .lawson import UNDO, _lawson_recorded, undo_flips
 from .objective import combine
 from .predicates import orient2d
 from .rank import size_at
@@ -419,7 +419,7 @@ def legalize_live(m, moved, todo, alive, slots, undo, nu):
     whether a slot woke: the caller's :func:`dead_part` is then stale; undo;
     the new record count)."""
     todo, sp = suspects(m, moved, todo, alive, slots)
-    k, undo, nu = lawson_recorded(m, todo, sp, new_tag(m), np.int64(0), undo, nu)
+    k, undo, nu = _lawson_recorded(m, todo, sp, new_tag(m), np.int64(0), undo, nu)
     woke = False
     for i in range(k):
         t = m.cav[i]
