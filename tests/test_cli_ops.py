@@ -120,7 +120,7 @@ def test_stale_entries_of_kernels_only_kernels_call_do_not_make_the_cache_cold()
     uniform_mesh(UNIT, 30)  # this checkout's cache holds what the mesh needs
     names = {d.py_func.__qualname__ for d in entry_kernels(_kernel_dispatchers())}
     assert {"run", "push_initial", "to_segments", "legalize_all"} <= names  # called from Python
-    assert not names & {"_gather", "eval_segment", "two_sum", "incircle"}  # only from kernels
+    assert not names & {"_revalidate", "eval_segment", "two_sum", "incircle"}  # only from kernels
     done = subprocess.run([sys.executable, "-c", STALE_CALLEES], capture_output=True, text=True,
                           timeout=300, check=True)
     res = json.loads(done.stdout)
