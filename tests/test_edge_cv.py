@@ -18,6 +18,7 @@ from uniform2d import Polygon
 from uniform2d.io import read_polygon
 from uniform2d.optimize import pipeline
 from uniform2d.optimize.edge_cv import lower_edge_cv
+from uniform2d.optimize.polish import polish_extremes
 from uniform2d.sites import site_edges
 from uniform2d.testing import check_mesh
 from uniform2d.triangulation import triangulate
@@ -117,9 +118,10 @@ def test_nothing_to_move_gives_the_input_back():
     assert np.array_equal(p2, pts) and np.array_equal(t2, tri)
 
 
-def test_no_iterations_gives_the_input_back():
+@pytest.mark.parametrize("stage", [lower_edge_cv, polish_extremes])
+def test_no_iterations_gives_the_input_back(stage):
     pts, tri, edges = jittered(SQUARE, 0.25, seed=1)
-    p2, t2, info = lower_edge_cv(SQUARE, pts, tri, edges, iterations=0)
+    p2, t2, info = stage(SQUARE, pts, tri, edges, iterations=0)
     assert not info["kept"]
     assert np.array_equal(p2, pts) and np.array_equal(t2, tri)
 

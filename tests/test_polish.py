@@ -95,13 +95,6 @@ def test_nothing_to_gain_gives_the_input_back():
     assert np.array_equal(p2, pts) and np.array_equal(t2, tri)
 
 
-def test_no_iterations_gives_the_input_back():
-    pts, tri, edges = jittered(SQUARE, 0.25, seed=1)
-    p2, t2, info = polish_extremes(SQUARE, pts, tri, edges, iterations=0)
-    assert not info["kept"]
-    assert np.array_equal(p2, pts) and np.array_equal(t2, tri)
-
-
 
 def test_uniform_mesh_polishes_small_meshes(monkeypatch):
     # the optimiser's last stage for meshes of up to POLISH_MAX points is polish_mesh's

@@ -35,8 +35,7 @@ import numpy as np
 
 from ..geometry import unique_edges
 from ..polygon import Polygon
-from ..quality import quality
-from .polish import accumulate, corner_angles
+from .polish import accumulate, corner_angles, measured
 from .schedule import SMALL
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
@@ -151,11 +150,6 @@ def _held_variables(polygon: Polygon, X0, eid, scale, held):
     return x_all[moving], unpack, pull
 
 
-def _measures(points, triangles):
-    q = quality(points, triangles)
-    return q.edge_ratio, q.longest_edge, q.max_perimeter, q.cv_edge, q.min_angle
-
-
 def lower_edge_cv(polygon: Polygon, points, triangles, edges, *, iterations: int = ITERATIONS):
     """Lower the edge CV of a uniform mesh, its extremes and worst angle held (see the module).
 
@@ -197,7 +191,7 @@ def lower_edge_cv(polygon: Polygon, points, triangles, edges, *, iterations: int
     X0 = np.array(points, dtype=np.float64)
     T0 = np.array(triangles, dtype=np.int64)
     eid = np.array(edges, dtype=np.int64)
-    before = _measures(X0, T0)
+    before = measured(X0, T0)
     info = {"kept": False, "before": before, "after": before}
     if iterations <= 0:
         return X0, T0, info
@@ -209,7 +203,7 @@ def lower_edge_cv(polygon: Polygon, points, triangles, edges, *, iterations: int
     if moved is None:
         return X0, T0, info
     P2, T2 = moved
-    after = _measures(P2, T2)
+    after = measured(P2, T2)
     if after[3] < before[3] and all(a <= b for a, b in zip(after[:3], before[:3])) \
             and after[4] >= before[4]:
         info.update(kept=True, after=after)

@@ -33,7 +33,7 @@ from ..quality import quality
 from ..sites import site_edges
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
-__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "accumulate", "corner_angles",
+__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "accumulate", "corner_angles", "measured",
            "polish_extremes", "polish_mesh"]
 
 #: Meshes of up to POLISH_MAX points get the polish in
@@ -147,7 +147,9 @@ def _problem(polygon: Polygon, X0, T0, eid):
     return fun, x0, unpack
 
 
-def _measures(points, triangles):
+def measured(points, triangles) -> tuple:
+    """(edge ratio, longest edge, largest perimeter, edge CV, worst angle) of a
+    mesh: what the polish and the CV stage hold or lower."""
     q = quality(points, triangles)
     return q.edge_ratio, q.longest_edge, q.max_perimeter, q.cv_edge, q.min_angle
 
@@ -192,7 +194,7 @@ def polish_extremes(polygon: Polygon, points, triangles, edges, *, iterations: i
     X0 = np.array(points, dtype=np.float64)
     T0 = np.array(triangles, dtype=np.int64)
     eid = np.array(edges, dtype=np.int64)
-    before = _measures(X0, T0)
+    before = measured(X0, T0)
     info = {"kept": False, "before": before, "after": before}
     if iterations <= 0:
         return X0, T0, info
@@ -203,7 +205,7 @@ def polish_extremes(polygon: Polygon, points, triangles, edges, *, iterations: i
     if moved is None:
         return X0, T0, info
     P2, T2 = moved
-    after = _measures(P2, T2)
+    after = measured(P2, T2)
     no_worse = all(a <= b for a, b in zip(after[:4], before[:4])) and after[4] >= before[4]
     if no_worse and any(a < b for a, b in zip(after[:3], before[:3])):
         info.update(kept=True, after=after)
