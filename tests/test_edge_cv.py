@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import shapely
 
 import uniform2d
+from support.jittered_mesh import jittered, measures
 from uniform2d import Polygon
 from uniform2d.io import read_polygon
 from uniform2d.optimize import pipeline
@@ -26,31 +26,6 @@ from uniform2d.triangulation import triangulate
 DATA = Path(__file__).resolve().parents[1] / "data" / "benchmarks"
 LSHAPE = Polygon([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)])
 SQUARE = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
-
-
-def jittered(polygon: Polygon, h: float, seed: int = 0):
-    """A mesh of ``polygon`` (no holes) from a jittered grid of spacing ``h``, its boundary
-    split evenly: (points, triangles, the polygon edge of every site)."""
-    rng = np.random.default_rng(seed)
-    x0, y0, x1, y1 = polygon.bounds
-    xs, ys = np.meshgrid(np.arange(x0 + h / 2, x1, h), np.arange(y0 + h / 2, y1, h))
-    grid = np.c_[xs.ravel(), ys.ravel()] + rng.uniform(-0.2 * h, 0.2 * h, (xs.size, 2))
-    inner = polygon.to_shapely().buffer(-0.3 * h)
-    keep = shapely.contains_xy(inner, grid[:, 0], grid[:, 1])
-    V = polygon.vertices
-    on_edges = []
-    for a, b in zip(V, np.roll(V, -1, axis=0)):
-        k = int(round(np.hypot(*(b - a)) / h))
-        on_edges += [a + (b - a) * t for t in np.arange(1, k) / k]
-    sites = np.vstack([grid[keep], on_edges])
-    _, edges = site_edges(polygon, sites)
-    points, triangles = triangulate(polygon, sites, edges)
-    return points, triangles, edges
-
-
-def measures(points, triangles):
-    q = uniform2d.quality(points, triangles)
-    return q.edge_ratio, q.longest_edge, q.max_perimeter, q.cv_edge, q.min_angle
 
 
 def assert_better_cv(polygon, pts, tri, edges, p2, t2, info):
