@@ -15,7 +15,7 @@ import uniform2d as u
 import uniform2d.ring_relocate as ring_relocate
 from uniform2d.geometry import unique_edges
 from uniform2d.optimize import optimize_mesh
-from uniform2d.ring_relocate import CV_SLACK, relocated
+from uniform2d.ring_relocate import ANGLE_SLACK, CV_SLACK, relocated
 from uniform2d.testing import check_mesh
 from uniform2d.uniform import NEAR_TIE, resampled_outline
 
@@ -58,6 +58,7 @@ def test_india_chords_relocated_to_ratio_2():
     q2 = m2.quality()
     assert q2.edge_ratio < q.edge_ratio and q2.edge_ratio <= 2
     assert q2.cv_edge <= (1 + CV_SLACK) * q.cv_edge
+    assert q2.min_angle >= (1 - ANGLE_SLACK) * q.min_angle
     E2, _ = _edges(m2)
     assert not ((E2[:, 0] == min(a, b)) & (E2[:, 1] == max(a, b))).any()  # the chord is gone
 
@@ -84,5 +85,21 @@ def test_ratio_of_2_or_less_left_alone():
     p = u.read_polygon(OUTLINES / "iceland.json")  # as given (no edge too short): 1.51
     m = u.uniform_mesh(p, 500, resample=TOL)
     assert m.quality().edge_ratio <= 2 and m.info["resample"]["relocated"] == 0
+    m2, moves = relocated(m)
+    assert moves == 0 and m2 is m
+
+
+def test_a_flat_triangle_is_not_traded_for_a_lower_ratio(monkeypatch):
+    # Australia, corners merged: six moves lower the ratio (2.253 -> 2.236) and
+    # the CV, but leave a triangle of 18 degrees where the worst was 32
+    p = u.read_polygon(OUTLINES / "australia.json")
+    res, left = resampled_outline(p, N, resample=TOL, resample_corners="merge")
+    m = optimize_mesh(res.polygon, left, near_tie=NEAR_TIE)
+    q = m.quality()
+    monkeypatch.setattr(ring_relocate, "ANGLE_SLACK", 1.0)  # any worst angle
+    loose, moves = relocated(m)
+    assert moves > 0 and loose.quality().edge_ratio < q.edge_ratio
+    assert loose.quality().min_angle < (1 - ANGLE_SLACK) * q.min_angle  # the case
+    monkeypatch.undo()
     m2, moves = relocated(m)
     assert moves == 0 and m2 is m

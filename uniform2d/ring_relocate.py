@@ -13,7 +13,9 @@ relaxed again, kept if the objective improves) do exactly that, but the
 optimiser runs them on meshes of up to ``schedule.RELOCATE_MAX`` points
 only.  :func:`relocated` runs them on a resampled mesh whose edge ratio is
 above :data:`~uniform2d.ring_split.SPLIT_RATIO`, and keeps the result only
-if its edge ratio is lower and its edge CV at most :data:`CV_SLACK` higher.
+if its edge ratio is lower, its edge CV at most :data:`CV_SLACK` higher and
+its worst angle at most :data:`ANGLE_SLACK` lower (a move into one corner
+can leave a flat triangle in another).
 The points are as many (n stays exact) and the polygon is the same.
 """
 
@@ -30,7 +32,7 @@ from .ring_split import SPLIT_RATIO
 from .sites import site_edges
 from .validity import ensure_valid
 
-__all__ = ["CV_SLACK", "TRIES", "relocated"]
+__all__ = ["ANGLE_SLACK", "CV_SLACK", "TRIES", "relocated"]
 
 log = logging.getLogger(__name__)
 
@@ -40,13 +42,16 @@ TRIES = 30
 #: The relocated mesh is kept if its edge ratio is lower and its edge CV at
 #: most this fraction higher than the mesh's.
 CV_SLACK = 0.01
+#: ... and its worst angle at most this fraction lower.
+ANGLE_SLACK = 0.1
 
 
 def relocated(mesh: Mesh, objective: str = "balanced") -> tuple[Mesh, int]:
     """(mesh, relocation moves kept): ``mesh`` (a uniform mesh of a resampled
     outline, ``mesh.info["h"]`` its target size) with relocation moves where
     its edge ratio is above ``SPLIT_RATIO``; the input and 0 unless the moved
-    mesh's edge ratio is lower and its CV at most ``CV_SLACK`` higher.
+    mesh's edge ratio is lower, its CV at most ``CV_SLACK`` higher and its worst
+    angle at most ``ANGLE_SLACK`` lower.
 
     Examples
     --------
@@ -69,7 +74,8 @@ def relocated(mesh: Mesh, objective: str = "balanced") -> tuple[Mesh, int]:
     if not kept:
         return mesh, 0
     q2 = quality(pts, tri)
-    if not (q2.edge_ratio < q.edge_ratio and q2.cv_edge <= (1 + CV_SLACK) * q.cv_edge):
+    if not (q2.edge_ratio < q.edge_ratio and q2.cv_edge <= (1 + CV_SLACK) * q.cv_edge
+            and q2.min_angle >= (1 - ANGLE_SLACK) * q.min_angle):
         return mesh, 0
     ensure_valid(pts, tri, polygon, mesh.n_steiner, "uniform_mesh (relocation)")
     log.info("resampled mesh: %d relocation move(s), edge ratio %.4g -> %.4g, CV %.4g -> %.4g",

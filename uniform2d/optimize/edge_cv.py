@@ -33,9 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import unique_edges
 from ..polygon import Polygon
-from .polish import accumulate, corner_angles, measured
+from .polish import accumulate, corner_angles, measured, mesh_parts
 from .schedule import SMALL
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
@@ -74,15 +73,7 @@ NEAR_ANGLE = 0.1
 def _problem(polygon: Polygon, X0, T0, eid):
     """(``fun(x)`` with gradient, start, unpack) of :func:`lower_edge_cv`."""
     N = len(X0)
-    E = unique_edges(T0, N)
-    key = E[:, 0] * N + E[:, 1]
-
-    def edge_of(i, j):
-        return np.searchsorted(key, np.minimum(i, j) * N + np.maximum(i, j))
-
-    TE = np.stack([edge_of(T0[:, k], T0[:, (k + 1) % 3]) for k in range(3)], axis=1)
-    C = np.concatenate([T0[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
-    L0 = np.hypot(*(X0[E[:, 1]] - X0[E[:, 0]]).T)
+    E, TE, C, L0 = mesh_parts(X0, T0)
     lo, hi, top = L0.min(), L0.max(), L0[TE].sum(axis=1).max()
     lmin, lcap, pcap = lo * (1 + LENGTH_MARGIN), hi * (1 - LENGTH_MARGIN), top * (1 - LENGTH_MARGIN)
     cv2 = (L0.std() / L0.mean()) ** 2

@@ -33,7 +33,7 @@ from ..quality import quality
 from ..sites import site_edges
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
-__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "accumulate", "corner_angles", "measured",
+__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "accumulate", "corner_angles", "measured", "mesh_parts",
            "polish_extremes", "polish_mesh"]
 
 #: Meshes of up to POLISH_MAX points get the polish in
@@ -89,18 +89,27 @@ def accumulate(N: int, index, g):
     return np.stack([np.bincount(index, g[:, 0], N), np.bincount(index, g[:, 1], N)], axis=1)
 
 
-def _problem(polygon: Polygon, X0, T0, eid):
-    """(``fun(x, beta)`` with gradient, start, unpack) of :func:`polish_extremes`."""
-    N = len(X0)
-    E = unique_edges(T0, N)
+def mesh_parts(X, T):
+    """The parts the polish and the CV stage build their objectives from: the
+    mesh's edges E (K, 2) (:func:`uniform2d.geometry.unique_edges`), the edge of
+    every triangle side TE (M, 3), the corners C (3M, 3) (each triangle three
+    times, turned so that each point comes first once) and the edge lengths (K,)."""
+    N = len(X)
+    E = unique_edges(T, N)
     key = E[:, 0] * N + E[:, 1]
 
     def edge_of(i, j):
         return np.searchsorted(key, np.minimum(i, j) * N + np.maximum(i, j))
 
-    TE = np.stack([edge_of(T0[:, k], T0[:, (k + 1) % 3]) for k in range(3)], axis=1)
-    C = np.concatenate([T0[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
-    L0 = np.hypot(*(X0[E[:, 1]] - X0[E[:, 0]]).T)
+    TE = np.stack([edge_of(T[:, k], T[:, (k + 1) % 3]) for k in range(3)], axis=1)
+    C = np.concatenate([T[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
+    return E, TE, C, np.hypot(*(X[E[:, 1]] - X[E[:, 0]]).T)
+
+
+def _problem(polygon: Polygon, X0, T0, eid):
+    """(``fun(x, beta)`` with gradient, start, unpack) of :func:`polish_extremes`."""
+    N = len(X0)
+    E, TE, C, L0 = mesh_parts(X0, T0)
     lmax, lmin, pmax = L0.max(), L0.min() * (1 + LENGTH_MARGIN), L0[TE].sum(axis=1).max()
     lcap, pcap = lmax * (1 - LENGTH_MARGIN), pmax * (1 - LENGTH_MARGIN)
     cv2 = (L0.std() / L0.mean() * (1 - CV_MARGIN)) ** 2
