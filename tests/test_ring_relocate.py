@@ -15,7 +15,8 @@ import uniform2d as u
 import uniform2d.ring_relocate as ring_relocate
 from uniform2d.geometry import unique_edges
 from uniform2d.optimize import optimize_mesh
-from uniform2d.ring_relocate import ANGLE_SLACK, CV_SLACK, relocated
+from uniform2d.ring_relocate import CV_SLACK, relocated
+from uniform2d.ring_split import ANGLE_SLACK
 from uniform2d.testing import check_mesh
 from uniform2d.uniform import NEAR_TIE, resampled_outline
 

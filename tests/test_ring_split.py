@@ -15,7 +15,7 @@ import uniform2d.ring_relocate as ring_relocate
 import uniform2d.uniform as uniform_module
 from uniform2d.optimize import optimize_mesh
 from uniform2d.outline import resample_polygon
-from uniform2d.ring_split import CV_SLACK, edges_to_halve, halve_edges
+from uniform2d.ring_split import ANGLE_SLACK, CV_SLACK, edges_to_halve, halve_edges
 from uniform2d.testing import check_mesh
 from uniform2d.uniform import resampled_outline
 
@@ -105,8 +105,19 @@ def test_resampled_mesh_halves_where_it_lowers_the_ratio(monkeypatch):
     if r["halved_edges"]:  # kept only if better: lower ratio, CV within the slack
         q, q0 = m.quality(), first.quality()
         assert q.edge_ratio < q0.edge_ratio and q.cv_edge <= (1 + CV_SLACK) * q0.cv_edge
+        assert q.min_angle >= (1 - ANGLE_SLACK) * q0.min_angle
         assert len(m.polygon.vertices) == len(first.polygon.vertices) + r["halved_edges"]
         assert _ring_sets_equal(first.polygon, m.polygon)
     else:
         assert np.array_equal(m.points, first.points)
     assert r["halved_edges"]  # Brazil at n = 2000: the case the rule was made for
+
+
+def test_halving_is_not_kept_at_the_cost_of_the_worst_angle(monkeypatch):
+    # Brazil at n = 2000 halves ring edges (above); asking for a worst angle twice
+    # the first mesh's, no second mesh can be kept
+    p = u.read_polygon(OUTLINES / "brazil.json")
+    monkeypatch.setattr(ring_relocate, "SPLIT_RATIO", np.inf)  # relocation off: halving alone
+    monkeypatch.setattr(uniform_module, "ANGLE_SLACK", -1.0)
+    m = u.uniform_mesh(p, 2000, resample=0.25)
+    assert m.info["resample"]["halved_edges"] == 0

@@ -14,8 +14,8 @@ optimiser runs them on meshes of up to ``schedule.RELOCATE_MAX`` points
 only.  :func:`relocated` runs them on a resampled mesh whose edge ratio is
 above :data:`~uniform2d.ring_split.SPLIT_RATIO`, and keeps the result only
 if its edge ratio is lower, its edge CV at most :data:`CV_SLACK` higher and
-its worst angle at most :data:`ANGLE_SLACK` lower (a move into one corner
-can leave a flat triangle in another).
+its worst angle at most :data:`~uniform2d.ring_split.ANGLE_SLACK` lower (a
+move into one corner can leave a flat triangle in another).
 The points are as many (n stays exact) and the polygon is the same.
 """
 
@@ -28,11 +28,11 @@ import numpy as np
 from .mesh import Mesh
 from .optimize.relocate import relocate
 from .quality import quality
-from .ring_split import SPLIT_RATIO
+from .ring_split import ANGLE_SLACK, SPLIT_RATIO
 from .sites import site_edges
 from .validity import ensure_valid
 
-__all__ = ["ANGLE_SLACK", "CV_SLACK", "TRIES", "relocated"]
+__all__ = ["CV_SLACK", "TRIES", "relocated"]
 
 log = logging.getLogger(__name__)
 
@@ -42,8 +42,6 @@ TRIES = 30
 #: The relocated mesh is kept if its edge ratio is lower and its edge CV at
 #: most this fraction higher than the mesh's.
 CV_SLACK = 0.01
-#: ... and its worst angle at most this fraction lower.
-ANGLE_SLACK = 0.1
 
 
 def relocated(mesh: Mesh, objective: str = "balanced") -> tuple[Mesh, int]:

@@ -14,7 +14,8 @@ deviation from the outline, the kept vertices and the corners are unchanged,
 and the new points count in n like every boundary point the resampling placed.
 :func:`uniform2d.uniform_mesh` with ``resample`` meshes again with them halved
 where its first mesh's ratio is above :data:`SPLIT_RATIO` and keeps the mesh
-with the lower edge ratio (its CV at most :data:`CV_SLACK` higher).
+with the lower edge ratio (its CV at most :data:`CV_SLACK` higher, its worst
+angle at most :data:`ANGLE_SLACK` lower).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import numpy as np
 from .geometry import unique_edges
 from .polygon import Polygon
 
-__all__ = ["CV_SLACK", "SPLIT_RATIO", "edges_to_halve", "halve_edges"]
+__all__ = ["ANGLE_SLACK", "CV_SLACK", "SPLIT_RATIO", "edges_to_halve", "halve_edges"]
 
 #: A second mesh is tried where the first has an edge ratio above this, and the
 #: mesh's mean edge over its shortest ring edge (a bound on the ratio) is at most it.
@@ -34,6 +35,9 @@ SPLIT_RATIO = 2.0
 #: The second mesh is kept if its edge ratio is lower and its edge CV at most this
 #: fraction higher than the first's.
 CV_SLACK = 0.05
+#: ... and its worst angle at most this fraction lower (for every second mesh
+#: the resampled path makes: a lower ratio is no gain with a flat triangle).
+ANGLE_SLACK = 0.1
 
 
 def edges_to_halve(polygon: Polygon, points, triangles) -> np.ndarray:
