@@ -34,9 +34,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..polygon import Polygon
-from .polish import accumulate, corner_angles, measured, mesh_parts
+from .polish import accumulate, corner_angles, kept_if, measured, mesh_parts
 from .schedule import SMALL
-from .variance import areas, lbfgs, retriangulated, sliding_variables
+from .variance import areas, lbfgs, sliding_variables
 
 __all__ = ["ITERATIONS", "PENALTY", "CV_STAGE_MIN", "CV_STAGE_MAX", "lower_edge_cv"]
 
@@ -190,13 +190,10 @@ def lower_edge_cv(polygon: Polygon, points, triangles, edges, *, iterations: int
     if not len(x):  # every point held
         return X0, T0, info
     x, _ = lbfgs(fun, x, iterations)
-    moved = retriangulated(polygon, unpack(x), T0, eid)
-    if moved is None:
-        return X0, T0, info
-    P2, T2 = moved
-    after = measured(P2, T2)
-    if after[3] < before[3] and all(a <= b for a, b in zip(after[:3], before[:3])) \
-            and after[4] >= before[4]:
-        info.update(kept=True, after=after)
-        return P2, T2, info
-    return X0, T0, info
+    return kept_if(polygon, X0, T0, eid, unpack(x), info, _better)
+
+
+def _better(after, before) -> bool:
+    """The edge CV lower, and none of the other measures worse."""
+    return after[3] < before[3] and all(a <= b for a, b in zip(after[:3], before[:3])) \
+        and after[4] >= before[4]

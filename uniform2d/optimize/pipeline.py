@@ -122,42 +122,34 @@ def _fitted(polygon: Polygon, pts, tri, edges, q):
     return pts, tri, q, fitted
 
 
-def _polished(polygon: Polygon, pts, tri, edges, q):
-    """The chosen mesh after :func:`~uniform2d.optimize.polish.polish_extremes`
-    where it has at most ``POLISH_MAX`` points, checked if it moved: (points,
-    triangles, quality, whether it moved)."""
-    if len(pts) > POLISH_MAX:
-        return pts, tri, q, False
-    pts, tri, made = polish_extremes(polygon, pts, tri, edges)
+def _held_stage(stage, polygon: Polygon, pts, tri, edges, q, what: str):
+    """The chosen mesh after ``stage`` (:func:`~uniform2d.optimize.polish.polish_extremes`
+    or :func:`~uniform2d.optimize.edge_cv.lower_edge_cv`: the points move with the
+    triangulation held, the result kept only if better), checked if it moved:
+    (points, triangles, quality, whether it moved)."""
+    pts, tri, made = stage(polygon, pts, tri, edges)
     if made["kept"]:
-        log.info("uniform: polished (edge ratio %.4g -> %.4g, largest perimeter %.4g -> %.4g)",
-                 made["before"][0], made["after"][0], made["before"][2], made["after"][2])
-        ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
-        q = quality(pts, tri)
-    return pts, tri, q, made["kept"]
-
-
-def _cv_lowered(polygon: Polygon, pts, tri, edges, q):
-    """The chosen mesh after :func:`~uniform2d.optimize.edge_cv.lower_edge_cv`
-    where it has more than ``CV_STAGE_MIN`` and at most ``CV_STAGE_MAX`` points,
-    checked if it moved: (points, triangles, quality, whether it moved)."""
-    if not CV_STAGE_MIN < len(pts) <= CV_STAGE_MAX:
-        return pts, tri, q, False
-    pts, tri, made = lower_edge_cv(polygon, pts, tri, edges)
-    if made["kept"]:
-        log.info("uniform: edge CV lowered (%.4g -> %.4g)", made["before"][3], made["after"][3])
+        log.info("uniform: %s (edge ratio, longest edge, largest perimeter, edge CV, worst "
+                 "angle: %s -> %s)", what, *(", ".join(f"{v:.4g}" for v in made[k])
+                                             for k in ("before", "after")))
         ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
         q = quality(pts, tri)
     return pts, tri, q, made["kept"]
 
 
 def _last_stages(polygon: Polygon, pts, tri, edges, q):
-    """The chosen mesh after the angle fit (:func:`_fitted`), the polish
-    (:func:`_polished`) and the CV stage (:func:`_cv_lowered`):
-    (points, triangles, quality, angle-fit rounds, polished, CV lowered)."""
+    """The chosen mesh after the angle fit (:func:`_fitted`), the polish (up to
+    ``POLISH_MAX`` points) and the CV stage (more than ``CV_STAGE_MIN`` and up
+    to ``CV_STAGE_MAX`` points): (points, triangles, quality, angle-fit rounds,
+    polished, CV lowered)."""
     pts, tri, q, fitted = _fitted(polygon, pts, tri, edges, q)
-    pts, tri, q, polished = _polished(polygon, pts, tri, edges, q)
-    pts, tri, q, lowered = _cv_lowered(polygon, pts, tri, edges, q)
+    n, polished, lowered = len(pts), False, False
+    if n <= POLISH_MAX:
+        pts, tri, q, polished = _held_stage(polish_extremes, polygon, pts, tri, edges, q,
+                                            "polished")
+    if CV_STAGE_MIN < n <= CV_STAGE_MAX:
+        pts, tri, q, lowered = _held_stage(lower_edge_cv, polygon, pts, tri, edges, q,
+                                           "edge CV lowered")
     return pts, tri, q, fitted, polished, lowered
 
 

@@ -33,7 +33,7 @@ from ..quality import quality
 from ..sites import site_edges
 from .variance import areas, lbfgs, retriangulated, sliding_variables
 
-__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "accumulate", "corner_angles", "measured", "mesh_parts",
+__all__ = ["BETAS", "ITERATIONS", "PENALTY", "POLISH_MAX", "accumulate", "corner_angles", "kept_if", "measured", "mesh_parts",
            "polish_extremes", "polish_mesh"]
 
 #: Meshes of up to POLISH_MAX points get the polish in
@@ -210,16 +210,27 @@ def polish_extremes(polygon: Polygon, points, triangles, edges, *, iterations: i
     fun, x, unpack = _problem(polygon, X0, T0, eid)
     for beta in BETAS:
         x, _ = lbfgs(lambda y, b=beta: fun(y, b), x, iterations)
-    moved = retriangulated(polygon, unpack(x), T0, eid)
+    return kept_if(polygon, X0, T0, eid, unpack(x), info, _better)
+
+
+def _better(after, before) -> bool:
+    """No measure worse, and one of ratio, longest edge, largest perimeter lower."""
+    no_worse = all(a <= b for a, b in zip(after[:4], before[:4])) and after[4] >= before[4]
+    return no_worse and any(a < b for a, b in zip(after[:3], before[:3]))
+
+
+def kept_if(polygon: Polygon, X0, T0, eid, X, info: dict, better) -> tuple:
+    """(points, triangles, info) after a stage that moved the points ``X0`` of
+    the mesh ``T0`` to ``X``: the exact constrained Delaunay triangulation of
+    ``X`` if ``better(after, before)`` on :func:`measured`'s tuples (``info``
+    then says ``kept`` and ``after``), else the input as it was."""
+    moved = retriangulated(polygon, X, T0, eid)
     if moved is None:
         return X0, T0, info
-    P2, T2 = moved
-    after = measured(P2, T2)
-    no_worse = all(a <= b for a, b in zip(after[:4], before[:4])) and after[4] >= before[4]
-    if no_worse and any(a < b for a, b in zip(after[:3], before[:3])):
-        info.update(kept=True, after=after)
-        return P2, T2, info
-    return X0, T0, info
+    after = measured(*moved)
+    if not better(after, info["before"]):
+        return X0, T0, info
+    return moved[0], moved[1], {**info, "kept": True, "after": after}
 
 
 def polish_mesh(mesh: Mesh, *, iterations: int = ITERATIONS) -> Mesh:
