@@ -13,6 +13,7 @@ import shapely
 
 import uniform2d as u
 import uniform2d.ring_relocate as ring_relocate
+import uniform2d.ring_split as ring_split
 from uniform2d.geometry import unique_edges
 from uniform2d.optimize import optimize_mesh
 from uniform2d.ring_relocate import CV_SLACK, relocated
@@ -97,7 +98,7 @@ def test_a_flat_triangle_is_not_traded_for_a_lower_ratio(monkeypatch):
     res, left = resampled_outline(p, N, resample=TOL, resample_corners="merge")
     m = optimize_mesh(res.polygon, left, near_tie=NEAR_TIE)
     q = m.quality()
-    monkeypatch.setattr(ring_relocate, "ANGLE_SLACK", 1.0)  # any worst angle
+    monkeypatch.setattr(ring_split, "ANGLE_SLACK", 1.0)  # any worst angle
     loose, moves = relocated(m)
     assert moves > 0 and loose.quality().edge_ratio < q.edge_ratio
     assert loose.quality().min_angle < (1 - ANGLE_SLACK) * q.min_angle  # the case

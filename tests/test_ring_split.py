@@ -12,6 +12,7 @@ import shapely
 
 import uniform2d as u
 import uniform2d.ring_relocate as ring_relocate
+import uniform2d.ring_split as ring_split
 import uniform2d.uniform as uniform_module
 from uniform2d.optimize import optimize_mesh
 from uniform2d.outline import resample_polygon
@@ -118,6 +119,6 @@ def test_halving_is_not_kept_at_the_cost_of_the_worst_angle(monkeypatch):
     # the first mesh's, no second mesh can be kept
     p = u.read_polygon(OUTLINES / "brazil.json")
     monkeypatch.setattr(ring_relocate, "SPLIT_RATIO", np.inf)  # relocation off: halving alone
-    monkeypatch.setattr(uniform_module, "ANGLE_SLACK", -1.0)
+    monkeypatch.setattr(ring_split, "ANGLE_SLACK", -1.0)
     m = u.uniform_mesh(p, 2000, resample=0.25)
     assert m.info["resample"]["halved_edges"] == 0

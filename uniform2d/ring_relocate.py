@@ -28,7 +28,7 @@ import numpy as np
 from .mesh import Mesh
 from .optimize.relocate import relocate
 from .quality import quality
-from .ring_split import ANGLE_SLACK, SPLIT_RATIO
+from .ring_split import SPLIT_RATIO, better_mesh
 from .sites import site_edges
 from .validity import ensure_valid
 
@@ -72,8 +72,7 @@ def relocated(mesh: Mesh, objective: str = "balanced") -> tuple[Mesh, int]:
     if not kept:
         return mesh, 0
     q2 = quality(pts, tri)
-    if not (q2.edge_ratio < q.edge_ratio and q2.cv_edge <= (1 + CV_SLACK) * q.cv_edge
-            and q2.min_angle >= (1 - ANGLE_SLACK) * q.min_angle):
+    if not better_mesh(q2, q, CV_SLACK):
         return mesh, 0
     ensure_valid(pts, tri, polygon, mesh.n_steiner, "uniform_mesh (relocation)")
     log.info("resampled mesh: %d relocation move(s), edge ratio %.4g -> %.4g, CV %.4g -> %.4g",

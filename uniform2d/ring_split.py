@@ -27,7 +27,7 @@ import numpy as np
 from .geometry import unique_edges
 from .polygon import Polygon
 
-__all__ = ["ANGLE_SLACK", "CV_SLACK", "SPLIT_RATIO", "edges_to_halve", "halve_edges"]
+__all__ = ["ANGLE_SLACK", "CV_SLACK", "SPLIT_RATIO", "better_mesh", "edges_to_halve", "halve_edges"]
 
 #: A second mesh is tried where the first has an edge ratio above this, and the
 #: mesh's mean edge over its shortest ring edge (a bound on the ratio) is at most it.
@@ -38,6 +38,15 @@ CV_SLACK = 0.05
 #: ... and its worst angle at most this fraction lower (for every second mesh
 #: the resampled path makes: a lower ratio is no gain with a flat triangle).
 ANGLE_SLACK = 0.1
+
+
+def better_mesh(q_new, q_old, cv_slack: float = CV_SLACK) -> bool:
+    """Whether a second mesh of a resampled outline (quality ``q_new``,
+    :class:`uniform2d.quality_result.Quality`) replaces the first (``q_old``):
+    its edge ratio lower, its edge CV at most ``cv_slack`` higher and its worst
+    angle at most :data:`ANGLE_SLACK` lower."""
+    return (q_new.edge_ratio < q_old.edge_ratio and q_new.cv_edge <= (1 + cv_slack) * q_old.cv_edge
+            and q_new.min_angle >= (1 - ANGLE_SLACK) * q_old.min_angle)
 
 
 def edges_to_halve(polygon: Polygon, points, triangles) -> np.ndarray:

@@ -28,7 +28,7 @@ from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
 from .ring_relocate import relocated
-from .ring_split import ANGLE_SLACK, CV_SLACK, SPLIT_RATIO, edges_to_halve, halve_edges
+from .ring_split import SPLIT_RATIO, better_mesh, edges_to_halve, halve_edges
 
 __all__ = ["uniform_mesh", "steiner_count_for_size", "resampled_outline"]
 
@@ -211,9 +211,8 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
 
 def _halved(res, left, mesh, objective):
     """(res, left, mesh, edges halved): the mesh again with the ring edges
-    :func:`uniform2d.ring_split.edges_to_halve` names halved, if its edge ratio
-    is lower, its CV at most :data:`~uniform2d.ring_split.CV_SLACK` higher and its
-    worst angle at most :data:`~uniform2d.ring_split.ANGLE_SLACK` lower;
+    :func:`uniform2d.ring_split.edges_to_halve` names halved, if it is the
+    better one (:func:`uniform2d.ring_split.better_mesh`);
     tried only where the first mesh's ratio is above ``SPLIT_RATIO`` and the
     shortest ring edge allows one that low."""
     q = mesh.quality()
@@ -228,8 +227,7 @@ def _halved(res, left, mesh, objective):
     left2 = left - len(pairs)
     mesh2 = optimize_mesh(res2.polygon, left2, objective=objective, near_tie=NEAR_TIE)
     q2 = mesh2.quality()
-    if q2.edge_ratio < q.edge_ratio and q2.cv_edge <= (1 + CV_SLACK) * q.cv_edge \
-            and q2.min_angle >= (1 - ANGLE_SLACK) * q.min_angle:
+    if better_mesh(q2, q):
         log.info("resampled outline: %d ring edges halved, edge ratio %.4g (%.4g with them whole)",
                  len(pairs), q2.edge_ratio, q.edge_ratio)
         return res2, left2, mesh2, len(pairs)
