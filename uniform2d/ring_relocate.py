@@ -26,6 +26,7 @@ import logging
 import numpy as np
 
 from .mesh import Mesh
+from .optimize.pipeline import quality_summary
 from .optimize.relocate import relocate
 from .quality import quality
 from .ring_split import SPLIT_RATIO, better_mesh
@@ -77,7 +78,5 @@ def relocated(mesh: Mesh, objective: str = "balanced") -> tuple[Mesh, int]:
     ensure_valid(pts, tri, polygon, mesh.n_steiner, "uniform_mesh (relocation)")
     log.info("resampled mesh: %d relocation move(s), edge ratio %.4g -> %.4g, CV %.4g -> %.4g",
              kept, q.edge_ratio, q2.edge_ratio, q.cv_edge, q2.cv_edge)
-    after = {"edge_ratio": q2.edge_ratio, "longest_edge": q2.longest_edge,
-             "max_perimeter": q2.max_perimeter, "cv_edge": q2.cv_edge,
-             "min_angle": q2.min_angle}
-    return Mesh(pts, tri, polygon, mesh.n_steiner, {**mesh.info, "after": after}), kept
+    return Mesh(pts, tri, polygon, mesh.n_steiner,
+                {**mesh.info, "after": quality_summary(q2)}), kept

@@ -30,7 +30,7 @@ from .shift import shift_worst
 from .edge_cv import CV_STAGE_MAX, CV_STAGE_MIN, lower_edge_cv
 from .transition import SMALL_PIECE
 
-__all__ = ["optimize_mesh"]
+__all__ = ["optimize_mesh", "quality_summary"]
 
 log = logging.getLogger(__name__)
 
@@ -210,7 +210,7 @@ def _reporter(progress):
 def _reference(polygon: Polygon, n: int, start):
     """(T+'s info or None, its quality or None, d_n) to compare the optimised mesh with.
 
-    Only T+'s measures are compared and reported (:func:`_summary`), not its
+    Only T+'s measures are compared and reported (:func:`quality_summary`), not its
     bounds; a T+ made here is not kept (at 1e6 points its arrays would stand
     through the whole optimisation): the rare fallback makes it again
     (:func:`_tplus_again`)."""
@@ -297,7 +297,9 @@ def _kept(v_new, v_tp, q_new, q_tp, near_tie: float, info: dict) -> bool:
     return False
 
 
-def _summary(q):
+def quality_summary(q) -> dict | None:
+    """The five measures of a :class:`~uniform2d.quality_result.Quality` that
+    ``info["before"]`` and ``info["after"]`` report (None for None)."""
     if q is None:
         return None
     return {
@@ -395,9 +397,9 @@ def optimize_mesh(
         "polished": polished,
         "cv_lowered": cv_lowered,
         "start": (None if tp_info is None
-                  else {"method": tp_info.get("method"), **_summary(q_tp), "objective": v_tp}),
-        "before": _summary(q_tp),
-        "after": _summary(q_new),
+                  else {"method": tp_info.get("method"), **quality_summary(q_tp), "objective": v_tp}),
+        "before": quality_summary(q_tp),
+        "after": quality_summary(q_new),
         "objective_value": v_new,
     }
     if not _kept(v_new, v_tp, q_new, q_tp, near_tie, info) or len(pts) != nV + n:
@@ -405,7 +407,7 @@ def optimize_mesh(
             raise InternalError(
                 f"uniform: {len(pts) - nV} Steiner points instead of {n} {PLEASE_REPORT}")
         info["fallback"] = "tplus"
-        info["after"] = _summary(q_tp)
+        info["after"] = quality_summary(q_tp)
         info["objective_value"] = v_tp
         log.info("uniform: optimised mesh (%g) not better than T+ (%g); returning T+", v_new, v_tp)
         tp = _tplus_again(polygon, n, start)
