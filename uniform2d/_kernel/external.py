@@ -132,7 +132,6 @@ def compiled_once(func, nargs: int):
     return call
 
 
-
 _named: list = []  # the dispatchers called by name, in the order made (callees first)
 _named_done: dict = {}  # symbol -> the compile result its address points into (kept alive)
 _loading = [False]
