@@ -172,6 +172,10 @@ def test_only_for_exactly_n_points_and_simple_polygons():
     assert "lattice" in dict(m.quality().edge_ratio_bound.terms)
     q = quality(m.points, m.triangles, HEXAGON, n_steiner=m.n_steiner + 3, d_n=False)
     assert "lattice" not in dict(q.edge_ratio_bound.terms)
+    # a point no triangle uses: the triangulation has one point fewer
+    extra = np.vstack([m.points, [[0.01, 0.02]]])
+    q = quality(extra, m.triangles, HEXAGON, d_n=False)
+    assert "lattice" not in dict(q.edge_ratio_bound.terms)
     assert lattice_ratio_floor(Polygon(HEXAGON.outer, [0.3 * regular(6).outer[::-1]]), 60) is None
     assert lattice_ratio_floor(regular(4), 60) is None      # 90 deg corners: 1.307 already
     assert lattice_ratio_floor(regular(12), 60) is None     # more edges than MAX_EDGES

@@ -133,17 +133,18 @@ def _split_floor(L, A: float, N: int, cap: float, ks, budget: list):
     free = [e for e in range(E) if e not in (i, j)]
     r = free[0]
     a_top = int(cap * L[r] * math.sqrt(2.0 * N * math.sqrt(3.0) / (4.0 * A))) + 1
+
+    def window(a_r):
+        return [np.arange(a_r, a_r + 1)] + [
+            np.arange(max(1, math.floor(a_r * L[e] / (L[r] * cap))),
+                      math.ceil(a_r * L[e] * cap / L[r]) + 1) for e in free[1:]]
+
+    budget[0] -= sum(math.prod(len(x) for x in window(a_r)) for a_r in range(1, a_top + 1))
+    if budget[0] < 0:  # counted before any is enumerated: a refusal costs nothing
+        return None
     best = cap
     for a_r in range(1, a_top + 1):
-        ranges = [np.arange(a_r, a_r + 1)]
-        for e in free[1:]:
-            lo = max(1, math.floor(a_r * L[e] / (L[r] * cap)))
-            hi = math.ceil(a_r * L[e] * cap / L[r])
-            ranges.append(np.arange(lo, hi + 1))
-        size = math.prod(len(x) for x in ranges)
-        budget[0] -= size
-        if budget[0] < 0:
-            return None
+        ranges = window(a_r)
         grid = np.stack([g.ravel() for g in np.meshgrid(*ranges, indexing="ij")], axis=1)
         S = grid @ D[free]
         sol = -(S @ inv.T)  # rows: (a_i, a_j)

@@ -16,6 +16,8 @@ from __future__ import annotations
 import logging
 import math
 
+import numpy as np
+
 from .bounds import BOUND_SLACK, Term, is_convex, lower_bound_terms
 from .errors import InvalidArgumentError
 from .insert import min_distance_after
@@ -202,7 +204,7 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     terms = lower_bound_terms(poly, n, dn)
     if len(pts) == len(poly.vertices) + n:  # the lattice term: exactly n Steiner points
         lattice = lattice_ratio_floor(poly, n)
-        if lattice is not None:
+        if lattice is not None and len(np.unique(tri)) == len(pts):  # all in the triangles
             terms["edge_ratio"].append(lattice)
     return Quality(
         **fields,
