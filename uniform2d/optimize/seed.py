@@ -16,7 +16,7 @@ from .._kernel.distance import to_segments
 from ..geometry import is_vertex, polygon_edges
 from ..polygon import Polygon
 from . import schedule
-from .boundary import boundary_counts, boundary_points
+from .boundary import boundary_counts, boundary_points, target_size
 from .lattice import Fit, seed_interior
 from .rows import boundary_rows
 from .transition import with_transition
@@ -36,8 +36,10 @@ def variants(polygon: Polygon, n: int):
     (:func:`boundary_rows`); up to ``schedule.LARGE`` points the
     ``schedule.SPACINGS_MEDIUM`` with rows; beyond, where a start costs most,
     one start.  Meshes of more than ``schedule.STRIPS_MIN`` and up to
-    ``schedule.SMALL`` points add *strip starts* last: ``schedule.STRIP_DEPTHS``
-    rows along every edge (the third item is then that depth, an int).
+    ``schedule.SMALL`` points of a polygon without holes, segments or fixed
+    points, whose edges are ``schedule.STRIP_PIECES`` target sizes long on
+    average, add *strip starts* last: ``schedule.STRIP_DEPTHS`` rows along every
+    edge (the third item is then that depth, an int).
     """
     _, d, L = polygon_edges(polygon)
     first = int(np.argmax(L))
@@ -50,7 +52,9 @@ def variants(polygon: Polygon, n: int):
     strips = []
     if n + len(polygon.vertices) <= schedule.SMALL:
         spacings, layers = schedule.SPACINGS, schedule.LAYERED
-        if schedule.STRIPS_MIN < n + len(polygon.vertices):
+        if schedule.STRIPS_MIN < n + len(polygon.vertices) and not polygon.n_holes \
+                and not polygon.has_constraints and polygon.perimeter \
+                >= schedule.STRIP_PIECES * len(polygon.vertices) * target_size(polygon, n):
             strips = [(c, e, depth) for depth in schedule.STRIP_DEPTHS for e in edges
                       for c in schedule.STRIP_SPACINGS]
     else:
