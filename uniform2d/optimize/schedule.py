@@ -102,9 +102,13 @@ LAYERED_LARGE = True
 #: worth their time (n = 300: 1.084 / 1.126 / 1.064 -> 1.077 / 1.123 / 1.063).
 STRIPS_MIN = 1200
 #: ... and only where P's edges are at least STRIP_PIECES target sizes long on
-#: average (the benchmark polygons' are 17-39 at 1200 points): a resampled
-#: outline or a surface chart, edges of a piece or two, has no strip to lay.
-STRIP_PIECES = 8
+#: average (the benchmark polygons' are 16.7-39 at 1200 points): a resampled
+#: outline or a surface chart, edges of a piece or two, has no strip to lay,
+#: and on the real outlines (data/outlines, 9-11 at 2000 points) the strips
+#: did not win but changed which of the other starts did (the more starts,
+#: the more go on after each trial): Japan at n = 2000, edge ratio 1.42 ->
+#: 1.44 and worst angle 42.1 -> 40.8 degrees.
+STRIP_PIECES = 16
 STRIP_DEPTHS = (2, 3)
 STRIP_SPACINGS = (1.0,)
 #: Successive halving over the starts (:func:`uniform2d.optimize.moves.improve_best`):
