@@ -16,9 +16,12 @@ from __future__ import annotations
 import logging
 import math
 
+import numpy as np
+
 from .bounds import BOUND_SLACK, Term, is_convex, lower_bound_terms
 from .errors import InvalidArgumentError
 from .insert import min_distance_after
+from .lattice_bound import lattice_ratio_floor
 from .measures import as_points, as_triangles, mesh_measures
 from .polygon import Polygon, as_polygon
 from .quality_result import Bound, Quality
@@ -133,7 +136,10 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     most n further points; each is the largest of its terms
     (:func:`uniform2d.bounds.lower_bound_terms`), lowered by a relative
     :data:`BOUND_SLACK` (1e-9) so that rounding cannot lift it above the true
-    value, and ``Bound.term`` names the active one.  The terms and their proofs,
+    value, and ``Bound.term`` names the active one.  One edge-ratio term,
+    ``lattice`` (:func:`uniform2d.lattice_bound.lattice_ratio_floor`), holds
+    for exactly n further points and is used only for a mesh with exactly
+    |V| + n points.  The terms and their proofs,
     with interior segments and fixed points too, are in the user guide,
     ``docs/guide.md``, section 6 ("The quality report and its certificates").
 
@@ -196,6 +202,10 @@ def quality(points, triangles, polygon=None, *, n_steiner=None, d_n=None, bins=2
     convex = is_convex(poly)
     dn = _checked_d_n(d_n, poly, n, convex)
     terms = lower_bound_terms(poly, n, dn)
+    if len(pts) == len(poly.vertices) + n:  # the lattice term: exactly n Steiner points
+        lattice = lattice_ratio_floor(poly, n)
+        if lattice is not None and len(np.unique(tri)) == len(pts):  # all in the triangles
+            terms["edge_ratio"].append(lattice)
     return Quality(
         **fields,
         n_steiner=n,

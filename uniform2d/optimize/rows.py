@@ -24,25 +24,28 @@ __all__ = ["boundary_rows", "corner_fans", "keep_clear", "FAN_CAP"]
 FAN_CAP = 1.5
 
 
-def boundary_rows(polygon: Polygon, m: np.ndarray, h: float) -> np.ndarray:
+def boundary_rows(polygon: Polygon, m: np.ndarray, h: float, depth: int = 1) -> np.ndarray:
     """One row of points along every polygon edge and segment piece (m[e] pieces
     of each of :attr:`~uniform2d.Polygon.constraint_edges`): above the middle of
     each piece, at the apex of the equilateral triangle on it, inside P for a
     ring edge and on both sides for a segment piece (P is on both), after the
     corners' fans (:func:`corner_fans`), keeping only those clear of the
     constraint edges and fixed points and of the points before them (the fans
-    win at corners)."""
+    win at corners).  ``depth`` > 1: as many rows, each staggered by half a
+    piece from the one below and the equilateral height above it (a strip of
+    near-equilateral triangles along every edge), kept after the first."""
     a, d, L = polygon_edges(polygon, constraints=True)
     rows, gaps = corner_fans(polygon, L / m, h)
     n_ring = len(polygon.edges)
-    for e in range(len(L)):
-        g = L[e] / m[e]
-        nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: into P on every ring
-        s = (np.arange(m[e]) + 0.5) / m[e]
-        mid = a[e] + d[e] * s[:, None]
-        for side in (1.0,) if e < n_ring else (1.0, -1.0):
-            rows.append(mid + side * nrm * g * math.sqrt(3) / 2)
-            gaps.append(np.full(m[e], g))
+    for layer in range(1, depth + 1):
+        for e in range(len(L)):
+            g = L[e] / m[e]
+            nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: into P on every ring
+            s = ((np.arange(m[e]) + 0.5) if layer % 2 else np.arange(1, m[e])) / m[e]
+            mid = a[e] + d[e] * s[:, None]
+            for side in (1.0,) if e < n_ring else (1.0, -1.0):
+                rows.append(mid + side * nrm * g * math.sqrt(3) / 2 * layer)
+                gaps.append(np.full(len(s), g))
     R, G = np.concatenate(rows), np.concatenate(gaps)
     shp = polygon.to_shapely()
     ok = shapely.contains_xy(shp, R[:, 0], R[:, 1])

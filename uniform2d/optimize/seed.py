@@ -16,7 +16,7 @@ from .._kernel.distance import to_segments
 from ..geometry import is_vertex, polygon_edges
 from ..polygon import Polygon
 from . import schedule
-from .boundary import boundary_counts, boundary_points
+from .boundary import boundary_counts, boundary_points, target_size
 from .lattice import Fit, seed_interior
 from .rows import boundary_rows
 from .transition import with_transition
@@ -35,7 +35,11 @@ def variants(polygon: Polygon, n: int):
     ``schedule.SPACINGS``, with and without a row of points on every edge
     (:func:`boundary_rows`); up to ``schedule.LARGE`` points the
     ``schedule.SPACINGS_MEDIUM`` with rows; beyond, where a start costs most,
-    one start.
+    one start.  Meshes of more than ``schedule.STRIPS_MIN`` and up to
+    ``schedule.SMALL`` points of a polygon without holes, segments or fixed
+    points, whose edges are ``schedule.STRIP_PIECES`` target sizes long on
+    average, add *strip starts* last: ``schedule.STRIP_DEPTHS`` rows along every
+    edge (the third item is then that depth, an int).
     """
     _, d, L = polygon_edges(polygon)
     first = int(np.argmax(L))
@@ -45,11 +49,17 @@ def variants(polygon: Polygon, n: int):
     off = np.abs((ang - ang[first] + 30.0) % 60.0 - 30.0)
     other = [e for e in np.lexsort((np.arange(len(L)), -L)) if off[e] > 5.0]
     edges = [first] + ([int(other[0])] if other else [])
+    strips = []
     if n + len(polygon.vertices) <= schedule.SMALL:
         spacings, layers = schedule.SPACINGS, schedule.LAYERED
+        if schedule.STRIPS_MIN < n + len(polygon.vertices) and not polygon.n_holes \
+                and not polygon.has_constraints and polygon.perimeter \
+                >= schedule.STRIP_PIECES * len(polygon.vertices) * target_size(polygon, n):
+            strips = [(c, e, depth) for depth in schedule.STRIP_DEPTHS for e in edges
+                      for c in schedule.STRIP_SPACINGS]
     else:
         spacings, layers = schedule.SPACINGS_MEDIUM, schedule.LAYERED_MEDIUM
-    return [(c, e, lay) for lay in layers for e in edges for c in spacings]
+    return [(c, e, lay) for lay in layers for e in edges for c in spacings] + strips
 
 
 def start_parts(polygon: Polygon, n: int, h: float, spacing: float, layered: bool,
@@ -64,7 +74,7 @@ def start_parts(polygon: Polygon, n: int, h: float, spacing: float, layered: boo
     if polygon.has_constraints:
         keep = ~is_vertex(polygon, bpts)
         bpts, beid = bpts[keep], beid[keep]
-    rows = boundary_rows(polygon, m, spacing * h) if layered else None
+    rows = boundary_rows(polygon, m, spacing * h, depth=int(layered)) if layered else None
     held = None
     if transition:
         held, rows = with_transition(polygon, m, h, rows)
