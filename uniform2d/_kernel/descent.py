@@ -154,10 +154,12 @@ def _measure_weights(m, role, movable_short, hv, href, k, objective, slots, aliv
         Ls, ss, per, tgt = triangle_terms(xy, tv, hv, href, t)
         for i in range(3):
             h = 3 * t + i
-            ell = Ls[i] / ss[i]
-            lmax = max(lmax, ell)
-            lmin = min(lmin, ell)
-            if counted(tw, alive, h):  # each edge once
+            # each edge once: a twin's length and target are the same bits
+            # (its differences negated, its sum commuted), so the extremes too
+            if counted(tw, alive, h):
+                ell = Ls[i] / ss[i]
+                lmax = max(lmax, ell)
+                lmin = min(lmin, ell)
                 q = _pw(ell, k)
                 s_len += q
                 # an edge no move can change (both ends fixed: a short polygon
