@@ -47,9 +47,13 @@ def _edge_energy(ell, s, k, p, w_len, w_short, want):
 
 
 @njit(cache=True, borrowed=True)
-def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
+def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want, cap=np.inf):
     """The cached star's share of the energy with v at (x, y) (see :func:`gather`);
-    its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths."""
+    its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths.
+    Without ``want`` the sum stops as soon as it reaches ``cap`` (the line
+    search's bar): every term is >= 0 and a float sum of such terms never
+    decreases, so the whole share would not be below ``cap`` either; the value
+    returned is then only known to be >= ``cap``."""
     p = 2.0**k
     E = 0.0
     gx = 0.0
@@ -61,6 +65,8 @@ def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
         L[i] = Li
         e, d = _edge_energy(Li / SP[i, 2], SP[i, 2], k, p, w_len, w_short, want)
         E += e
+        if not want and E >= cap:
+            return E
         if want:
             gx += d * dx / Li
             gy += d * dy / Li
@@ -71,6 +77,8 @@ def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want):
             pi = (L[j] + L[i] + TR[j, 0]) / tgt
             q = _pw(pi, k)
             E += w_per * q
+            if not want and E >= cap:
+                return E
             if want:
                 d = w_per * p * q / (pi * tgt)
                 gx += d * ((x - SP[j, 0]) / L[j] + (x - SP[i, 0]) / L[i])
@@ -146,10 +154,12 @@ def _measure_weights(m, role, movable_short, hv, href, k, objective, slots, aliv
         Ls, ss, per, tgt = triangle_terms(xy, tv, hv, href, t)
         for i in range(3):
             h = 3 * t + i
-            ell = Ls[i] / ss[i]
-            lmax = max(lmax, ell)
-            lmin = min(lmin, ell)
-            if counted(tw, alive, h):  # each edge once
+            # each edge once: a twin's length and target are the same bits
+            # (its differences negated, its sum commuted), so the extremes too
+            if counted(tw, alive, h):
+                ell = Ls[i] / ss[i]
+                lmax = max(lmax, ell)
+                lmin = min(lmin, ell)
                 q = _pw(ell, k)
                 s_len += q
                 # an edge no move can change (both ends fixed: a short polygon
@@ -181,7 +191,8 @@ def _line_search(grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, 
         x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
         x, y = snap_to(grid[0], grid[1], grid[2], x, y)
         if star_ok(x, y, x0, y0, ns, nt, SP, floor):
-            E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, np.bool_(False))
+            E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, np.bool_(False),
+                              E0)
             if E1 < E0:
                 return True, x, y, tt, st
         st *= 0.5

@@ -39,14 +39,19 @@ def _frame(bounds, spacing: float, angle: float, origin) -> tuple:
     the columns and rows of the lattice of :func:`hex_lattice` that can reach
     ``bounds`` (a margin of two steps for the half-step shift of odd rows and
     for rounding)."""
-    xmin, ymin, xmax, ymax = bounds
+    xmin, ymin, xmax, ymax = (float(b) for b in bounds)
     dy = spacing * math.sqrt(3.0) / 2
     c, s = math.cos(angle), math.sin(angle)
-    X = np.array([xmin, xmax, xmax, xmin]) - origin[0]
-    Y = np.array([ymin, ymin, ymax, ymax]) - origin[1]
-    U, V = c * X + s * Y, -s * X + c * Y
-    j0, j1 = math.floor(V.min() / dy) - 2, math.ceil(V.max() / dy) + 2
-    i0, i1 = math.floor(U.min() / spacing) - 2, math.ceil(U.max() / spacing) + 2
+    ox, oy = float(origin[0]), float(origin[1])
+    # the box's four corners in the lattice's frame, in plain floats: the
+    # same operations as numpy's, element by element (the starts' spacing
+    # search calls this some 100 times a mesh, where numpy's overhead told)
+    corners = [(xmin - ox, ymin - oy), (xmax - ox, ymin - oy), (xmax - ox, ymax - oy),
+               (xmin - ox, ymax - oy)]
+    U = [c * X + s * Y for X, Y in corners]
+    V = [-s * X + c * Y for X, Y in corners]
+    j0, j1 = math.floor(min(V) / dy) - 2, math.ceil(max(V) / dy) + 2
+    i0, i1 = math.floor(min(U) / spacing) - 2, math.ceil(max(U) / spacing) + 2
     return dy, c, s, i0, i1, j0, j1
 
 
