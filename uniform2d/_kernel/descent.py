@@ -47,7 +47,7 @@ def _edge_energy(ell, s, k, p, w_len, w_short, want):
 
 
 @njit(cache=True, borrowed=True)
-def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want, cap=np.inf):
+def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want, cap):
     """The cached star's share of the energy with v at (x, y) (see :func:`gather`);
     its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths.
     Without ``want`` the sum stops as soon as it reaches ``cap`` (the line
@@ -219,7 +219,8 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
         x0 = xy[v, 0]
         y0 = xy[v, 1]
         ns, nt = gather(xy, tv, tw, v, h0, hv, href, SP, TR)
-        E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, np.bool_(True))
+        E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, np.bool_(True),
+                          np.inf)
         emax = max(emax, E0)
         if E0 < floor:
             active[v] = False
