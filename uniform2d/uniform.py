@@ -27,6 +27,7 @@ from .outline import (
 from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
+from .ring_nudge import nudged
 from .ring_relocate import relocated
 from .ring_split import SPLIT_RATIO, better_mesh, edges_to_halve, halve_edges
 
@@ -200,13 +201,14 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
              res.deviation / res.spacing, res.spacing)
     tie = NEAR_TIE if res.resampled else 0.0  # as given: the mesh without resample
     mesh = optimize_mesh(res.polygon, left, objective=objective, progress=progress, near_tie=tie)
-    split = moves = 0
+    split = moves = nudge = 0
     if res.resampled:
         res, left, mesh, split = _halved(res, left, mesh, objective)
         mesh, moves = relocated(mesh, objective)
+        res, mesh, nudge = nudged(polygon, res, mesh, objective)
     return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                 {**mesh.info, "resample": {**res.info(), "n": n_total, "halved_edges": split,
-                                           "relocated": moves}})
+                                           "relocated": moves, "nudged": nudge}})
 
 
 def _halved(res, left, mesh, objective):
