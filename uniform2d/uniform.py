@@ -116,8 +116,10 @@ def uniform_mesh(
     replace them count in n (they are slid along the outline to even out the ring
     edges, within the tolerance: :mod:`uniform2d.ring_slide`); where the mesh's
     edge ratio is above 2, whole ring edges that set its longest edge are halved
-    (:mod:`uniform2d.ring_split`) and points relocated into corners with one
-    triangle (:mod:`uniform2d.ring_relocate`), each kept only if the ratio drops.
+    (:mod:`uniform2d.ring_split`), points relocated into corners with one
+    triangle (:mod:`uniform2d.ring_relocate`) and ring points at the ends of
+    its too-short edges moved off them within the tolerance, the mesh relaxed
+    there (:mod:`uniform2d.ring_nudge`), each kept only if the ratio drops.
     ``resample_corners="merge"`` lets a corner with a ring point less than 0.6
     spacings away merge with it into one point on the outline between them where
     the tolerance still holds (:mod:`uniform2d.corner_merge`: that corner is then
