@@ -32,6 +32,8 @@ lower: first every such end at once, then one at a time (a move that did not
 help is not tried again), at most :data:`TRIES` times.  The polygon has as
 many vertices, the kept ones do not move, and n stays exact; the deviation
 reported is the larger of the resampling's and the moved edges' bound.
+Where a move was kept, :func:`uniform2d.uniform_mesh` runs the relocation
+moves (:mod:`uniform2d.ring_relocate`) once more.
 """
 
 from __future__ import annotations

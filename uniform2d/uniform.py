@@ -208,6 +208,9 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
         res, left, mesh, split = _halved(res, left, mesh, objective)
         mesh, moves = relocated(mesh, objective)
         res, mesh, nudge = nudged(polygon, res, mesh, objective)
+        if nudge:  # the moved rings may leave chords relocation can break now
+            mesh, more = relocated(mesh, objective)
+            moves += more
     return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                 {**mesh.info, "resample": {**res.info(), "n": n_total, "halved_edges": split,
                                            "relocated": moves, "nudged": nudge}})
