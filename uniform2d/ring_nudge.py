@@ -43,6 +43,7 @@ import logging
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 from .errors import InvalidPolygonError
 from .geometry import boundary_edges, point_segment_distance, unique_edges
@@ -108,20 +109,35 @@ def band_bound(outline, ring, k: int, window: float, limit: float, dense=None) -
     True
     """
     r = len(ring)
-    line = shapely.LinearRing(outline)
+    X = ring[k]
+    reach = window + limit  # a part of either farther than this from X is no nearest within limit
     t = np.arange(_SAMPLES + 1) / _SAMPLES
     out = 0.0
-    for a, b in ((ring[k - 1], ring[k]), (ring[k], ring[(k + 1) % r])):
+    A, B = _near_segments(outline, X, reach)
+    for a, b in ((ring[k - 1], X), (X, ring[(k + 1) % r])):
         Z = a[None, :] + t[:, None] * (b - a)[None, :]
-        d = shapely.distance(shapely.points(Z), line)
-        out = max(out, float(d.max()) + 0.5 * float(np.hypot(*(b - a))) / _SAMPLES)
-    step = _DENSE * limit
-    dense = _dense(line, limit) if dense is None else dense
-    near = dense[np.hypot(*(dense - ring[k]).T) <= window]
+        out = max(out, _farthest(Z, A, B) + 0.5 * float(np.hypot(*(b - a))) / _SAMPLES)
+    dense = _dense(shapely.LinearRing(outline), limit) if dense is None else dense
+    near = dense[np.hypot(*(dense - X).T) <= window]
     if len(near):
-        d = shapely.distance(shapely.points(near), shapely.LinearRing(ring))
-        out = max(out, float(d.max()) + 0.5 * step)
+        out = max(out, _farthest(near, *_near_segments(ring, X, reach)) + 0.5 * _DENSE * limit)
     return out
+
+
+def _near_segments(ring, X, reach: float):
+    """The edges (A, B) of a closed ring within ``reach`` of point X."""
+    A, B = ring, np.roll(ring, -1, axis=0)
+    near = point_segment_distance(np.broadcast_to(X, A.shape), A, B) <= reach
+    return A[near], B[near]
+
+
+def _farthest(Z, A, B) -> float:
+    """The largest, over points Z, of the distance to the nearest segment A B (inf if none)."""
+    if not len(A):
+        return np.inf
+    d = point_segment_distance(np.repeat(Z, len(A), axis=0), np.tile(A, (len(Z), 1)),
+                               np.tile(B, (len(Z), 1)))
+    return float(d.reshape(len(Z), -1).min(axis=1).max())
 
 
 def _dense(line, limit: float) -> np.ndarray:
@@ -302,7 +318,7 @@ def relaxed(old: Polygon, new: Polygon, mesh, objective: str = "balanced", wide:
         L = np.hypot(*(mesh.points[E[:, 1]] - mesh.points[E[:, 0]]).T)
         centres.append(now[np.unique(E[L < 0.5 * L.max()])])
     C0 = np.concatenate(centres)
-    near = np.hypot(*(sites[:, None, :] - C0[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+    near = cKDTree(C0).query(sites)[0] if len(C0) else np.full(len(sites), np.inf)
     h = mesh.info["h"]
     pts, tri, _ = improve_kept(new, sites, objective=objective, href=h, frozen=near > RADIUS * h,
                                edges=edges, **RELOCATE)
