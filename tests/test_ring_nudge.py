@@ -66,6 +66,21 @@ def test_short_edge_lengthened_within_the_tolerance():
     assert not moved2 and rings2[0].tobytes() == res.polygon.outer.tobytes()
 
 
+def test_kept_points_never_move():
+    # vertex 1 kept (a corner, a fixed point or a segment end: res.kept says so): only
+    # the other end of the short edge moves; both kept: nothing moves
+    sq, res = _sample_step()
+    P, T = triangulate(res.polygon, [(1.5, 1.5)])
+    one = Resampled(res.polygon, np.array([1, 1, 0, 1, 1, 1], bool), 1.0, 0.25, 0.0, 4)
+    rings, moved, dev, _ = nudge_rings(sq, one, P, T, 0.25)
+    assert [m[0] for m in moved] == [2]
+    assert rings[0][[0, 1, 3, 4, 5]].tobytes() == res.polygon.vertices[[0, 1, 3, 4, 5]].tobytes()
+    assert np.hypot(*(rings[0][2] - rings[0][1])) > 0.45 and dev <= 0.25
+    both = Resampled(res.polygon, np.ones(6, bool), 1.0, 0.25, 0.0, 4)
+    rings, moved, _, _ = nudge_rings(sq, both, P, T, 0.25)
+    assert not moved and rings[0].tobytes() == res.polygon.outer.tobytes()
+
+
 def test_relaxed_carries_the_mesh_to_the_moved_polygon():
     old = u.Polygon([(0, 0), (1, 0), (2, 0), (2, 2), (0, 2)])
     m = u.uniform_mesh(old, 30)
