@@ -269,11 +269,13 @@ def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
 
 
 def _valid(poly: Polygon, rings, ri: int, R) -> bool:
+    """Whether the rings with ring ``ri`` replaced by ``R`` make a valid polygon with
+    ``poly``'s constraints and as many vertices (no segment end spliced into a ring)."""
     try:
-        _rebuild(poly, [R if i == ri else g for i, g in enumerate(rings)])
-    except InvalidPolygonError:
+        new = _rebuild(poly, [R if i == ri else g for i, g in enumerate(rings)])
+    except InvalidPolygonError:  # InvalidConstraintError too
         return False
-    return True
+    return len(new.vertices) == len(poly.vertices)
 
 
 def _rebuild(poly: Polygon, rings) -> Polygon:
