@@ -49,6 +49,7 @@ import shapely
 
 import _checkout  # noqa: F401  (measure this checkout, not an installed uniform2d)
 import uniform2d as u
+from uniform2d.geometry import boundary_edges, unique_edges
 from uniform2d.outline_band import feature_width
 from uniform2d.peers import gmsh_peer
 
@@ -89,6 +90,34 @@ def narrow(polygon: u.Polygon, h: float) -> dict:
             "width_at": at}
 
 
+def shortest_kind(mesh: u.Mesh) -> str:
+    """What the mesh's shortest edge is: a ring edge (or a piece of one the mesher
+    split), a chord between two ring points across a tip (the ring vertex between
+    them, and its angle), an edge across a narrow feature (between two boundary
+    points farther apart along the ring), or an interior edge."""
+    P, T, poly = mesh.points, mesh.triangles, mesh.polygon
+    E = unique_edges(T, len(P))
+    a, b = E[int(np.argmin(np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)))]
+    nV = len(poly.vertices)
+    B = boundary_edges(T, len(P))
+    if ((np.minimum(B[:, 0], B[:, 1]) == a) & (np.maximum(B[:, 0], B[:, 1]) == b)).any():
+        return "a ring edge" + (" piece (the mesher split it)" if b >= nV else "")
+    if not np.isin([a, b], B).all():
+        return "an interior edge"
+    off = poly.ring_offsets
+    ra, rb = np.searchsorted(off, [a, b], side="right") - 1
+    if b < poly.n_ring_vertices and ra == rb:
+        k = off[ra + 1] - off[ra]
+        i, j = a - off[ra], b - off[ra]
+        if (j - i) % k in (2, k - 2):
+            m = off[ra] + ((i + 1) % k if (j - i) % k == 2 else (j + 1) % k)
+            u1, v1 = P[a] - P[m], P[b] - P[m]
+            angle = np.degrees(np.arccos(np.clip(u1 @ v1 / np.hypot(*u1) / np.hypot(*v1), -1, 1)))
+            return f"a chord across a tip of {angle:.0f} degrees"
+    return "an edge across a narrow feature" + (" to a point the mesher put on a ring edge"
+                                                if b >= nV else "")
+
+
 def run_one(name, p, n, tol, gmsh: bool, paper: bool = True, merge: bool = True) -> list[dict]:
     rows = []
     if paper:
@@ -103,7 +132,8 @@ def run_one(name, p, n, tol, gmsh: bool, paper: bool = True, merge: bool = True)
     h = info["spacing"]
     assert len(r.points) == info["kept_vertices"] + n
     rows.append({"mode": "resample", **measures(r.points, r.triangles, dt),
-                 "dev": hausdorff(p, r.polygon) / h, "h": h, **narrow(r.polygon, h)})
+                 "dev": hausdorff(p, r.polygon) / h, "h": h, **narrow(r.polygon, h),
+                 "kind": shortest_kind(r)})
     if merge:  # resample_corners="merge": corners next to a short ring edge merged
         t = time.perf_counter()
         r2 = u.uniform_mesh(p, n, resample=tol, resample_corners="merge")
@@ -111,7 +141,8 @@ def run_one(name, p, n, tol, gmsh: bool, paper: bool = True, merge: bool = True)
         h2 = r2.info["resample"]["spacing"]
         assert len(r2.points) == r2.info["resample"]["kept_vertices"] + n
         rows.append({"mode": "rs-merge", **measures(r2.points, r2.triangles, dt),
-                     "dev": hausdorff(p, r2.polygon) / h2, "h": h2, **narrow(r2.polygon, h2)})
+                     "dev": hausdorff(p, r2.polygon) / h2, "h": h2, **narrow(r2.polygon, h2),
+                     "kind": shortest_kind(r2)})
     if gmsh:
         for mode, poly, count in (("gmsh", p, len(p.vertices) + n),
                                   ("gmsh-rs", r.polygon, len(r.points))):
@@ -185,7 +216,7 @@ def why(rows) -> None:
             cause = f"the mesher's: shortest edge {s:.3f} h, longest {lg:.3f} h"
         print(f"  {r['outline']:20s} {r['mode']:8s} ratio {r['ratio']:7.3g}: shortest ring edge "
               f"{r['ring_edge']:.3f} h, narrowest feature {r['width']:.3f} h at ({x:.0f}, {y:.0f})"
-              f"; {cause}")
+              f"; {cause}; the shortest edge is {r['kind']}")
 
 
 #: Gmsh's tuning (a dozen meshes) takes minutes beyond this many vertices (see the table).

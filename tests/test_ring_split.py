@@ -11,6 +11,7 @@ import numpy as np
 import shapely
 
 import uniform2d as u
+import uniform2d.ring_nudge as ring_nudge
 import uniform2d.ring_relocate as ring_relocate
 import uniform2d.ring_split as ring_split
 import uniform2d.uniform as uniform_module
@@ -100,6 +101,7 @@ def test_resampled_mesh_halves_where_it_lowers_the_ratio(monkeypatch):
     assert _hausdorff(p, m.polygon) <= tol * r["spacing"] * (1 + 1e-9)
     monkeypatch.setattr(uniform_module, "SPLIT_RATIO", np.inf)  # the rule off
     monkeypatch.setattr(ring_relocate, "SPLIT_RATIO", np.inf)  # relocation off: halving alone
+    monkeypatch.setattr(ring_nudge, "TRIES", 0)  # and no ring point moved (uniform2d.ring_nudge)
     first = u.uniform_mesh(p, n, resample=tol)
     assert first.info["resample"]["halved_edges"] == 0
     assert first.info["resample"]["kept_vertices"] == r["kept_vertices"]

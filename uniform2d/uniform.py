@@ -27,6 +27,7 @@ from .outline import (
 from .partitioned import partitioned_mesh
 from .polygon import Polygon
 from .resources import check_point_count
+from .ring_nudge import nudged
 from .ring_relocate import relocated
 from .ring_split import SPLIT_RATIO, better_mesh, edges_to_halve, halve_edges
 
@@ -115,8 +116,10 @@ def uniform_mesh(
     replace them count in n (they are slid along the outline to even out the ring
     edges, within the tolerance: :mod:`uniform2d.ring_slide`); where the mesh's
     edge ratio is above 2, whole ring edges that set its longest edge are halved
-    (:mod:`uniform2d.ring_split`) and points relocated into corners with one
-    triangle (:mod:`uniform2d.ring_relocate`), each kept only if the ratio drops.
+    (:mod:`uniform2d.ring_split`), points relocated into corners with one
+    triangle (:mod:`uniform2d.ring_relocate`) and ring points at the ends of
+    its too-short edges moved off them within the tolerance, the mesh relaxed
+    there (:mod:`uniform2d.ring_nudge`), each kept only if the ratio drops.
     ``resample_corners="merge"`` lets a corner with a ring point less than 0.6
     spacings away merge with it into one point on the outline between them where
     the tolerance still holds (:mod:`uniform2d.corner_merge`: that corner is then
@@ -200,13 +203,17 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
              res.deviation / res.spacing, res.spacing)
     tie = NEAR_TIE if res.resampled else 0.0  # as given: the mesh without resample
     mesh = optimize_mesh(res.polygon, left, objective=objective, progress=progress, near_tie=tie)
-    split = moves = 0
+    split = moves = nudge = 0
     if res.resampled:
         res, left, mesh, split = _halved(res, left, mesh, objective)
         mesh, moves = relocated(mesh, objective)
+        res, mesh, nudge = nudged(polygon, res, mesh, objective)
+        if nudge:  # the moved rings may leave chords relocation can break now
+            mesh, more = relocated(mesh, objective)
+            moves += more
     return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                 {**mesh.info, "resample": {**res.info(), "n": n_total, "halved_edges": split,
-                                           "relocated": moves}})
+                                           "relocated": moves, "nudged": nudge}})
 
 
 def _halved(res, left, mesh, objective):

@@ -1,12 +1,15 @@
 """The rings a resampled mesh was made of: the resampled polygon, with the ring
 edges uniform_mesh halved (uniform2d.ring_split) as midpoints inserted; and a
-resampled mesh checked against its outline."""
+resampled mesh checked against its outline.  Both are about the mesh before
+ring points are moved off its short edges (uniform2d.ring_nudge), which moves
+ring points after halving."""
 
 from __future__ import annotations
 
 import numpy as np
 import shapely
 
+import uniform2d.ring_nudge as ring_nudge
 from uniform2d import uniform_mesh
 from uniform2d.outline import resample_polygon
 from uniform2d.testing import check_mesh
@@ -18,6 +21,7 @@ def assert_halved_from(mesh, polygon) -> None:
     mesh polygon's ring vertices that are no vertex of ``polygon`` leaves
     ``polygon``'s ring vertices bit for bit, and each dropped one is the exact
     midpoint of its two neighbours."""
+    assert mesh.info["resample"]["nudged"] == 0  # no ring point moved after halving
     halved = mesh.info["resample"]["halved_edges"]
     q = mesh.polygon
     assert len(q.rings) == len(polygon.rings)
@@ -38,9 +42,14 @@ def resampled_and_meshed(polygon, n: int, tol: float):
     ``tol``, checked: the mesh's rings are the resampled ones (whole edges
     halved aside), a valid mesh with exact n, and every ring within the
     resampling's deviation of the input by shapely's Hausdorff distance, which
-    is within ``tol`` spacings."""
+    is within ``tol`` spacings.  The mesh is made with no ring point moved off
+    its short edges (``ring_nudge.TRIES`` 0)."""
     r, left = resample_polygon(polygon, n, tolerance=tol)
-    m = uniform_mesh(polygon, n, resample=tol)
+    tries, ring_nudge.TRIES = ring_nudge.TRIES, 0
+    try:
+        m = uniform_mesh(polygon, n, resample=tol)
+    finally:
+        ring_nudge.TRIES = tries
     assert_halved_from(m, r.polygon)
     check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
     assert len(m.points) == m.info["resample"]["kept_vertices"] + n

@@ -1,0 +1,384 @@
+"""Ring points at the ends of a resampled mesh's too-short edges moved apart, the mesh relaxed there.
+
+Before meshing, :mod:`uniform2d.ring_slide` and :mod:`uniform2d.ring_pull`
+lengthen short ring edges looking at the ring alone.  The mesh's shortest
+edges are often not ring edges, though: a chord across the tip of a narrow
+spike (the mesher puts one triangle there), an edge across a narrow feature
+to a point the mesher put on a long ring edge, an edge from a resampled point
+to a kept corner two places away.  What they are is only known once meshed.
+:func:`nudge_rings` takes the mesh: for a mesh edge between two boundary
+points shorter than half the longest (an edge that keeps the edge ratio above
+2), it moves the end that is a movable ring point (placed by the resampling:
+not a kept corner, segment end or fixed point) off the other end: the
+position, among :data:`STEPS` spacings in the :data:`TURNS` directions from
+straight away, where the least of its distance to the other end, its two
+ring edges and its distance to the rest of the ring is largest (capped at
+half the longest edge, the nearest such position first), where
+
+- the rings stay within the tolerance of the outline, both ways
+  (:func:`band_bound`: the point's two edges against the input ring, the
+  input ring near the point against the rings, sampled, with the bound
+  between samples), so the Hausdorff distance stays within the tolerance;
+- neither of the point's ring edges becomes longer than :data:`LONGEST`
+  spacings (or than it was), and the polygon stays valid.
+
+:func:`nudged` (what :func:`uniform2d.uniform_mesh` with ``resample`` runs
+where the edge ratio is above 2 and the shortest ring edge allows 2) carries
+the mesh to the moved polygon (boundary points along their edges) and
+relaxes the points within :data:`RADIUS` target sizes of the moved ones
+(:func:`relaxed`), keeping the result if its edge ratio is lower, its CV at
+most :data:`CV_SLACK` higher and its worst angle at most :data:`ANGLE_SLACK`
+lower: first every such end at once, then one at a time (a move that did not
+help is not tried again), at most :data:`TRIES` times.  The polygon has as
+many vertices, the kept ones do not move, and n stays exact; the deviation
+reported is the larger of the resampling's and the moved edges' bound.
+Where a move was kept, :func:`uniform2d.uniform_mesh` runs the relocation
+moves (:mod:`uniform2d.ring_relocate`) once more.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from .errors import InvalidPolygonError
+from .geometry import boundary_edges, point_segment_distance, unique_edges
+from .mesh import Mesh
+from .optimize.moves import improve_kept
+from .optimize.pipeline import quality_summary
+from .optimize.schedule import RELOCATE
+from .polygon import Polygon
+from .quality import quality
+from .ring_split import SPLIT_RATIO, better_mesh
+from .sites import classify_sites
+from .tolerance import boundary_tol
+from .validity import ensure_valid
+
+__all__ = ["ANGLE_SLACK", "CV_SLACK", "LONGEST", "RADIUS", "STEPS", "TRIES", "TURNS", "band_bound",
+           "nudge_rings", "nudged", "relaxed"]
+
+log = logging.getLogger(__name__)
+
+#: Moves tried, in spacings, smallest first (at most the 0.25 spacing of the
+#: usual tolerance: the point stays near the outline).
+STEPS = np.arange(1, 13) / 48
+#: Directions tried (radians from straight away from the edge's other end).
+TURNS = (0.0, -np.pi / 6, np.pi / 6, -np.pi / 3, np.pi / 3)
+#: A move lengthens the least of the point's distances by at least this many spacings.
+_GAIN = 0.01
+#: Best candidates per point checked against the tolerance and for validity.
+_CHECKED = 60
+#: A move makes neither of the point's ring edges longer than this many spacings
+#: (or than it was): the mesher would split it.
+LONGEST = 1.4
+#: Moves tried (each a local relaxation of the mesh): every end at once, then one at a time.
+TRIES = 12
+#: Sites within this many target sizes of a moved ring point are relaxed again.
+RADIUS = 4.0
+#: The moved mesh is kept if its edge ratio is lower, its edge CV at most this
+#: fraction higher ...
+CV_SLACK = 0.01
+#: ... and its worst angle at most this fraction lower.
+ANGLE_SLACK = 0.01
+#: Points per moved ring edge at which its distance to the outline is measured, less one.
+_SAMPLES = 32
+#: The input is sampled at this fraction of the tolerance for its distance to the rings.
+_DENSE = 1 / 16
+
+
+def band_bound(outline, ring, k: int, window: float, limit: float, dense=None) -> float:
+    """A bound on the Hausdorff distance between ``ring`` ((r, 2), closed) and the
+    input ring ``outline`` ((m, 2)) where it may have changed: around ring point
+    ``k``, whose two edges are sampled (each point's exact distance to the
+    outline, plus half the sample step), and the outline within ``window`` of
+    point ``k`` sampled at ``limit / 16`` (each sample's exact distance to the
+    ring, plus half the step; ``dense``: those samples of the whole outline, if
+    the caller has them).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = np.array([(0, 0), (4, 0), (4, 4), (0, 4)], float)
+    >>> ring = np.array([(0, 0), (2, 0.1), (4, 0), (4, 4), (0, 4)], float)
+    >>> b = band_bound(square, ring, 1, 3.0, 0.2)    # 0.1 off; half a sample step above
+    >>> bool(0.1 <= b <= 0.1 + 0.5 * np.hypot(2, 0.1) / 32 + 0.2 / 32)
+    True
+    """
+    r = len(ring)
+    X = ring[k]
+    reach = window + limit  # a part of either farther than this from X is no nearest within limit
+    t = np.arange(_SAMPLES + 1) / _SAMPLES
+    out = 0.0
+    A, B = _near_segments(outline, X, reach)
+    for a, b in ((ring[k - 1], X), (X, ring[(k + 1) % r])):
+        Z = a[None, :] + t[:, None] * (b - a)[None, :]
+        out = max(out, _farthest(Z, A, B) + 0.5 * float(np.hypot(*(b - a))) / _SAMPLES)
+    dense = _dense(shapely.LinearRing(outline), limit) if dense is None else dense
+    near = dense[np.hypot(*(dense - X).T) <= window]
+    if len(near):
+        out = max(out, _farthest(near, *_near_segments(ring, X, reach)) + 0.5 * _DENSE * limit)
+    return out
+
+
+def _near_segments(ring, X, reach: float):
+    """The edges (A, B) of a closed ring within ``reach`` of point X."""
+    A, B = ring, np.roll(ring, -1, axis=0)
+    near = point_segment_distance(np.broadcast_to(X, A.shape), A, B) <= reach
+    return A[near], B[near]
+
+
+def _farthest(Z, A, B) -> float:
+    """The largest, over points Z, of the distance to the nearest segment A B (inf if none)."""
+    if not len(A):
+        return np.inf
+    d = point_segment_distance(np.repeat(Z, len(A), axis=0), np.tile(A, (len(Z), 1)),
+                               np.tile(B, (len(Z), 1)))
+    return float(d.reshape(len(Z), -1).min(axis=1).max())
+
+
+def _dense(line, limit: float) -> np.ndarray:
+    """The outline's vertices and points between, at most ``limit / 16`` apart."""
+    return shapely.get_coordinates(shapely.segmentize(line, _DENSE * limit))
+
+
+def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
+                most: int | None = None):
+    """The rings of ``res.polygon`` (:class:`uniform2d.outline.Resampled`) with
+    the movable ends of the mesh's too-short boundary edges moved off their
+    other ends (see the module notes).
+
+    Parameters
+    ----------
+    outline : Polygon
+        The input polygon ``res`` resampled (its rings in the same order).
+    res : uniform2d.outline.Resampled
+    points : (N, 2) float64
+    triangles : (M, 3) int64
+        A mesh of ``res.polygon`` (its vertices first).
+    limit : float
+        The tolerance, a length.
+    skip : collection of (int, int)
+        (point, other end) pairs not to try.
+    most : int, optional
+        Move at most this many points (the shortest edges' first).
+
+    Returns
+    -------
+    list of (r, 2) float64
+        The rings.
+    list of (int, int)
+        The (point, other end) pairs moved, in order.
+    float
+        A bound on the moved edges' distance to the outline, both ways (0 if
+        none moved).
+    list of (int, int)
+        The pairs tried that found no move.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> from uniform2d.outline import Resampled
+    >>> from uniform2d.triangulation import triangulate
+    >>> sq = Polygon([(0, 0), (3, 0), (3, 3), (0, 3)])
+    >>> res = Resampled(Polygon([(0, 0), (1, 0), (1.45, 0), (3, 0), (3, 3), (0, 3)]),
+    ...                 np.array([1, 0, 0, 1, 1, 1], bool), 1.0, 0.25, 0.0, 4)
+    >>> P, T = triangulate(res.polygon, [(1.5, 1.5)])
+    >>> rings, moved, dev, stuck = nudge_rings(sq, res, P, T, 0.25)
+    >>> def shortest(R):
+    ...     return round(float(np.hypot(*(np.roll(R, -1, axis=0) - R).T).min()), 3)
+    >>> shortest(res.polygon.outer), shortest(rings[0]), bool(dev <= 0.25)
+    (0.45, 0.865, True)
+    """
+    P = np.asarray(points, dtype=np.float64)
+    poly = res.polygon
+    off, nR = poly.ring_offsets, poly.n_ring_vertices
+    E = unique_edges(triangles, len(P))
+    L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
+    target = 0.5 * float(L.max())
+    on = np.zeros(len(P), dtype=bool)
+    on[boundary_edges(triangles, len(P)).ravel()] = True
+    movable = np.zeros(len(P), dtype=bool)
+    movable[:nR] = ~np.asarray(res.kept[:nR], dtype=bool)
+    rings = [np.array(r, dtype=np.float64) for r in poly.rings]
+    Q = P.copy()  # the points as moved so far
+    moved, stuck, dev = [], [], 0.0
+    dense = {}  # per ring, its outline sampled for band_bound
+    for j in np.argsort(L, kind="stable"):
+        if L[j] >= target:
+            break
+        a, b = E[j]
+        if not (on[a] and on[b]):
+            continue
+        for x, y in ((a, b), (b, a)):
+            if (not movable[x] or (int(x), int(y)) in skip or np.hypot(*(Q[x] - Q[y])) >= target
+                    or len(moved) == most):
+                continue
+            ri = int(np.searchsorted(off, x, side="right") - 1)
+            if ri not in dense:
+                dense[ri] = _dense(shapely.LinearRing(outline.rings[ri]), limit)
+            got = _move(outline.rings[ri], rings, ri, x - off[ri], Q[y], target, res.spacing,
+                        limit, poly, dense[ri])
+            if got is not None:
+                rings[ri], d = got
+                Q[x] = rings[ri][x - off[ri]]
+                moved.append((int(x), int(y)))
+                dev = max(dev, d)
+            else:
+                stuck.append((int(x), int(y)))
+    return rings, moved, dev, stuck
+
+
+def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
+    """(ring, bound) with ring point k of ring ``ri`` moved off ``far`` (see
+    :func:`nudge_rings`), or None if no move lengthens what is short there."""
+    ring = rings[ri]
+    r = len(ring)
+    prv, nxt = ring[k - 1], ring[(k + 1) % r]
+    X0 = ring[k]
+    away = np.arctan2(*(X0 - far)[::-1]) + np.asarray(TURNS)
+    X = (X0[None, None, :] + (STEPS * h)[None, :, None]
+         * np.stack([np.cos(away), np.sin(away)], axis=1)[:, None, :]).reshape(-1, 2)
+    e1, e2 = np.hypot(*(X - prv).T), np.hypot(*(nxt - X).T)
+    cap = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), min(LONGEST * h, 2 * target))
+    others = np.setdiff1d(np.arange(r), [(k - 2) % r, (k - 1) % r, k, (k + 1) % r])
+    score = np.minimum(np.minimum(e1, e2), np.hypot(*(X - far).T))
+    if len(others):  # the rest of the ring: no narrower feature made there
+        A, B = ring[others], ring[(others + 1) % r]
+        c = point_segment_distance(np.repeat(X, len(A), axis=0), np.tile(A, (len(X), 1)),
+                                   np.tile(B, (len(X), 1))).reshape(len(X), -1).min(axis=1)
+        score = np.minimum(score, c)
+        c0 = float(point_segment_distance(np.repeat(X0[None, :], len(A), axis=0), A, B).min())
+    else:
+        c0 = np.inf
+    had = min(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), np.hypot(*(X0 - far)), c0, target)
+    score = np.minimum(score, target)  # at half the longest edge, the nearest move
+    ok = (score > had + _GAIN * h) & (np.maximum(e1, e2) <= cap)
+    for i in np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:_CHECKED]:
+        R = ring.copy()
+        R[k] = X[i]
+        window = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), e1[i], e2[i]) + limit
+        d = band_bound(outline_ring, R, k, window, limit, dense)
+        if d <= limit and _valid(poly, rings, ri, R):
+            return R, d
+    return None
+
+
+def _valid(poly: Polygon, rings, ri: int, R) -> bool:
+    """Whether the rings with ring ``ri`` replaced by ``R`` make a valid polygon with
+    ``poly``'s constraints and as many vertices (no segment end spliced into a ring)."""
+    try:
+        new = _rebuild(poly, [R if i == ri else g for i, g in enumerate(rings)])
+    except InvalidPolygonError:  # InvalidConstraintError too
+        return False
+    return len(new.vertices) == len(poly.vertices)
+
+
+def _rebuild(poly: Polygon, rings) -> Polygon:
+    return Polygon(rings[0], rings[1:], segments=poly.split_segments(), points=poly.points,
+                   regions=poly.region_seeds)
+
+
+def relaxed(old: Polygon, new: Polygon, mesh, objective: str = "balanced", wide: bool = False):
+    """``mesh`` (of ``old``) carried to ``new`` (the same vertices, some ring
+    points moved): its boundary points at the same place along their edges,
+    the points within :data:`RADIUS` target sizes of a moved vertex (with
+    ``wide``, of any end of an edge shorter than half the longest too) relaxed
+    again (:func:`uniform2d.optimize.moves.improve_kept`, the relocation's
+    schedule); None if an interior point would be outside ``new``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon, uniform_mesh
+    >>> old = Polygon([(0, 0), (1, 0), (2, 0), (2, 2), (0, 2)])
+    >>> m = uniform_mesh(old, 30)
+    >>> new = Polygon([(0, 0), (1.1, 0), (2, 0), (2, 2), (0, 2)])
+    >>> m2 = relaxed(old, new, m)
+    >>> len(m2.points) == len(m.points), m2.polygon == new
+    (True, True)
+    """
+    nV = len(old.vertices)
+    sites = np.array(mesh.points[nV:], dtype=np.float64)
+    _, boundary = classify_sites(old, sites, boundary_tol(old))
+    edges = np.full(len(sites), -1, dtype=np.int64)
+    V, C = new.vertices, new.constraint_edges
+    for i, e, t in boundary:
+        edges[i] = e
+        sites[i] = V[C[e, 0]] + t * (V[C[e, 1]] - V[C[e, 0]])
+    inner = edges < 0
+    if not shapely.contains_xy(new.to_shapely(), sites[inner, 0], sites[inner, 1]).all():
+        return None
+    now = np.concatenate([V, sites])
+    centres = [V[np.any(old.vertices != V, axis=1)]]
+    if wide:
+        E = unique_edges(mesh.triangles, len(mesh.points))
+        L = np.hypot(*(mesh.points[E[:, 1]] - mesh.points[E[:, 0]]).T)
+        centres.append(now[np.unique(E[L < 0.5 * L.max()])])
+    C0 = np.concatenate(centres)
+    near = cKDTree(C0).query(sites)[0] if len(C0) else np.full(len(sites), np.inf)
+    h = mesh.info["h"]
+    pts, tri, _ = improve_kept(new, sites, objective=objective, href=h, frozen=near > RADIUS * h,
+                               edges=edges, **RELOCATE)
+    ensure_valid(pts, tri, new, mesh.n_steiner, "uniform_mesh (ring nudge)")
+    # INSERT's packing distance was of the old polygon: no certificate of the new one
+    return Mesh(pts, tri, new, mesh.n_steiner, {k: v for k, v in mesh.info.items() if k != "d_n"})
+
+
+def _kept(q_new, q_old) -> bool:
+    """The keep rule: edge ratio lower, CV at most CV_SLACK higher, worst angle at
+    most ANGLE_SLACK lower."""
+    return better_mesh(q_new, q_old, CV_SLACK) and q_new.min_angle >= (1 - ANGLE_SLACK) * q_old.min_angle
+
+
+def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
+    """(res, mesh, points moved): a mesh of the resampled outline ``res``
+    (:class:`uniform2d.outline.Resampled` of ``outline``) with ring points
+    moved off its too-short edges where that is better (see the module
+    notes); tried where the edge ratio is above ``SPLIT_RATIO`` and the
+    shortest ring edge allows one that low (as for halving).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon, uniform_mesh
+    >>> t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    >>> disk = Polygon(np.c_[np.cos(t), np.sin(t)])
+    >>> m = uniform_mesh(disk, 300, resample=0.25)
+    >>> m.info["resample"]["nudged"]              # ratio under 2: nothing to do
+    0
+    """
+    total, failed = 0, set()
+    limit = res.tolerance * res.spacing
+    for attempt in range(TRIES):
+        q = quality(mesh.points, mesh.triangles)
+        V, E = res.polygon.vertices, res.polygon.edges
+        ring_edge = float(np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min())
+        if q.edge_ratio <= SPLIT_RATIO or q.mean_edge > SPLIT_RATIO * ring_edge:
+            break
+        rings, moved, dev, stuck = nudge_rings(outline, res, mesh.points, mesh.triangles, limit,
+                                               skip=failed, most=None if attempt == 0 else 1)
+        failed.update(stuck)  # no move from there: not tried again
+        if not moved:
+            break
+        res2 = dataclasses.replace(res, polygon=_rebuild(res.polygon, rings),
+                                   deviation=max(res.deviation, dev))
+        got = [(quality(m.points, m.triangles), m)
+               for m in (relaxed(res.polygon, res2.polygon, mesh, objective, w) for w in (False, True))
+               if m is not None]
+        got = [(q2, m) for q2, m in got if _kept(q2, q)]
+        if not got:
+            if len(moved) == 1:  # not tried again
+                failed.update(moved)
+            continue
+        q2, mesh2 = min(got, key=lambda g: g[0].edge_ratio)  # the first of a tie
+        log.info("resampled outline: %d ring point(s) moved off short mesh edges, edge ratio "
+                 "%.4g -> %.4g", len(moved), q.edge_ratio, q2.edge_ratio)
+        res, total = res2, total + len(moved)
+        mesh = Mesh(mesh2.points, mesh2.triangles, mesh2.polygon, mesh2.n_steiner,
+                    {**mesh2.info, "after": quality_summary(q2)})
+    return res, mesh, total
