@@ -62,6 +62,7 @@ __all__ = ["ANGLE_SLACK", "CV_SLACK", "LONGEST", "RADIUS", "STEPS", "TRIES", "TU
            "nudge_rings", "nudged", "relaxed"]
 
 log = logging.getLogger(__name__)
+RING_RULE = True
 
 #: Moves tried, in spacings, smallest first (at most the 0.25 spacing of the
 #: usual tolerance: the point stays near the outline).
@@ -108,25 +109,54 @@ def band_bound(outline, ring, k: int, window: float, limit: float, dense=None) -
     >>> bool(0.1 <= b <= 0.1 + 0.5 * np.hypot(2, 0.1) / 32 + 0.2 / 32)
     True
     """
-    r = len(ring)
-    X = ring[k]
-    reach = window + limit  # a part of either farther than this from X is no nearest within limit
-    t = np.arange(_SAMPLES + 1) / _SAMPLES
-    out = 0.0
-    A, B = _near_segments(outline, X, reach)
-    for a, b in ((ring[k - 1], X), (X, ring[(k + 1) % r])):
-        Z = a[None, :] + t[:, None] * (b - a)[None, :]
-        out = max(out, _farthest(Z, A, B) + 0.5 * float(np.hypot(*(b - a))) / _SAMPLES)
     dense = _dense(shapely.LinearRing(outline), limit) if dense is None else dense
-    near = dense[np.hypot(*(dense - X).T) <= window]
-    if len(near):
-        out = max(out, _farthest(near, *_near_segments(ring, X, reach)) + 0.5 * _DENSE * limit)
-    return out
+    return _Band(outline, ring, k, dense, window, ring[k], 0.0).bound(ring, k, window, limit)
+
+
+class _Band:
+    """What :func:`band_bound` looks at around ring point ``k`` for every position
+    within ``step`` of ``X0`` and every window up to ``window``: the input edges,
+    the dense samples of the input and the ring edges that can be near (a
+    superset: :meth:`bound` applies :func:`band_bound`'s own filters to them, so
+    its value is the same)."""
+
+    def __init__(self, outline, ring, k: int, dense, window: float, X0, step: float):
+        r = len(ring)
+        # the margin keeps the prefilter a superset whatever the rounding
+        far = 1.01 * (window + step) + 1e-9 * float(np.abs(X0).max(initial=1.0))
+        self.A, self.B = _near_segments(outline, X0, far + window)  # reach <= 2 window
+        self.dense = dense[np.hypot(*(dense - X0).T) <= far]
+        A, B = ring, np.roll(ring, -1, axis=0)
+        near = point_segment_distance(np.broadcast_to(X0, A.shape), A, B) <= far + window
+        near[[(k - 1) % r, k]] = True  # the moved point's edges: where they go
+        self.ring_edges = np.flatnonzero(near)
+
+    def bound(self, ring, k: int, window: float, limit: float) -> float:
+        """:func:`band_bound` of ``ring`` (ring point ``k`` moved within the step)."""
+        r = len(ring)
+        X = ring[k]
+        reach = window + limit
+        t = np.arange(_SAMPLES + 1) / _SAMPLES
+        out = 0.0
+        A, B = _near_segments_of(self.A, self.B, X, reach)
+        for a, b in ((ring[k - 1], X), (X, ring[(k + 1) % r])):
+            Z = a[None, :] + t[:, None] * (b - a)[None, :]
+            out = max(out, _farthest(Z, A, B) + 0.5 * float(np.hypot(*(b - a))) / _SAMPLES)
+        near = self.dense[np.hypot(*(self.dense - X).T) <= window]
+        if len(near):
+            e = self.ring_edges
+            RA, RB = _near_segments_of(ring[e], ring[(e + 1) % r], X, reach)
+            out = max(out, _farthest(near, RA, RB) + 0.5 * _DENSE * limit)
+        return out
 
 
 def _near_segments(ring, X, reach: float):
     """The edges (A, B) of a closed ring within ``reach`` of point X."""
-    A, B = ring, np.roll(ring, -1, axis=0)
+    return _near_segments_of(ring, np.roll(ring, -1, axis=0), X, reach)
+
+
+def _near_segments_of(A, B, X, reach: float):
+    """The segments (A, B) within ``reach`` of point X."""
     near = point_segment_distance(np.broadcast_to(X, A.shape), A, B) <= reach
     return A[near], B[near]
 
@@ -135,9 +165,22 @@ def _farthest(Z, A, B) -> float:
     """The largest, over points Z, of the distance to the nearest segment A B (inf if none)."""
     if not len(A):
         return np.inf
-    d = point_segment_distance(np.repeat(Z, len(A), axis=0), np.tile(A, (len(Z), 1)),
-                               np.tile(B, (len(Z), 1)))
-    return float(d.reshape(len(Z), -1).min(axis=1).max())
+    return float(_nearest(Z, A, B).max())
+
+
+def _nearest(Z, A, B) -> np.ndarray:
+    """(len(Z),) the distance from each point Z to the nearest segment A B (non-empty):
+    :func:`uniform2d.geometry.point_segment_distance`'s arithmetic, broadcast
+    instead of repeated rows."""
+    AB = B - A
+    L2 = AB[:, 0] * AB[:, 0] + AB[:, 1] * AB[:, 1]
+    APx = Z[:, None, 0] - A[None, :, 0]
+    APy = Z[:, None, 1] - A[None, :, 1]
+    t = np.divide(APx * AB[:, 0] + APy * AB[:, 1], L2, out=np.zeros(APx.shape), where=L2 > 0)
+    np.clip(t, 0.0, 1.0, out=t)
+    dx = APx - t * AB[:, 0]
+    dy = APy - t * AB[:, 1]
+    return np.sqrt(dx * dx + dy * dy).min(axis=1)
 
 
 def _dense(line, limit: float) -> np.ndarray:
@@ -249,8 +292,7 @@ def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
     score = np.minimum(np.minimum(e1, e2), np.hypot(*(X - far).T))
     if len(others):  # the rest of the ring: no narrower feature made there
         A, B = ring[others], ring[(others + 1) % r]
-        c = point_segment_distance(np.repeat(X, len(A), axis=0), np.tile(A, (len(X), 1)),
-                                   np.tile(B, (len(X), 1))).reshape(len(X), -1).min(axis=1)
+        c = _nearest(X, A, B)
         score = np.minimum(score, c)
         c0 = float(point_segment_distance(np.repeat(X0[None, :], len(A), axis=0), A, B).min())
     else:
@@ -258,11 +300,14 @@ def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
     had = min(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), np.hypot(*(X0 - far)), c0, target)
     score = np.minimum(score, target)  # at half the longest edge, the nearest move
     ok = (score > had + _GAIN * h) & (np.maximum(e1, e2) <= cap)
+    if not ok.any():
+        return None
+    both = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)))
+    band = _Band(outline_ring, ring, k, dense, max(both, cap) + limit, X0, float(STEPS.max()) * h)
     for i in np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:_CHECKED]:
         R = ring.copy()
         R[k] = X[i]
-        window = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), e1[i], e2[i]) + limit
-        d = band_bound(outline_ring, R, k, window, limit, dense)
+        d = band.bound(R, k, max(both, e1[i], e2[i]) + limit, limit)
         if d <= limit and _valid(poly, rings, ri, R):
             return R, d
     return None
@@ -358,7 +403,7 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
         q = quality(mesh.points, mesh.triangles)
         V, E = res.polygon.vertices, res.polygon.edges
         ring_edge = float(np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min())
-        if q.edge_ratio <= SPLIT_RATIO or q.mean_edge > SPLIT_RATIO * ring_edge:
+        if q.edge_ratio <= SPLIT_RATIO or (RING_RULE and q.mean_edge > SPLIT_RATIO * ring_edge):
             break
         rings, moved, dev, stuck = nudge_rings(outline, res, mesh.points, mesh.triangles, limit,
                                                skip=failed, most=None if attempt == 0 else 1)
