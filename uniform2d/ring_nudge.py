@@ -23,9 +23,10 @@ half the longest edge, the nearest such position first), where
   spacings (or than it was), and the polygon stays valid.
 
 :func:`nudged` (what :func:`uniform2d.uniform_mesh` with ``resample`` runs
-where the edge ratio is above 2 and the shortest ring edge allows 2) carries
-the mesh to the moved polygon (boundary points along their edges) and
-relaxes the points within :data:`RADIUS` target sizes of the moved ones
+where the edge ratio is above 2, also where kept corners closer than that
+allows bound it: the other short edges still lengthen) carries the mesh to
+the moved polygon (boundary points along their edges) and relaxes the
+points within :data:`RADIUS` target sizes of the moved ones
 (:func:`relaxed`), keeping the result if its edge ratio is lower, its CV at
 most :data:`CV_SLACK` higher and its worst angle at most :data:`ANGLE_SLACK`
 lower: first every such end at once, then one at a time (a move that did not
@@ -62,7 +63,6 @@ __all__ = ["ANGLE_SLACK", "CV_SLACK", "LONGEST", "RADIUS", "STEPS", "TRIES", "TU
            "nudge_rings", "nudged", "relaxed"]
 
 log = logging.getLogger(__name__)
-RING_RULE = True
 
 #: Moves tried, in spacings, smallest first (at most the 0.25 spacing of the
 #: usual tolerance: the point stays near the outline).
@@ -109,8 +109,31 @@ def band_bound(outline, ring, k: int, window: float, limit: float, dense=None) -
     >>> bool(0.1 <= b <= 0.1 + 0.5 * np.hypot(2, 0.1) / 32 + 0.2 / 32)
     True
     """
-    dense = _dense(shapely.LinearRing(outline), limit) if dense is None else dense
-    return _Band(outline, ring, k, dense, window, ring[k], 0.0).bound(ring, k, window, limit)
+    source = _Input(outline, limit, dense)
+    return _Band(source, ring, k, window, ring[k], 0.0).bound(ring, k, window, limit)
+
+
+class _Input:
+    """An input ring as :func:`band_bound` looks at it: its edges with their
+    bounding boxes, and its dense samples in a k-d tree (built once per ring)."""
+
+    def __init__(self, outline, limit: float, dense=None):
+        ring = np.asarray(outline, dtype=np.float64)
+        self.A, self.B = ring, np.roll(ring, -1, axis=0)
+        self.lo, self.hi = np.minimum(self.A, self.B), np.maximum(self.A, self.B)
+        self.dense = _dense(shapely.LinearRing(ring), limit) if dense is None else dense
+        self.tree = cKDTree(self.dense)
+
+    def segments_near(self, X, reach: float):
+        """The edges (A, B) within ``reach`` of X (boxes first, then exact, in order)."""
+        r = 1.01 * reach  # a box test rounded the wrong way drops no edge
+        box = np.flatnonzero(np.all((self.lo <= X + r) & (self.hi >= X - r), axis=1))
+        return _near_segments_of(self.A[box], self.B[box], X, reach)
+
+    def dense_near(self, X, reach: float):
+        """The dense samples within ``reach`` of X, in order."""
+        got = self.dense[np.sort(self.tree.query_ball_point(X, 1.01 * reach))]
+        return got[np.hypot(*(got - X).T) <= reach]
 
 
 class _Band:
@@ -120,12 +143,12 @@ class _Band:
     superset: :meth:`bound` applies :func:`band_bound`'s own filters to them, so
     its value is the same)."""
 
-    def __init__(self, outline, ring, k: int, dense, window: float, X0, step: float):
+    def __init__(self, source: _Input, ring, k: int, window: float, X0, step: float):
         r = len(ring)
         # the margin keeps the prefilter a superset whatever the rounding
         far = 1.01 * (window + step) + 1e-9 * float(np.abs(X0).max(initial=1.0))
-        self.A, self.B = _near_segments(outline, X0, far + window)  # reach <= 2 window
-        self.dense = dense[np.hypot(*(dense - X0).T) <= far]
+        self.A, self.B = source.segments_near(X0, far + window)  # reach <= 2 window
+        self.dense = source.dense_near(X0, far)
         A, B = ring, np.roll(ring, -1, axis=0)
         near = point_segment_distance(np.broadcast_to(X0, A.shape), A, B) <= far + window
         near[[(k - 1) % r, k]] = True  # the moved point's edges: where they go
@@ -250,7 +273,7 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
     rings = [np.array(r, dtype=np.float64) for r in poly.rings]
     Q = P.copy()  # the points as moved so far
     moved, stuck, dev = [], [], 0.0
-    dense = {}  # per ring, its outline sampled for band_bound
+    sources = {}  # per ring, the input ring as band_bound looks at it
     for j in np.argsort(L, kind="stable"):
         if L[j] >= target:
             break
@@ -262,10 +285,10 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
                     or len(moved) == most):
                 continue
             ri = int(np.searchsorted(off, x, side="right") - 1)
-            if ri not in dense:
-                dense[ri] = _dense(shapely.LinearRing(outline.rings[ri]), limit)
-            got = _move(outline.rings[ri], rings, ri, x - off[ri], Q[y], target, res.spacing,
-                        limit, poly, dense[ri])
+            if ri not in sources:
+                sources[ri] = _Input(outline.rings[ri], limit)
+            got = _move(sources[ri], rings, ri, x - off[ri], Q[y], target, res.spacing,
+                        limit, poly)
             if got is not None:
                 rings[ri], d = got
                 Q[x] = rings[ri][x - off[ri]]
@@ -276,7 +299,7 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
     return rings, moved, dev, stuck
 
 
-def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
+def _move(source, rings, ri, k, far, target, h, limit, poly):
     """(ring, bound) with ring point k of ring ``ri`` moved off ``far`` (see
     :func:`nudge_rings`), or None if no move lengthens what is short there."""
     ring = rings[ri]
@@ -303,8 +326,15 @@ def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
     if not ok.any():
         return None
     both = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)))
-    band = _Band(outline_ring, ring, k, dense, max(both, cap) + limit, X0, float(STEPS.max()) * h)
-    for i in np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:_CHECKED]:
+    band = _Band(source, ring, k, max(both, cap) + limit, X0, float(STEPS.max()) * h)
+    order = np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:_CHECKED]
+    if not len(band.A):
+        return None
+    # the band check's first sample is the position itself (computed alike), its
+    # distance to these edges at most that to the nearer ones it measures: farther
+    # than the tolerance, it fails
+    order = order[_nearest(prv + (X[order] - prv), band.A, band.B) <= limit]
+    for i in order:
         R = ring.copy()
         R[k] = X[i]
         d = band.bound(R, k, max(both, e1[i], e2[i]) + limit, limit)
@@ -384,8 +414,9 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     """(res, mesh, points moved): a mesh of the resampled outline ``res``
     (:class:`uniform2d.outline.Resampled` of ``outline``) with ring points
     moved off its too-short edges where that is better (see the module
-    notes); tried where the edge ratio is above ``SPLIT_RATIO`` and the
-    shortest ring edge allows one that low (as for halving).
+    notes); tried where the edge ratio is above ``SPLIT_RATIO``, also where
+    ring edges between kept points are shorter than that allows (a shoreline's
+    pier corners: the edges elsewhere still lengthen).
 
     Examples
     --------
@@ -401,9 +432,7 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     limit = res.tolerance * res.spacing
     for attempt in range(TRIES):
         q = quality(mesh.points, mesh.triangles)
-        V, E = res.polygon.vertices, res.polygon.edges
-        ring_edge = float(np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min())
-        if q.edge_ratio <= SPLIT_RATIO or (RING_RULE and q.mean_edge > SPLIT_RATIO * ring_edge):
+        if q.edge_ratio <= SPLIT_RATIO:
             break
         rings, moved, dev, stuck = nudge_rings(outline, res, mesh.points, mesh.triangles, limit,
                                                skip=failed, most=None if attempt == 0 else 1)
