@@ -23,8 +23,8 @@ half the longest edge, the nearest such position first), where
   spacings (or than it was), and the polygon stays valid.
 
 :func:`nudged` (what :func:`uniform2d.uniform_mesh` with ``resample`` runs
-where the edge ratio is above 2, also where kept corners closer than that
-allows bound it: the other short edges still lengthen) carries the mesh to
+where the edge ratio is above 2, also where the shortest ring edge forces a
+ratio above 2: it may be one it moves) carries the mesh to
 the moved polygon (boundary points along their edges) and relaxes the
 points within :data:`RADIUS` target sizes of the moved ones
 (:func:`relaxed`), keeping the result if its edge ratio is lower, its CV at
@@ -415,8 +415,8 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     (:class:`uniform2d.outline.Resampled` of ``outline``) with ring points
     moved off its too-short edges where that is better (see the module
     notes); tried where the edge ratio is above ``SPLIT_RATIO``, also where
-    ring edges between kept points are shorter than that allows (a shoreline's
-    pier corners: the edges elsewhere still lengthen).
+    the shortest ring edge forces a ratio above it (a shoreline's piers: the
+    short ring edges have a movable end).
 
     Examples
     --------
