@@ -212,7 +212,7 @@ def _dense(line, limit: float) -> np.ndarray:
 
 
 def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
-                most: int | None = None):
+                most: int | None = None, sources: dict | None = None):
     """The rings of ``res.polygon`` (:class:`uniform2d.outline.Resampled`) with
     the movable ends of the mesh's too-short boundary edges moved off their
     other ends (see the module notes).
@@ -231,6 +231,10 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
         (point, other end) pairs not to try.
     most : int, optional
         Move at most this many points (the shortest edges' first).
+    sources : dict, optional
+        Filled with what the tolerance check keeps of each input ring (by ring
+        index; pass the same dict to later calls with the same ``outline`` and
+        ``limit`` not to build it again).
 
     Returns
     -------
@@ -273,7 +277,7 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
     rings = [np.array(r, dtype=np.float64) for r in poly.rings]
     Q = P.copy()  # the points as moved so far
     moved, stuck, dev = [], [], 0.0
-    sources = {}  # per ring, the input ring as band_bound looks at it
+    sources = {} if sources is None else sources  # per ring, the input ring as band_bound sees it
     for j in np.argsort(L, kind="stable"):
         if L[j] >= target:
             break
@@ -428,14 +432,15 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     >>> m.info["resample"]["nudged"]              # ratio under 2: nothing to do
     0
     """
-    total, failed = 0, set()
+    total, failed, sources = 0, set(), {}
     limit = res.tolerance * res.spacing
     for attempt in range(TRIES):
         q = quality(mesh.points, mesh.triangles)
         if q.edge_ratio <= SPLIT_RATIO:
             break
         rings, moved, dev, stuck = nudge_rings(outline, res, mesh.points, mesh.triangles, limit,
-                                               skip=failed, most=None if attempt == 0 else 1)
+                                               skip=failed, most=None if attempt == 0 else 1,
+                                               sources=sources)
         failed.update(stuck)  # no move from there: not tried again
         if not moved:
             break
