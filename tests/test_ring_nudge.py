@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from scipy.spatial import cKDTree
 
 import uniform2d as u
 import uniform2d.ring_nudge as ring_nudge
@@ -134,3 +135,39 @@ def test_kept_only_if_better(monkeypatch):
     assert m.info["resample"]["nudged"] == 0
     assert m.points.tobytes() == plain.points.tobytes()
     assert m.triangles.tobytes() == plain.triangles.tobytes()
+
+
+def _one_way(a, b, step: float) -> float:
+    """max over a's ring points (sampled at ``step``) of the distance to b's
+    samples: at most the Hausdorff distance from a to b plus half a step."""
+    sa = shapely.get_coordinates(shapely.segmentize(shapely.LinearRing(a), step))
+    sb = shapely.get_coordinates(shapely.segmentize(shapely.LinearRing(b), step))
+    return float(cKDTree(sb).query(sa)[0].max())
+
+
+def test_shoreline_with_short_ring_edges(monkeypatch):
+    # the Bronx shoreline: ring edges of 0.1 h between its piers' points (the stage
+    # used to be skipped where the shortest ring edge forces a ratio above 2)
+    p, before, m = _meshes("nyc_bronx", "keep", monkeypatch)
+    r = m.info["resample"]
+    h = r["spacing"]
+    res, _ = resampled_outline(p, N, resample=TOL)
+    V = res.polygon.vertices
+
+    def shortest(poly):
+        return np.hypot(*(poly.vertices[poly.edges[:, 1]] - poly.vertices[poly.edges[:, 0]]).T).min()
+
+    assert before.quality().mean_edge > 2 * shortest(res.polygon)  # the old rule's skip
+    assert shortest(m.polygon) > shortest(res.polygon)
+    q0, q = before.quality(), m.quality()
+    assert before.info["resample"]["nudged"] == 0 and r["nudged"] > 0
+    assert q.edge_ratio < 0.5 * q0.edge_ratio
+    assert q.cv_edge <= 1.01 * q0.cv_edge and q.min_angle >= 0.99 * q0.min_angle
+    check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
+    assert len(m.points) == r["kept_vertices"] + N
+    kept = {tuple(v) for v in V[res.kept]}
+    assert kept <= {tuple(v) for v in m.polygon.vertices}
+    assert r["deviation"] <= TOL * h * (1 + 1e-9)
+    step = 0.002 * h
+    for a, b in zip(p.rings, m.polygon.rings):  # both ways, independently of the module
+        assert max(_one_way(a, b, step), _one_way(b, a, step)) <= r["deviation"] + 0.5 * step

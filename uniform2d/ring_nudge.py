@@ -23,9 +23,10 @@ half the longest edge, the nearest such position first), where
   spacings (or than it was), and the polygon stays valid.
 
 :func:`nudged` (what :func:`uniform2d.uniform_mesh` with ``resample`` runs
-where the edge ratio is above 2 and the shortest ring edge allows 2) carries
-the mesh to the moved polygon (boundary points along their edges) and
-relaxes the points within :data:`RADIUS` target sizes of the moved ones
+where the edge ratio is above 2, also where the shortest ring edge forces a
+ratio above 2: it may be one it moves) carries the mesh to
+the moved polygon (boundary points along their edges) and relaxes the
+points within :data:`RADIUS` target sizes of the moved ones
 (:func:`relaxed`), keeping the result if its edge ratio is lower, its CV at
 most :data:`CV_SLACK` higher and its worst angle at most :data:`ANGLE_SLACK`
 lower: first every such end at once, then one at a time (a move that did not
@@ -108,25 +109,77 @@ def band_bound(outline, ring, k: int, window: float, limit: float, dense=None) -
     >>> bool(0.1 <= b <= 0.1 + 0.5 * np.hypot(2, 0.1) / 32 + 0.2 / 32)
     True
     """
-    r = len(ring)
-    X = ring[k]
-    reach = window + limit  # a part of either farther than this from X is no nearest within limit
-    t = np.arange(_SAMPLES + 1) / _SAMPLES
-    out = 0.0
-    A, B = _near_segments(outline, X, reach)
-    for a, b in ((ring[k - 1], X), (X, ring[(k + 1) % r])):
-        Z = a[None, :] + t[:, None] * (b - a)[None, :]
-        out = max(out, _farthest(Z, A, B) + 0.5 * float(np.hypot(*(b - a))) / _SAMPLES)
-    dense = _dense(shapely.LinearRing(outline), limit) if dense is None else dense
-    near = dense[np.hypot(*(dense - X).T) <= window]
-    if len(near):
-        out = max(out, _farthest(near, *_near_segments(ring, X, reach)) + 0.5 * _DENSE * limit)
-    return out
+    source = _Input(outline, limit, dense)
+    return _Band(source, ring, k, window, ring[k], 0.0).bound(ring, k, window, limit)
+
+
+class _Input:
+    """An input ring as :func:`band_bound` looks at it: its edges with their
+    bounding boxes, and its dense samples in a k-d tree (built once per ring)."""
+
+    def __init__(self, outline, limit: float, dense=None):
+        ring = np.asarray(outline, dtype=np.float64)
+        self.A, self.B = ring, np.roll(ring, -1, axis=0)
+        self.lo, self.hi = np.minimum(self.A, self.B), np.maximum(self.A, self.B)
+        self.dense = _dense(shapely.LinearRing(ring), limit) if dense is None else dense
+        self.tree = cKDTree(self.dense)
+
+    def segments_near(self, X, reach: float):
+        """The edges (A, B) within ``reach`` of X (boxes first, then exact, in order)."""
+        r = 1.01 * reach  # a box test rounded the wrong way drops no edge
+        box = np.flatnonzero(np.all((self.lo <= X + r) & (self.hi >= X - r), axis=1))
+        return _near_segments_of(self.A[box], self.B[box], X, reach)
+
+    def dense_near(self, X, reach: float):
+        """The dense samples within ``reach`` of X, in order."""
+        got = self.dense[np.sort(self.tree.query_ball_point(X, 1.01 * reach))]
+        return got[np.hypot(*(got - X).T) <= reach]
+
+
+class _Band:
+    """What :func:`band_bound` looks at around ring point ``k`` for every position
+    within ``step`` of ``X0`` and every window up to ``window``: the input edges,
+    the dense samples of the input and the ring edges that can be near (a
+    superset: :meth:`bound` applies :func:`band_bound`'s own filters to them, so
+    its value is the same)."""
+
+    def __init__(self, source: _Input, ring, k: int, window: float, X0, step: float):
+        r = len(ring)
+        # the margin keeps the prefilter a superset whatever the rounding
+        far = 1.01 * (window + step) + 1e-9 * float(np.abs(X0).max(initial=1.0))
+        self.A, self.B = source.segments_near(X0, far + window)  # reach <= 2 window
+        self.dense = source.dense_near(X0, far)
+        A, B = ring, np.roll(ring, -1, axis=0)
+        near = point_segment_distance(np.broadcast_to(X0, A.shape), A, B) <= far + window
+        near[[(k - 1) % r, k]] = True  # the moved point's edges: where they go
+        self.ring_edges = np.flatnonzero(near)
+
+    def bound(self, ring, k: int, window: float, limit: float) -> float:
+        """:func:`band_bound` of ``ring`` (ring point ``k`` moved within the step)."""
+        r = len(ring)
+        X = ring[k]
+        reach = window + limit
+        t = np.arange(_SAMPLES + 1) / _SAMPLES
+        out = 0.0
+        A, B = _near_segments_of(self.A, self.B, X, reach)
+        for a, b in ((ring[k - 1], X), (X, ring[(k + 1) % r])):
+            Z = a[None, :] + t[:, None] * (b - a)[None, :]
+            out = max(out, _farthest(Z, A, B) + 0.5 * float(np.hypot(*(b - a))) / _SAMPLES)
+        near = self.dense[np.hypot(*(self.dense - X).T) <= window]
+        if len(near):
+            e = self.ring_edges
+            RA, RB = _near_segments_of(ring[e], ring[(e + 1) % r], X, reach)
+            out = max(out, _farthest(near, RA, RB) + 0.5 * _DENSE * limit)
+        return out
 
 
 def _near_segments(ring, X, reach: float):
     """The edges (A, B) of a closed ring within ``reach`` of point X."""
-    A, B = ring, np.roll(ring, -1, axis=0)
+    return _near_segments_of(ring, np.roll(ring, -1, axis=0), X, reach)
+
+
+def _near_segments_of(A, B, X, reach: float):
+    """The segments (A, B) within ``reach`` of point X."""
     near = point_segment_distance(np.broadcast_to(X, A.shape), A, B) <= reach
     return A[near], B[near]
 
@@ -135,9 +188,22 @@ def _farthest(Z, A, B) -> float:
     """The largest, over points Z, of the distance to the nearest segment A B (inf if none)."""
     if not len(A):
         return np.inf
-    d = point_segment_distance(np.repeat(Z, len(A), axis=0), np.tile(A, (len(Z), 1)),
-                               np.tile(B, (len(Z), 1)))
-    return float(d.reshape(len(Z), -1).min(axis=1).max())
+    return float(_nearest(Z, A, B).max())
+
+
+def _nearest(Z, A, B) -> np.ndarray:
+    """(len(Z),) the distance from each point Z to the nearest segment A B (non-empty):
+    :func:`uniform2d.geometry.point_segment_distance`'s arithmetic, broadcast
+    instead of repeated rows."""
+    AB = B - A
+    L2 = AB[:, 0] * AB[:, 0] + AB[:, 1] * AB[:, 1]
+    APx = Z[:, None, 0] - A[None, :, 0]
+    APy = Z[:, None, 1] - A[None, :, 1]
+    t = np.divide(APx * AB[:, 0] + APy * AB[:, 1], L2, out=np.zeros(APx.shape), where=L2 > 0)
+    np.clip(t, 0.0, 1.0, out=t)
+    dx = APx - t * AB[:, 0]
+    dy = APy - t * AB[:, 1]
+    return np.sqrt(dx * dx + dy * dy).min(axis=1)
 
 
 def _dense(line, limit: float) -> np.ndarray:
@@ -146,7 +212,7 @@ def _dense(line, limit: float) -> np.ndarray:
 
 
 def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
-                most: int | None = None):
+                most: int | None = None, sources: dict | None = None):
     """The rings of ``res.polygon`` (:class:`uniform2d.outline.Resampled`) with
     the movable ends of the mesh's too-short boundary edges moved off their
     other ends (see the module notes).
@@ -165,6 +231,10 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
         (point, other end) pairs not to try.
     most : int, optional
         Move at most this many points (the shortest edges' first).
+    sources : dict, optional
+        Filled with what the tolerance check keeps of each input ring (by ring
+        index; pass the same dict to later calls with the same ``outline`` and
+        ``limit`` not to build it again).
 
     Returns
     -------
@@ -207,7 +277,7 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
     rings = [np.array(r, dtype=np.float64) for r in poly.rings]
     Q = P.copy()  # the points as moved so far
     moved, stuck, dev = [], [], 0.0
-    dense = {}  # per ring, its outline sampled for band_bound
+    sources = {} if sources is None else sources  # per ring, the input ring as band_bound sees it
     for j in np.argsort(L, kind="stable"):
         if L[j] >= target:
             break
@@ -219,10 +289,10 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
                     or len(moved) == most):
                 continue
             ri = int(np.searchsorted(off, x, side="right") - 1)
-            if ri not in dense:
-                dense[ri] = _dense(shapely.LinearRing(outline.rings[ri]), limit)
-            got = _move(outline.rings[ri], rings, ri, x - off[ri], Q[y], target, res.spacing,
-                        limit, poly, dense[ri])
+            if ri not in sources:
+                sources[ri] = _Input(outline.rings[ri], limit)
+            got = _move(sources[ri], rings, ri, x - off[ri], Q[y], target, res.spacing,
+                        limit, poly)
             if got is not None:
                 rings[ri], d = got
                 Q[x] = rings[ri][x - off[ri]]
@@ -233,7 +303,7 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
     return rings, moved, dev, stuck
 
 
-def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
+def _move(source, rings, ri, k, far, target, h, limit, poly):
     """(ring, bound) with ring point k of ring ``ri`` moved off ``far`` (see
     :func:`nudge_rings`), or None if no move lengthens what is short there."""
     ring = rings[ri]
@@ -249,8 +319,7 @@ def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
     score = np.minimum(np.minimum(e1, e2), np.hypot(*(X - far).T))
     if len(others):  # the rest of the ring: no narrower feature made there
         A, B = ring[others], ring[(others + 1) % r]
-        c = point_segment_distance(np.repeat(X, len(A), axis=0), np.tile(A, (len(X), 1)),
-                                   np.tile(B, (len(X), 1))).reshape(len(X), -1).min(axis=1)
+        c = _nearest(X, A, B)
         score = np.minimum(score, c)
         c0 = float(point_segment_distance(np.repeat(X0[None, :], len(A), axis=0), A, B).min())
     else:
@@ -258,11 +327,21 @@ def _move(outline_ring, rings, ri, k, far, target, h, limit, poly, dense):
     had = min(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), np.hypot(*(X0 - far)), c0, target)
     score = np.minimum(score, target)  # at half the longest edge, the nearest move
     ok = (score > had + _GAIN * h) & (np.maximum(e1, e2) <= cap)
-    for i in np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:_CHECKED]:
+    if not ok.any():
+        return None
+    both = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)))
+    band = _Band(source, ring, k, max(both, cap) + limit, X0, float(STEPS.max()) * h)
+    order = np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:_CHECKED]
+    if not len(band.A):
+        return None
+    # the band check's first sample is the position itself (computed alike), its
+    # distance to these edges at most that to the nearer ones it measures: farther
+    # than the tolerance, it fails
+    order = order[_nearest(prv + (X[order] - prv), band.A, band.B) <= limit]
+    for i in order:
         R = ring.copy()
         R[k] = X[i]
-        window = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), e1[i], e2[i]) + limit
-        d = band_bound(outline_ring, R, k, window, limit, dense)
+        d = band.bound(R, k, max(both, e1[i], e2[i]) + limit, limit)
         if d <= limit and _valid(poly, rings, ri, R):
             return R, d
     return None
@@ -339,8 +418,9 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     """(res, mesh, points moved): a mesh of the resampled outline ``res``
     (:class:`uniform2d.outline.Resampled` of ``outline``) with ring points
     moved off its too-short edges where that is better (see the module
-    notes); tried where the edge ratio is above ``SPLIT_RATIO`` and the
-    shortest ring edge allows one that low (as for halving).
+    notes); tried where the edge ratio is above ``SPLIT_RATIO``, also where
+    the shortest ring edge forces a ratio above it (a shoreline's piers: the
+    short ring edges have a movable end).
 
     Examples
     --------
@@ -352,16 +432,15 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     >>> m.info["resample"]["nudged"]              # ratio under 2: nothing to do
     0
     """
-    total, failed = 0, set()
+    total, failed, sources = 0, set(), {}
     limit = res.tolerance * res.spacing
     for attempt in range(TRIES):
         q = quality(mesh.points, mesh.triangles)
-        V, E = res.polygon.vertices, res.polygon.edges
-        ring_edge = float(np.hypot(*(V[E[:, 1]] - V[E[:, 0]]).T).min())
-        if q.edge_ratio <= SPLIT_RATIO or q.mean_edge > SPLIT_RATIO * ring_edge:
+        if q.edge_ratio <= SPLIT_RATIO:
             break
         rings, moved, dev, stuck = nudge_rings(outline, res, mesh.points, mesh.triangles, limit,
-                                               skip=failed, most=None if attempt == 0 else 1)
+                                               skip=failed, most=None if attempt == 0 else 1,
+                                               sources=sources)
         failed.update(stuck)  # no move from there: not tried again
         if not moved:
             break
