@@ -39,6 +39,7 @@ from __future__ import annotations
 import hashlib
 import os
 import pickle
+from types import ModuleType
 
 import llvmlite.binding as ll
 from llvmlite import ir
@@ -48,6 +49,7 @@ from numba.core.ccallback import CFunc
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.dispatcher import Dispatcher
 from numba.core.extending import intrinsic
+from numba.core.registry import cpu_target
 
 from ..compile_claims import ClaimedCache, before_load
 
@@ -135,6 +137,8 @@ def compiled_once(func, nargs: int):
 _named: list = []  # the dispatchers called by name, in the order made (callees first)
 _named_done: dict = {}  # symbol -> the compile result its address points into (kept alive)
 _loading = [False]
+_stub_of: dict = {}  # id of a called_by_name stub -> (the stub, the dispatcher it calls)
+_reached: dict = {}  # dispatcher called by name -> the Python functions it may reach
 
 
 def _named_symbol(disp, argtys) -> str:
@@ -191,19 +195,54 @@ def _remember(disp, argtys) -> None:
         pass
 
 
+def _reach(func, seen: set) -> None:
+    """Add ``func`` and the Python functions of every kernel it may call
+    (directly, as a module's attribute, or by name through a stub), callees of
+    callees too, to ``seen``."""
+    if func in seen:
+        return
+    seen.add(func)
+    names = func.__code__.co_names
+    for word in names:
+        obj = func.__globals__.get(word)
+        for target in [getattr(obj, n, None) for n in names] if isinstance(obj, ModuleType) \
+                else [obj]:
+            disp = _stub_of.get(id(target), (None, target))[1]
+            if isinstance(disp, Dispatcher):
+                _reach(disp.py_func, seen)
+
+
+def _reaches(disp) -> set:
+    if disp not in _reached:
+        _reached[disp] = set()
+        _reach(disp.py_func, _reached[disp])
+    return _reached[disp]
+
+
 def _load_named(func) -> None:
     """Before any kernel is read from the cache: every kernel called by name,
     for every signature in its cache, loaded and its symbol registered (which
-    ones the cached code calls is not known)."""
+    ones the cached code calls is not known).
+
+    Not the ones that may call ``func`` or a function being typed now (this
+    load may be a callee's, inside the compile of a kernel called by name, one
+    whose entry in the cache is stale or was never written, while another
+    process cached its callees): compiling one of those would type such a
+    function again for the same argument types, which numba refuses as a
+    re-entrant compile.  The cached code cannot call them by name: no kernel
+    calls itself, directly or not."""
     if _loading[0] or func in _below:  # (the C functions' kernels call none by name)
         return
     _loading[0] = True
     try:
         ensure()  # the kernels called by name may call the C functions
-        with global_compiler_lock:
+        with global_compiler_lock:  # (typing runs under it: the call stack is this thread's)
+            busy = {frame.func_id.func for frame in cpu_target.typing_context.callstack}
+            busy.add(func)
             for disp in _named:
-                for argtys in _remembered(disp):
-                    _register(disp, tuple(argtys))
+                if busy.isdisjoint(_reaches(disp)):
+                    for argtys in _remembered(disp):
+                        _register(disp, tuple(argtys))
     finally:
         _loading[0] = False
 
@@ -242,4 +281,6 @@ def called_by_name(disp):
     names = ", ".join(f"a{i}" for i in range(nargs))
     namespace = {"typer": typer}
     exec(f"def call(typingctx, {names}):\n    return typer(typingctx, {names})\n", namespace)
-    return intrinsic(namespace["call"])
+    stub = intrinsic(namespace["call"])
+    _stub_of[id(stub)] = (stub, disp)
+    return stub
