@@ -25,7 +25,7 @@ from .moves import KernelMesh, improve_best, improve_kept
 from .objective import objective_code, quality_objective
 from .polish import POLISH_MAX, polish_extremes
 from .relocate import relocate
-from .seed import start, start_parts, variants
+from .seed import start, start_parts, stripped, variants
 from .shift import shift_worst
 from .edge_cv import CV_STAGE_MAX, CV_STAGE_MIN, lower_edge_cv
 from .transition import SMALL_PIECE
@@ -49,11 +49,12 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     parts = thread_map(lambda k: start_parts(polygon, n, h, *k, angled), kinds)
     shared = dict(zip(kinds, parts))
     ranked = len(tried) > 1
+    free = stripped(polygon, n)
 
     def made_and_built(v):
         # each start built in the kernel on the thread that made it: one
         # start's Python (the lattice) runs beside another's build (nogil)
-        made = start(polygon, n, h, v, angled, shared=shared[v[0], v[2]])
+        made = start(polygon, n, h, v, angled, shared=shared[v[0], v[2]], free=free)
         if not ranked:
             return made, None
         return made, KernelMesh.built(polygon, made[0], href=h, frozen=made[2], edges=made[1],

@@ -172,7 +172,8 @@ KEEP_LARGE = (Fraction(5, 12), Fraction(3, 5))
 #: extremes alone do not see.  The weight buys a clearly lower CV for a small
 #: cost in the extremes.
 CV_WEIGHT = 0.5
-#: Lattice seed points farther than BAND target sizes from the boundary stay put.
+#: Lattice seed points farther than BAND target sizes from the boundary stay put,
+#: except where strip starts are tried (:func:`uniform2d.optimize.seed.stripped`).
 BAND = 8.0
 
 #: Relocation moves (:func:`uniform2d.optimize.relocate.relocate`), for meshes up

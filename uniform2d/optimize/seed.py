@@ -21,7 +21,7 @@ from .lattice import Fit, seed_interior
 from .rows import boundary_rows
 from .transition import with_transition
 
-__all__ = ["start", "start_parts", "variants"]
+__all__ = ["start", "start_parts", "stripped", "variants"]
 
 
 def variants(polygon: Polygon, n: int):
@@ -52,14 +52,26 @@ def variants(polygon: Polygon, n: int):
     strips = []
     if n + len(polygon.vertices) <= schedule.SMALL:
         spacings, layers = schedule.SPACINGS, schedule.LAYERED
-        if schedule.STRIPS_MIN < n + len(polygon.vertices) and not polygon.n_holes \
-                and not polygon.has_constraints and polygon.perimeter \
-                >= schedule.STRIP_PIECES * len(polygon.vertices) * target_size(polygon, n):
+        if stripped(polygon, n):
             strips = [(c, e, depth) for depth in schedule.STRIP_DEPTHS for e in edges
                       for c in schedule.STRIP_SPACINGS]
     else:
         spacings, layers = schedule.SPACINGS_MEDIUM, schedule.LAYERED_MEDIUM
     return [(c, e, lay) for lay in layers for e in edges for c in spacings] + strips
+
+
+def stripped(polygon: Polygon, n: int) -> bool:
+    """Whether the starts of a mesh of P with n Steiner points include strip
+    starts (:func:`variants`): more than ``schedule.STRIPS_MIN`` and up to
+    ``schedule.SMALL`` points, no holes, segments or fixed points, edges
+    ``schedule.STRIP_PIECES`` target sizes long on average.  There every
+    start of the optimiser leaves its deep lattice free (:func:`start`'s
+    ``free``): the points a count off the lattice's puts near the boundary
+    spread into it."""
+    total = n + len(polygon.vertices)
+    return (schedule.STRIPS_MIN < total <= schedule.SMALL and not polygon.n_holes
+            and not polygon.has_constraints and polygon.perimeter
+            >= schedule.STRIP_PIECES * len(polygon.vertices) * target_size(polygon, n))
 
 
 def start_parts(polygon: Polygon, n: int, h: float, spacing: float, layered: bool,
@@ -82,13 +94,15 @@ def start_parts(polygon: Polygon, n: int, h: float, spacing: float, layered: boo
 
 
 def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False, lattice=None,
-          shared=None):
+          shared=None, free: bool = False):
     """The sites of one start (boundary points, then the lattice), the polygon edge of
     each (-1 inside) and which stay put.  With ``transition``, rows around small
     holes first (:mod:`~uniform2d.optimize.transition`, held in place);
     ``lattice``: a shared lattice, as :func:`seed_interior`'s; ``shared``:
     :func:`start_parts` for this start's spacing, ``layered`` and ``transition``
-    (made here if not given: the starts of two lattice edges share it)."""
+    (made here if not given: the starts of two lattice edges share it);
+    ``free``: no site stays put, the deep lattice included (the optimiser's
+    starts where :func:`stripped`)."""
     spacing, edge, layered = variant
     if shared is None:
         shared = start_parts(polygon, n, h, spacing, layered, transition)
@@ -99,8 +113,13 @@ def start(polygon: Polygon, n: int, h: float, variant, transition: bool = False,
     large = n + len(polygon.vertices) > schedule.LARGE
     ipts = seed_interior(polygon, n - len(bpts), h, bpts, edge, rows, beid,
                          Fit.BELOW if large else Fit.ABOVE, held, lattice)
-    # the lattice deeper than BAND sizes inside P is uniform already: it stays
-    deep = to_segments(ipts, a, a + d, 2.0 * schedule.BAND * h) > schedule.BAND * h
+    # the lattice deeper than BAND sizes inside P is uniform already: it stays,
+    # unless ``free`` (see stripped: the count's defects near the boundary
+    # spread into it)
+    if free:
+        deep = np.zeros(len(ipts), bool)
+    else:
+        deep = to_segments(ipts, a, a + d, 2.0 * schedule.BAND * h) > schedule.BAND * h
     if held is not None and len(held) < n - len(bpts):  # seed_interior puts them first
         deep[: len(held)] = True  # the rows around small holes stay
     frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
