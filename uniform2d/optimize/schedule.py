@@ -91,23 +91,16 @@ LAYERED_LARGE = True
 #: holes, segments or fixed points also try *strip starts*: STRIP_DEPTHS rows
 #: along every edge (each staggered from the one below,
 #: :func:`uniform2d.optimize.rows.boundary_rows`), at the boundary spacings
-#: STRIP_SPACINGS, after the other starts (which win ties).  On the benchmark
-#: polygons at n = 1500 they win on five of seven and every measure stays
-#: within 1 % (geometric means of the certified factors 1.056 / 1.115 / 1.055
-#: -> 1.047 / 1.108 / 1.051, edge CV 0.039 -> 0.037) for about a quarter more
-#: CPU time; a 3-row start alone makes the square's CV 11 % worse, four rows
-#: never win, spacings 0.95 and 1.05 add starts that gain little.  Not around
-#: holes: on the bolt plate at 2000 vertices they won with a 1.3 % lower worst
-#: angle and a 3 % higher CV.  Not at n = 1000 (the speed goal) and, below, not
-#: worth their time (n = 300: 1.084 / 1.126 / 1.064 -> 1.077 / 1.123 / 1.063).
+#: STRIP_SPACINGS, after the other starts (which win ties).  They lower the
+#: longest-edge and perimeter factors where the boundary's rows set them;
+#: around holes they cost worst angle and CV, at n = 1000 the speed goal has no
+#: room for them and below STRIPS_MIN they gain too little for their time
+#: (measured in docs/strip_starts.md).
 STRIPS_MIN = 1200
 #: ... and only where P's edges are at least STRIP_PIECES target sizes long on
-#: average (the benchmark polygons' are 16.7-39 at 1200 points): a resampled
-#: outline or a surface chart, edges of a piece or two, has no strip to lay,
-#: and on the real outlines (data/outlines, 9-11 at 2000 points) the strips
-#: did not win but changed which of the other starts did (the more starts,
-#: the more go on after each trial): Japan at n = 2000, edge ratio 1.42 ->
-#: 1.44 and worst angle 42.1 -> 40.8 degrees.
+#: average: a resampled outline or a surface chart, edges of a piece or two,
+#: has no strip to lay, and there the extra starts only change which of the
+#: others wins (the more starts, the more go on after each trial).
 STRIP_PIECES = 16
 STRIP_DEPTHS = (2, 3)
 STRIP_SPACINGS = (1.0,)
