@@ -312,7 +312,7 @@ def _resample_at(polygon: Polygon, h: float, tol: float, corner_angle: float,
                  for r, ring in enumerate(polygon.rings)]
         samples = [g.sample(h, tol) for g in rings]
         try:
-            poly = _rebuild(polygon, [s[0] for s in samples])
+            poly = polygon.with_rings([s[0] for s in samples])
         except InvalidPolygonError as exc:
             log.info("resampled rings invalid at spacing %.6g (%s); splitting there", h, exc)
             crossing = crossing_edges(polygon, samples)
@@ -346,18 +346,13 @@ def _widened(polygon: Polygon, poly: Polygon, rings, samples, h: float, limit: f
     for cand, d in ((pulled, max(out[1], dev, dev2)), (moved, max(out[1], dev))):
         if narrowest(cand, REACH * h)[0] >= narrowest(out[0], REACH * h)[0]:
             try:
-                return _rebuild(polygon, cand), d
+                return polygon.with_rings(cand), d
             except InvalidPolygonError:
                 pass
     try:
-        return _rebuild(polygon, out[0]), out[1]
+        return polygon.with_rings(out[0]), out[1]
     except InvalidPolygonError:
         return poly, max(float(s[2].max()) for s in samples)
-
-
-def _rebuild(polygon: Polygon, rings) -> Polygon:
-    return Polygon(rings[0], rings[1:], segments=polygon.split_segments(), points=polygon.points,
-                   regions=polygon.region_seeds)
 
 
 class _Ring:

@@ -411,6 +411,13 @@ class Polygon:
             out.append(self._vertices[np.append(e[:, 0], e[-1, 1])])
         return out
 
+    def with_rings(self, rings) -> "Polygon":
+        """A polygon with ``rings`` (the outer ring, then the holes; each (k, 2))
+        and this one's segments, fixed points and region seeds: a resampled
+        outline's."""
+        return Polygon(rings[0], rings[1:], segments=self.split_segments(), points=self._points,
+                       regions=self.region_seeds)
+
     def transformed(self, scale: float = 1.0, offset=(0.0, 0.0)) -> "Polygon":
         """A copy with every vertex mapped to ``scale * v + offset``.
 

@@ -351,15 +351,10 @@ def _valid(poly: Polygon, rings, ri: int, R) -> bool:
     """Whether the rings with ring ``ri`` replaced by ``R`` make a valid polygon with
     ``poly``'s constraints and as many vertices (no segment end spliced into a ring)."""
     try:
-        new = _rebuild(poly, [R if i == ri else g for i, g in enumerate(rings)])
+        new = poly.with_rings([R if i == ri else g for i, g in enumerate(rings)])
     except InvalidPolygonError:  # InvalidConstraintError too
         return False
     return len(new.vertices) == len(poly.vertices)
-
-
-def _rebuild(poly: Polygon, rings) -> Polygon:
-    return Polygon(rings[0], rings[1:], segments=poly.split_segments(), points=poly.points,
-                   regions=poly.region_seeds)
 
 
 def relaxed(old: Polygon, new: Polygon, mesh, objective: str = "balanced", wide: bool = False):
@@ -408,12 +403,6 @@ def relaxed(old: Polygon, new: Polygon, mesh, objective: str = "balanced", wide:
     return Mesh(pts, tri, new, mesh.n_steiner, {k: v for k, v in mesh.info.items() if k != "d_n"})
 
 
-def _kept(q_new, q_old) -> bool:
-    """The keep rule: edge ratio lower, CV at most CV_SLACK higher, worst angle at
-    most ANGLE_SLACK lower."""
-    return better_mesh(q_new, q_old, CV_SLACK) and q_new.min_angle >= (1 - ANGLE_SLACK) * q_old.min_angle
-
-
 def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     """(res, mesh, points moved): a mesh of the resampled outline ``res``
     (:class:`uniform2d.outline.Resampled` of ``outline``) with ring points
@@ -444,12 +433,12 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
         failed.update(stuck)  # no move from there: not tried again
         if not moved:
             break
-        res2 = dataclasses.replace(res, polygon=_rebuild(res.polygon, rings),
+        res2 = dataclasses.replace(res, polygon=res.polygon.with_rings(rings),
                                    deviation=max(res.deviation, dev))
         got = [(quality(m.points, m.triangles), m)
                for m in (relaxed(res.polygon, res2.polygon, mesh, objective, w) for w in (False, True))
                if m is not None]
-        got = [(q2, m) for q2, m in got if _kept(q2, q)]
+        got = [(q2, m) for q2, m in got if better_mesh(q2, q, CV_SLACK, ANGLE_SLACK)]
         if not got:
             if len(moved) == 1:  # not tried again
                 failed.update(moved)

@@ -40,13 +40,14 @@ CV_SLACK = 0.05
 ANGLE_SLACK = 0.1
 
 
-def better_mesh(q_new, q_old, cv_slack: float = CV_SLACK) -> bool:
+def better_mesh(q_new, q_old, cv_slack: float = CV_SLACK, angle_slack: float | None = None) -> bool:
     """Whether a second mesh of a resampled outline (quality ``q_new``,
     :class:`uniform2d.quality_result.Quality`) replaces the first (``q_old``):
     its edge ratio lower, its edge CV at most ``cv_slack`` higher and its worst
-    angle at most :data:`ANGLE_SLACK` lower."""
+    angle at most ``angle_slack`` lower (relative; :data:`ANGLE_SLACK` if None)."""
+    angle_slack = ANGLE_SLACK if angle_slack is None else angle_slack
     return (q_new.edge_ratio < q_old.edge_ratio and q_new.cv_edge <= (1 + cv_slack) * q_old.cv_edge
-            and q_new.min_angle >= (1 - ANGLE_SLACK) * q_old.min_angle)
+            and q_new.min_angle >= (1 - angle_slack) * q_old.min_angle)
 
 
 def edges_to_halve(polygon: Polygon, points, triangles) -> np.ndarray:
@@ -106,7 +107,6 @@ def halve_edges(res, pairs):
                 pts.append(0.5 * (ring[i] + ring[(i + 1) % k]))
                 kept.append(False)
         by_ring.append(np.array(pts))
-    poly = Polygon(by_ring[0], by_ring[1:], segments=q.split_segments(), points=q.points,
-                   regions=q.region_seeds)
+    poly = q.with_rings(by_ring)
     kept = np.concatenate([np.array(kept, dtype=bool), res.kept[q.n_ring_vertices:]])
     return dataclasses.replace(res, polygon=poly, kept=kept)
