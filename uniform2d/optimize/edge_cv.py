@@ -34,7 +34,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..polygon import Polygon
-from .polish import accumulate, corner_angles, kept_if, measured, mesh_parts
+# the polish's margins: both stages' penalties are soft in the same way
+from .polish import (ANGLE_MARGIN, LENGTH_MARGIN, NEAR_ANGLE, accumulate, corner_angles, kept_if,
+                     measured, mesh_parts)
 from .schedule import SMALL
 from .variance import areas, lbfgs, sliding_variables
 
@@ -54,20 +56,11 @@ CV_STAGE_MAX = SMALL
 ITERATIONS = 10
 #: Weight of the penalties (the objective itself is near 1).
 PENALTY = 3000.0
-#: The penalties hold the edges and the angles this far inside the mesh's own
-#: limits (relative; the angles in radians): they are soft, and their optimum
-#: lies a hair outside the limit they state.
-LENGTH_MARGIN = 1e-3
-ANGLE_MARGIN = 1e-3
 #: The points of the elements within HOLD (relative; the angles: in
 #: radians) of an extreme stay where they are: the extremes are often tied (a
 #: polygon side split evenly, a row of lattice edges) and no move of a point
 #: between two tied edges keeps both within the limit.
 HOLD = 1e-2
-#: The angle penalty watches the corners within NEAR_ANGLE (radians) of the
-#: worst angle at the start (a corner the moves take below the worst angle
-#: anyway shows in the measures of the result, which is then not kept).
-NEAR_ANGLE = 0.1
 
 
 def _problem(polygon: Polygon, X0, T0, eid):
