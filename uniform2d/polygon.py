@@ -414,7 +414,15 @@ class Polygon:
     def with_rings(self, rings) -> "Polygon":
         """A polygon with ``rings`` (the outer ring, then the holes; each (k, 2))
         and this one's segments, fixed points and region seeds: a resampled
-        outline's."""
+        outline's.
+
+        Examples
+        --------
+        >>> p = Polygon([(0, 0), (2, 0), (2, 2), (0, 2)], points=[(1, 1)])
+        >>> q = p.with_rings([[(0, 0), (1, 0), (2, 0), (2, 2), (0, 2)]])
+        >>> len(q.vertices), q.points.tolist()
+        (6, [[1.0, 1.0]])
+        """
         return Polygon(rings[0], rings[1:], segments=self.split_segments(), points=self._points,
                        regions=self.region_seeds)
 
