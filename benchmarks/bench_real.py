@@ -118,6 +118,18 @@ def shortest_kind(mesh: u.Mesh) -> str:
                                                 if b >= nV else "")
 
 
+def ring_set(mesh: u.Mesh, h: float) -> dict:
+    """The shortest and longest mesh edges between two polygon vertices (ring edges
+    left whole and chords across tips or narrow features), in spacings: no move of
+    the interior points changes them, only a move of the ring or another
+    triangulation of its vertices."""
+    P, nV = mesh.points, len(mesh.polygon.vertices)
+    E = unique_edges(mesh.triangles, len(P))
+    E = E[(E[:, 0] < nV) & (E[:, 1] < nV)]
+    L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T) / h
+    return {"ring_short": float(L.min(initial=np.inf)), "ring_long": float(L.max(initial=0.0))}
+
+
 def run_one(name, p, n, tol, gmsh: bool, paper: bool = True, merge: bool = True) -> list[dict]:
     rows = []
     if paper:
@@ -133,7 +145,7 @@ def run_one(name, p, n, tol, gmsh: bool, paper: bool = True, merge: bool = True)
     assert len(r.points) == info["kept_vertices"] + n
     rows.append({"mode": "resample", **measures(r.points, r.triangles, dt),
                  "dev": hausdorff(p, r.polygon) / h, "h": h, **narrow(r.polygon, h),
-                 "kind": shortest_kind(r)})
+                 "kind": shortest_kind(r), **ring_set(r, h)})
     if merge:  # resample_corners="merge": corners next to a short ring edge merged
         t = time.perf_counter()
         r2 = u.uniform_mesh(p, n, resample=tol, resample_corners="merge")
@@ -142,7 +154,7 @@ def run_one(name, p, n, tol, gmsh: bool, paper: bool = True, merge: bool = True)
         assert len(r2.points) == r2.info["resample"]["kept_vertices"] + n
         rows.append({"mode": "rs-merge", **measures(r2.points, r2.triangles, dt),
                      "dev": hausdorff(p, r2.polygon) / h2, "h": h2, **narrow(r2.polygon, h2),
-                     "kind": shortest_kind(r2)})
+                     "kind": shortest_kind(r2), **ring_set(r2, h2)})
     if gmsh:
         for mode, poly, count in (("gmsh", p, len(p.vertices) + n),
                                   ("gmsh-rs", r.polygon, len(r.points))):
@@ -195,7 +207,10 @@ def why(rows) -> None:
     spacings forces a ratio of at least mean / a (a bound).  A feature of width w
     (a pier, a neck; not a notch, which no mesh edge crosses) puts an edge about
     w long in the mesh where the mesh spans it; when the mesh's shortest edge is
-    within 5 % of that, the feature sets the ratio.  Otherwise the mesher does."""
+    within 5 % of that, the feature sets the ratio.  Otherwise the mesher does.
+    The line ends with the shortest and longest mesh edges between two polygon
+    vertices (:func:`ring_set`) and their ratio: where it is the mesh's edge
+    ratio, the ring alone sets it."""
     bad = [r for r in rows if r["mode"] in RESAMPLED and r["ratio"] > 2.0]
     if not bad:
         return
@@ -216,7 +231,9 @@ def why(rows) -> None:
             cause = f"the mesher's: shortest edge {s:.3f} h, longest {lg:.3f} h"
         print(f"  {r['outline']:20s} {r['mode']:8s} ratio {r['ratio']:7.3g}: shortest ring edge "
               f"{r['ring_edge']:.3f} h, narrowest feature {r['width']:.3f} h at ({x:.0f}, {y:.0f})"
-              f"; {cause}; the shortest edge is {r['kind']}")
+              f"; {cause}; the shortest edge is {r['kind']}; between polygon vertices "
+              f"{r['ring_short']:.3f} to {r['ring_long']:.3f} h (ratio "
+              f"{r['ring_long'] / r['ring_short']:.3g}: no interior move changes it)")
 
 
 #: Gmsh's tuning (a dozen meshes) takes minutes beyond this many vertices (see the table).

@@ -59,8 +59,9 @@ from .sites import classify_sites
 from .tolerance import boundary_tol
 from .validity import ensure_valid
 
-__all__ = ["ANGLE_SLACK", "CV_SLACK", "LONGEST", "RADIUS", "STEPS", "TRIES", "TURNS", "band_bound",
-           "nudge_rings", "nudged", "relaxed"]
+__all__ = ["ANGLE_SLACK", "CHECKED", "CV_SLACK", "GAIN", "InputRing", "LONGEST", "RADIUS", "STEPS",
+           "TRIES", "TURNS", "band_bound", "candidate_positions", "clearances", "first_in_band",
+           "moved_stage", "nearest_distance", "nudge_rings", "nudged", "relaxed", "valid_rings"]
 
 log = logging.getLogger(__name__)
 
@@ -70,9 +71,9 @@ STEPS = np.arange(1, 13) / 48
 #: Directions tried (radians from straight away from the edge's other end).
 TURNS = (0.0, -np.pi / 6, np.pi / 6, -np.pi / 3, np.pi / 3)
 #: A move lengthens the least of the point's distances by at least this many spacings.
-_GAIN = 0.01
+GAIN = 0.01
 #: Best candidates per point checked against the tolerance and for validity.
-_CHECKED = 60
+CHECKED = 60
 #: A move makes neither of the point's ring edges longer than this many spacings
 #: (or than it was): the mesher would split it.
 LONGEST = 1.4
@@ -109,11 +110,11 @@ def band_bound(outline, ring, k: int, window: float, limit: float, dense=None) -
     >>> bool(0.1 <= b <= 0.1 + 0.5 * np.hypot(2, 0.1) / 32 + 0.2 / 32)
     True
     """
-    source = _Input(outline, limit, dense)
+    source = InputRing(outline, limit, dense)
     return _Band(source, ring, k, window, ring[k], 0.0).bound(ring, k, window, limit)
 
 
-class _Input:
+class InputRing:
     """An input ring as :func:`band_bound` looks at it: its edges with their
     bounding boxes, and its dense samples in a k-d tree (built once per ring)."""
 
@@ -143,7 +144,7 @@ class _Band:
     superset: :meth:`bound` applies :func:`band_bound`'s own filters to them, so
     its value is the same)."""
 
-    def __init__(self, source: _Input, ring, k: int, window: float, X0, step: float):
+    def __init__(self, source: InputRing, ring, k: int, window: float, X0, step: float):
         r = len(ring)
         # the margin keeps the prefilter a superset whatever the rounding
         far = 1.01 * (window + step) + 1e-9 * float(np.abs(X0).max(initial=1.0))
@@ -188,10 +189,10 @@ def _farthest(Z, A, B) -> float:
     """The largest, over points Z, of the distance to the nearest segment A B (inf if none)."""
     if not len(A):
         return np.inf
-    return float(_nearest(Z, A, B).max())
+    return float(nearest_distance(Z, A, B).max())
 
 
-def _nearest(Z, A, B) -> np.ndarray:
+def nearest_distance(Z, A, B) -> np.ndarray:
     """(len(Z),) the distance from each point Z to the nearest segment A B (non-empty):
     :func:`uniform2d.geometry.point_segment_distance`'s arithmetic, broadcast
     instead of repeated rows."""
@@ -290,7 +291,7 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
                 continue
             ri = int(np.searchsorted(off, x, side="right") - 1)
             if ri not in sources:
-                sources[ri] = _Input(outline.rings[ri], limit)
+                sources[ri] = InputRing(outline.rings[ri], limit)
             got = _move(sources[ri], rings, ri, x - off[ri], Q[y], target, res.spacing,
                         limit, poly)
             if got is not None:
@@ -310,44 +311,72 @@ def _move(source, rings, ri, k, far, target, h, limit, poly):
     r = len(ring)
     prv, nxt = ring[k - 1], ring[(k + 1) % r]
     X0 = ring[k]
-    away = np.arctan2(*(X0 - far)[::-1]) + np.asarray(TURNS)
-    X = (X0[None, None, :] + (STEPS * h)[None, :, None]
-         * np.stack([np.cos(away), np.sin(away)], axis=1)[:, None, :]).reshape(-1, 2)
+    X = candidate_positions(X0, far, h)
     e1, e2 = np.hypot(*(X - prv).T), np.hypot(*(nxt - X).T)
     cap = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), min(LONGEST * h, 2 * target))
-    others = np.setdiff1d(np.arange(r), [(k - 2) % r, (k - 1) % r, k, (k + 1) % r])
-    score = np.minimum(np.minimum(e1, e2), np.hypot(*(X - far).T))
-    if len(others):  # the rest of the ring: no narrower feature made there
-        A, B = ring[others], ring[(others + 1) % r]
-        c = _nearest(X, A, B)
-        score = np.minimum(score, c)
-        c0 = float(point_segment_distance(np.repeat(X0[None, :], len(A), axis=0), A, B).min())
-    else:
-        c0 = np.inf
+    c, c0 = clearances(ring, k, X)  # the rest of the ring: no narrower feature made there
+    score = np.minimum(np.minimum(np.minimum(e1, e2), np.hypot(*(X - far).T)), c)
     had = min(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)), np.hypot(*(X0 - far)), c0, target)
     score = np.minimum(score, target)  # at half the longest edge, the nearest move
-    ok = (score > had + _GAIN * h) & (np.maximum(e1, e2) <= cap)
+    ok = (score > had + GAIN * h) & (np.maximum(e1, e2) <= cap)
     if not ok.any():
         return None
+    order = np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:CHECKED]
+    return first_in_band(source, rings, ri, k, X, order, cap, float(STEPS.max()) * h, limit, poly)
+
+
+def candidate_positions(X0, far, h: float, toward: bool = False) -> np.ndarray:
+    """(len(TURNS) * len(STEPS), 2): the positions tried for a ring point at
+    ``X0``, :data:`STEPS` spacings ``h`` in the :data:`TURNS` directions from
+    straight away from ``far`` (``toward``: from straight towards it)."""
+    d = far - X0 if toward else X0 - far
+    turn = np.arctan2(*d[::-1]) + np.asarray(TURNS)
+    return (X0[None, None, :] + (STEPS * h)[None, :, None]
+            * np.stack([np.cos(turn), np.sin(turn)], axis=1)[:, None, :]).reshape(-1, 2)
+
+
+def clearances(ring, k: int, X):
+    """((len(X),), float): the distance from each position X, and from ring point
+    ``k``, to the ring edges that touch neither k nor its neighbours (inf if none)."""
+    r = len(ring)
+    others = np.setdiff1d(np.arange(r), [(k - 2) % r, (k - 1) % r, k, (k + 1) % r])
+    if not len(others):
+        return np.full(len(X), np.inf), np.inf
+    A, B = ring[others], ring[(others + 1) % r]
+    c0 = float(point_segment_distance(np.repeat(ring[k][None, :], len(A), axis=0), A, B).min())
+    return nearest_distance(X, A, B), c0
+
+
+def first_in_band(source, rings, ri: int, k: int, X, order, cap: float, step: float,
+                  limit: float, poly: Polygon):
+    """(ring, bound) with point k of ring ``ri`` at the first position ``X[order]``
+    whose two ring edges and the input near it stay within ``limit`` both ways
+    (:func:`band_bound`) and whose polygon is valid (:func:`valid_rings`); None if
+    none.  ``source``: the input ring (:class:`InputRing`); ``cap``: the
+    longest ring edge a position may make; ``step``: the farthest position."""
+    ring = rings[ri]
+    r = len(ring)
+    prv, nxt = ring[k - 1], ring[(k + 1) % r]
+    X0 = ring[k]
     both = max(np.hypot(*(X0 - prv)), np.hypot(*(nxt - X0)))
-    band = _Band(source, ring, k, max(both, cap) + limit, X0, float(STEPS.max()) * h)
-    order = np.flatnonzero(ok)[np.lexsort((np.flatnonzero(ok), -score[ok]))][:_CHECKED]
+    band = _Band(source, ring, k, max(both, cap) + limit, X0, step)
     if not len(band.A):
         return None
     # the band check's first sample is the position itself (computed alike), its
     # distance to these edges at most that to the nearer ones it measures: farther
     # than the tolerance, it fails
-    order = order[_nearest(prv + (X[order] - prv), band.A, band.B) <= limit]
+    order = order[nearest_distance(prv + (X[order] - prv), band.A, band.B) <= limit]
+    e1, e2 = np.hypot(*(X - prv).T), np.hypot(*(nxt - X).T)
     for i in order:
         R = ring.copy()
         R[k] = X[i]
         d = band.bound(R, k, max(both, e1[i], e2[i]) + limit, limit)
-        if d <= limit and _valid(poly, rings, ri, R):
+        if d <= limit and valid_rings(poly, rings, ri, R):
             return R, d
     return None
 
 
-def _valid(poly: Polygon, rings, ri: int, R) -> bool:
+def valid_rings(poly: Polygon, rings, ri: int, R) -> bool:
     """Whether the rings with ring ``ri`` replaced by ``R`` make a valid polygon with
     ``poly``'s constraints and as many vertices (no segment end spliced into a ring)."""
     try:
@@ -421,15 +450,25 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
     >>> m.info["resample"]["nudged"]              # ratio under 2: nothing to do
     0
     """
+    return moved_stage(outline, res, mesh, objective, nudge_rings,
+                       lambda q: q.edge_ratio <= SPLIT_RATIO, "off short")
+
+
+def moved_stage(outline: Polygon, res, mesh, objective: str, mover, done, what: str):
+    """(res, mesh, points moved): :func:`nudged`'s loop with ``mover`` (called as
+    :func:`nudge_rings`) choosing the moves, until ``done(quality)``: every move
+    at once, then one at a time, each kept where the relaxed mesh
+    (:func:`relaxed`) is better (:func:`uniform2d.ring_split.better_mesh` with
+    :data:`CV_SLACK` and :data:`ANGLE_SLACK`); ``what`` is for the log."""
     total, failed, sources = 0, set(), {}
     limit = res.tolerance * res.spacing
     for attempt in range(TRIES):
         q = quality(mesh.points, mesh.triangles)
-        if q.edge_ratio <= SPLIT_RATIO:
+        if done(q):
             break
-        rings, moved, dev, stuck = nudge_rings(outline, res, mesh.points, mesh.triangles, limit,
-                                               skip=failed, most=None if attempt == 0 else 1,
-                                               sources=sources)
+        rings, moved, dev, stuck = mover(outline, res, mesh.points, mesh.triangles, limit,
+                                         skip=failed, most=None if attempt == 0 else 1,
+                                         sources=sources)
         failed.update(stuck)  # no move from there: not tried again
         if not moved:
             break
@@ -444,8 +483,8 @@ def nudged(outline: Polygon, res, mesh, objective: str = "balanced"):
                 failed.update(moved)
             continue
         q2, mesh2 = min(got, key=lambda g: g[0].edge_ratio)  # the first of a tie
-        log.info("resampled outline: %d ring point(s) moved off short mesh edges, edge ratio "
-                 "%.4g -> %.4g", len(moved), q.edge_ratio, q2.edge_ratio)
+        log.info("resampled outline: %d ring point(s) moved %s mesh edges, edge ratio "
+                 "%.4g -> %.4g", len(moved), what, q.edge_ratio, q2.edge_ratio)
         res, total = res2, total + len(moved)
         mesh = Mesh(mesh2.points, mesh2.triangles, mesh2.polygon, mesh2.n_steiner,
                     {**mesh2.info, "after": quality_summary(q2)})

@@ -29,6 +29,7 @@ from .polygon import Polygon
 from .resources import check_point_count
 from .ring_nudge import nudged
 from .ring_relocate import relocated
+from .ring_shorten import shortened
 from .ring_split import SPLIT_RATIO, better_mesh, edges_to_halve, halve_edges
 
 __all__ = ["uniform_mesh", "steiner_count_for_size", "resampled_outline"]
@@ -119,7 +120,9 @@ def uniform_mesh(
     (:mod:`uniform2d.ring_split`), points relocated into corners with one
     triangle (:mod:`uniform2d.ring_relocate`) and ring points at the ends of
     its too-short edges moved off them within the tolerance, the mesh relaxed
-    there (:mod:`uniform2d.ring_nudge`), each kept only if the ratio drops.
+    there (:mod:`uniform2d.ring_nudge`), then those at the ends of its too-long
+    edges moved towards them (:mod:`uniform2d.ring_shorten`), each kept only if
+    the ratio drops.
     ``resample_corners="merge"`` lets a corner with a ring point less than 0.6
     spacings away merge with it into one point on the outline between them where
     the tolerance still holds (:mod:`uniform2d.corner_merge`: that corner is then
@@ -203,7 +206,7 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
              res.deviation / res.spacing, res.spacing)
     tie = NEAR_TIE if res.resampled else 0.0  # as given: the mesh without resample
     mesh = optimize_mesh(res.polygon, left, objective=objective, progress=progress, near_tie=tie)
-    split = moves = nudge = 0
+    split = moves = nudge = short = 0
     if res.resampled:
         res, left, mesh, split = _halved(res, left, mesh, objective)
         mesh, moves = relocated(mesh, objective)
@@ -211,9 +214,14 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
         if nudge:  # the moved rings may leave chords relocation can break now
             mesh, more = relocated(mesh, objective)
             moves += more
+        res, mesh, short = shortened(polygon, res, mesh, objective)
+        if short:
+            mesh, more = relocated(mesh, objective)
+            moves += more
     return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                 {**mesh.info, "resample": {**res.info(), "n": n_total, "halved_edges": split,
-                                           "relocated": moves, "nudged": nudge}})
+                                           "relocated": moves, "nudged": nudge,
+                                           "shortened": short}})
 
 
 def _halved(res, left, mesh, objective):
