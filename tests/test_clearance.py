@@ -1,8 +1,9 @@
-"""Which points have none of a set nearer than r (uniform2d._kernel.clearance),
-against the decision it stands in for: scipy's k-d tree query with that
-distance bound, ``cKDTree(R).query(P, distance_upper_bound=r)[0] >= r``, on
-random points, on lattices with points at exactly r (ties), far outside the
-set's box and with an empty set."""
+"""Nearness in a bucket grid (uniform2d._kernel.clearance) against the k-d
+tree queries it stands in for: which points have none of a set nearer than r
+(``cKDTree(R).query(P, distance_upper_bound=r)[0] >= r``) on random points, on
+lattices with points at exactly r (ties), far outside the set's box and with
+an empty set; the closest pair (``cKDTree(P).query(P, k=2)``), INSERT's d_n
+included."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from uniform2d._kernel.clearance import bucket_grid, none_within
+from uniform2d._kernel.clearance import bucket_grid, closest_pair, none_within
 
 
 def _both(P, R, r, cell):
@@ -53,3 +54,31 @@ def test_far_and_empty():
     assert np.array_equal(ours, tree) and ours.tolist() == [True, False, True]
     ours, _ = _both(P, np.empty((0, 2)), 1.0, 1.2)
     assert ours.all()
+
+
+def _tree_min(P):
+    return float(cKDTree(P).query(P, k=2)[0][:, 1].min())
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_closest_pair_as_the_tree(seed):
+    rng = np.random.default_rng(seed)
+    P = rng.random((500, 2)) * np.array([4.0, 1.0])
+    d2, certain = closest_pair(P, 0.1)
+    assert certain and np.sqrt(d2) == _tree_min(P)
+    # a duplicate point: distance 0
+    Q = np.concatenate([P, P[7:8]])
+    assert closest_pair(Q, 0.1) == (0.0, True)
+    # buckets too small to tell: not certain (the caller asks the tree)
+    d2, certain = closest_pair(P[:20], 1e-4)
+    assert not certain
+
+
+def test_min_distance_after_as_the_tree():
+    from uniform2d import Polygon, insert
+    from uniform2d.insert import min_distance_after
+
+    sq = Polygon([(0, 0), (3, 0), (3, 1), (0, 1)])
+    for n in (1, 30, 400):
+        r = insert(sq, n)
+        assert min_distance_after(sq, n) == r.min_distance() == _tree_min(r.mesh_points)

@@ -1,4 +1,6 @@
-"""Which points have none of a fixed set of points nearer than a distance.
+"""Nearness in a bucket grid: which points have none of a fixed set nearer
+than a distance (:func:`none_within`), and the closest pair of a point set
+(:func:`closest_pair`).
 
 The optimiser's starts test some ten lattices a start against the rows placed
 before them (:class:`uniform2d.optimize.lattice.Candidates`): a lattice point
@@ -13,13 +15,18 @@ r`` (scipy's k-d tree, p = 2, ``eps`` = 0): the squared distances are summed
 as it sums them (``dx * dx + dy * dy``, either order: the same bits), a point
 within the bound is one whose squared distance is below ``r * r``, and the
 distance compared with ``r`` is the square root of the smallest.
+
+:func:`closest_pair` stands in for ``cKDTree(P).query(P, k=2)[0][:, 1].min()``
+(INSERT's d_n, some 1000 to 10000 points a mesh): the square root of the
+smallest squared distance between two points, summed as the tree sums it, is
+that minimum (the square root is monotone).
 """
 
 import numpy as np
 
 from ._jit import njit
 
-__all__ = ["bucket_grid", "none_within"]
+__all__ = ["bucket_grid", "none_within", "closest_pair"]
 
 #: Slack, in buckets, of the buckets a test reads beyond ``r``: the bucket
 #: index of a point is rounded, and a point nearer than ``r`` must never be
@@ -93,3 +100,34 @@ def none_within(P, R, x0, y0, cell, nx, ny, start, order, r):
         if best < r2 and np.sqrt(best) < r:
             out[a] = False
     return out
+
+
+#: :func:`closest_pair` is certain when the smallest squared distance it finds
+#: is below (1 - CERTAIN) times the bucket side's square: every pair nearer
+#: than that is in adjacent buckets, however their bucket indices round.
+CERTAIN = 1e-6
+
+
+@njit(cache=True)
+def closest_pair(P, cell):
+    """(the smallest squared distance between two points of P (k >= 2, (k, 2))
+    in the same or adjacent buckets of side ``cell``, whether it is the
+    smallest of all pairs): it is when it is below (1 - CERTAIN) cell**2;
+    else the caller measures every pair another way."""
+    x0, y0, nx, ny, start, order = bucket_grid(P, cell)
+    best = np.inf
+    for a in range(P.shape[0]):
+        px = P[a, 0]
+        py = P[a, 1]
+        i = min(int((px - x0) / cell), nx - 1)
+        j = min(int((py - y0) / cell), ny - 1)
+        for jj in range(max(j - 1, 0), min(j + 1, ny - 1) + 1):
+            for ii in range(max(i - 1, 0), min(i + 1, nx - 1) + 1):
+                b = jj * nx + ii
+                for s in range(start[b], start[b + 1]):
+                    q = order[s]
+                    if q != a:
+                        dx = P[q, 0] - px
+                        dy = P[q, 1] - py
+                        best = min(best, dx * dx + dy * dy)
+    return best, best < (1.0 - CERTAIN) * (cell * cell)
