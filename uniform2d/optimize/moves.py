@@ -14,7 +14,6 @@ triangulation is returned (:func:`improve_kept`, :meth:`KernelMesh.result`).
 from __future__ import annotations
 
 import math
-from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -28,6 +27,7 @@ from ..threads import thread_map
 from ..triangulation import load_mesh, triangulate
 from ..triangulation import load as build
 from . import schedule as S
+from .halving import run_plan
 from .objective import objective_code
 from .boundary import target_size
 
@@ -194,8 +194,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     (``schedule_for``'s with ``winner``, overridden as :func:`improve`'s) without being loaded again, from the stage
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
-    the long ones on the few that can win.  ``report(done, total)``, if given, is
-    called before the first trial and after each round of trials.  The starts
+    the long ones on the few that can win; a start's next trial starts as soon
+    as it is certain to run it (:func:`~uniform2d.optimize.halving.run_plan`:
+    no thread waits for a round's slowest start).  ``report(done, total)``, if
+    given, is called before the first trial and after each round of trials.  The starts
     are built and their trials run on :func:`uniform2d.threads.get_threads`
     threads, each start on its own kernel state, the results ranked in the
     order of the starts: the same mesh on any number of threads.
@@ -227,19 +229,13 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     # ranking before it goes on into its own schedule at once (two starts,
     # above SMALL points: 12 descent sweeps fewer on the serial path)
     plan = plan[:1] + [p for p in plan[1:] if p[1] > 1]
-    total, done = sum(size for _, size, _ in plan), 0
     if report is not None:
-        report(done, total)
-    for sched, size, resumed in plan:
-        scored = thread_map(partial(_trial, sched=sched, obj=obj, resumed=resumed),
-                            alive[:size])
-        done += len(scored)
-        if report is not None:
-            report(done, total)
-        scored.sort(key=lambda r: r[:2])
-        alive = [r[1:] for r in scored]
+        report(0, sum(size for _, size, _ in plan))
+    # each start's next trial as soon as it is certain to run it (halving)
+    alive = run_plan(plan, alive, lambda a, sched, resumed: _trial(a, sched, obj, resumed),
+                     report)
     (i, st, run), = alive[:1]
-    alive = scored = None  # the losers' kernel states go now
+    alive = None  # the losers' kernel states go now
     if st is None:
         return i, *finish(polygon, None, run)
     sched = default_schedule(len(st.xy), False, True, spring_rounds=spring_rounds,
