@@ -1,5 +1,5 @@
 """Successive halving's rounds without a wait between them
-(uniform2d.optimize.halving.run_plan): on two and three threads, with trials
+(uniform2d.optimize.halving.run_plan): on two threads, with trials
 that end in another order than they started, the same survivors in the same
 order, every start having run the same trials, and the same progress reports
 as the rounds run in turn on one thread; a trial's exception is raised."""
@@ -45,7 +45,7 @@ def _run(threads: int, seed: int, starts: int, keep):
 def test_same_survivors_as_in_turn(seed, starts, keep):
     one, rep1 = _run(1, seed, starts, keep)
     assert [i for i, _, _ in one] and rep1[-1][0] == rep1[-1][1]
-    for threads in (2, 3):
+    for threads in (2,):  # the kept pool of two (another size would start threads of its own)
         many, rep = _run(threads, seed, starts, keep)
         assert [(i, s, p) for i, s, p in many] == [(i, s, p) for i, s, p in one]
         assert rep == rep1
