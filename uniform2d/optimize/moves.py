@@ -320,8 +320,10 @@ class KernelMesh(NamedTuple):
         arguments as :func:`improve`'s."""
         T0 = np.asarray(triangles, dtype=np.int32)
         m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
-        return _roles(polygon, m, xy, centre, scale, boundary, href, frozen,
-                      T0 if graded else None)
+        on = (np.array([i for i, _, _ in boundary], dtype=np.int64),
+              np.array([e for _, e, _ in boundary], dtype=np.int64),
+              np.array([t for _, _, t in boundary], dtype=np.float64))
+        return _roles(polygon, m, xy, centre, scale, on, href, frozen, T0 if graded else None)
 
     @classmethod
     def triangulated(cls, polygon: Polygon, sites, *, size=None, href=None, frozen=None,
@@ -349,9 +351,9 @@ class KernelMesh(NamedTuple):
         built = build(polygon, sites, edges=edges)
         edges = built.edges
         tb = edge_parameters(polygon, built.sites, edges)
-        boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
-        return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href,
-                      frozen)._replace(movable_short=movable_short)
+        on = np.flatnonzero(edges >= 0)
+        return _roles(polygon, built.m, built.xy, built.centre, built.scale,
+                      (on, edges[on], tb[on]), href, frozen)._replace(movable_short=movable_short)
 
     def advance(self, sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
         """Run the stages of ``sched``, in place; returns ``before`` with this run's
@@ -424,7 +426,9 @@ class KernelMesh(NamedTuple):
 
 def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -> KernelMesh:
     """The :class:`KernelMesh` of a mesh in kernel ``m`` (coordinates ``xy``): the
-    roles, edges and sizes of its points.  ``graded``: the mesh's triangles
+    roles, edges and sizes of its points.  ``boundary``: (the sites on P's
+    boundary, by index among the sites; their polygon edges; their parameters
+    along them), three arrays.  ``graded``: the mesh's triangles
     where the kernel reads a size field (None without one)."""
     nV = len(polygon.vertices)
     N = len(xy)
@@ -435,10 +439,10 @@ def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -
     t = np.zeros(N)
     if frozen is not None:
         role[nV:][np.asarray(frozen, dtype=bool)] = relax.FIXED
-    for i, e, ti in boundary:
-        role[nV + i] = relax.SLIDE
-        eid[nV + i] = e
-        t[nV + i] = ti
+    on, e, ti = boundary
+    role[nV + on] = relax.SLIDE
+    eid[nV + on] = e
+    t[nV + on] = ti
     hv = np.ones(N)
     relax.refresh_sizes(m, hv, np.ones(N, np.bool_))
     if graded is not None:  # the field's shape, scaled to the edges present
