@@ -33,6 +33,7 @@ passes :func:`uniform2d.validity.ensure_valid` before it is returned.
 from __future__ import annotations
 
 import logging
+import math
 import numbers
 from dataclasses import dataclass
 
@@ -41,6 +42,7 @@ from scipy.spatial import cKDTree
 
 from ._kernel import heap
 from ._kernel import insert as kinsert
+from ._kernel.clearance import closest_pair
 from ._kernel.outcomes import ERR_PRECISION, RUN_STRIDE, run_failure
 from .errors import CoordinatePrecisionError, InsufficientPointsError, InternalError, PLEASE_REPORT
 from .grading import as_field
@@ -95,8 +97,7 @@ class InsertResult:
 
     def min_distance(self) -> float:
         """d = l(S ∪ V, S ∪ V): the smallest distance between two vertices of the mesh."""
-        d, _ = cKDTree(self.mesh_points).query(self.mesh_points, k=2)
-        return float(d[:, 1].min())
+        return _closest(self.mesh_points)
 
 
 def insert(polygon: Polygon, n: int, *, sites=None, size=None) -> InsertResult:
@@ -179,8 +180,22 @@ def min_distance_after(polygon: Polygon, n: int) -> float:
     and the optimiser's certificates need only this distance)."""
     loaded, points, _, _ = _run(polygon, int(n), *site_edges(polygon, None))
     del loaded  # the kernel's arrays are not needed for the distance
-    mesh_points = np.concatenate([polygon.vertices, points], axis=0)
-    d, _ = cKDTree(mesh_points).query(mesh_points, k=2)
+    return _closest(np.concatenate([polygon.vertices, points], axis=0))
+
+
+def _closest(P: np.ndarray) -> float:
+    """The smallest distance between two of the points P (k, 2): that of
+    ``cKDTree(P).query(P, k=2)``, found in a bucket grid of about four points
+    a bucket (:func:`uniform2d._kernel.clearance.closest_pair`; the tree where
+    the grid cannot tell)."""
+    if len(P) >= 2:
+        span = P.max(axis=0) - P.min(axis=0)
+        cell = 2.0 * math.sqrt(float(span[0]) * float(span[1]) / len(P))
+        if cell > 0.0 and math.isfinite(cell):
+            d2, certain = closest_pair(np.ascontiguousarray(P, dtype=np.float64), cell)
+            if certain:
+                return math.sqrt(d2)
+    d, _ = cKDTree(P).query(P, k=2)
     return float(d[:, 1].min())
 
 

@@ -26,7 +26,7 @@ from concurrent.futures import Future, ThreadPoolExecutor, wait
 
 from .errors import InvalidArgumentError
 
-__all__ = ["ENV", "get_threads", "in_background", "set_threads", "thread_map"]
+__all__ = ["ENV", "get_threads", "in_background", "map_pool", "set_threads", "thread_map"]
 
 #: The environment variable read when :func:`set_threads` was not called.
 ENV = "UNIFORM2D_THREADS"
@@ -128,6 +128,24 @@ def thread_map(fn: Callable, items: Iterable) -> list:
             f.cancel()
         raise
     return [f.result() for f in futures]
+
+
+def map_pool() -> ThreadPoolExecutor | None:
+    """The kept executor of :func:`thread_map`, for callers that submit work
+    as earlier work ends (and must keep its results in a fixed order
+    themselves); None where thread_map would run its calls in turn (one
+    thread, or called from one of its threads).
+
+    Examples
+    --------
+    >>> set_threads(1); map_pool() is None
+    True
+    >>> set_threads(None)
+    """
+    k = get_threads()
+    if k <= 1 or getattr(_worker, "inside", False):
+        return None
+    return _pool("map", k)
 
 
 def in_background(fn: Callable) -> Future:

@@ -94,10 +94,17 @@ def spring(m, role, eid, t, ea, ed, hv, href, iters, dt, pressure, tol, cap, fla
 @njit(cache=True)
 def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, newt, moved,
            movers):  # fmt: skip
-    """Trial places ``new``/``newt`` of all ``movers``; returns the largest move."""
+    """Trial places ``new``/``newt`` of all ``movers``; returns the largest move.
+
+    A FREE vertex's move whose squared length is certainly below its cap
+    (:func:`_uncapped`: most of them) is made without its length, which only
+    the largest move needs; that is then the largest ``np.hypot`` of the few
+    whose squared length is within rounding of the largest (:func:`_longest`),
+    the same value as the maximum over all of them."""
     xy = m.xy
     gs, gx, gy = m.gs, m.gc[0], m.gc[1]  # the snapping grid (:func:`.cdt.snap_to`), read once
     biggest = 0.0
+    top2 = 0.0  # the largest squared length of the uncapped moves
     for v in movers:
         moved[v] = False
         if role[v] == FIXED:
@@ -106,6 +113,12 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
         dy = dt * F[v, 1]
         lim = cap * href * hv[v]
         if role[v] == FREE:
+            s2 = dx * dx + dy * dy
+            if _uncapped(s2, lim):
+                new[v, 0], new[v, 1] = snap_to(gs, gx, gy, xy[v, 0] + dx, xy[v, 1] + dy)
+                moved[v] = True
+                top2 = max(top2, s2)
+                continue
             step = np.hypot(dx, dy)
             if step > lim:
                 dx *= lim / step
@@ -133,7 +146,45 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
                                            ea[e, 1] + newt[v] * ey)
             moved[v] = True
             biggest = max(biggest, abs(dtv) * np.sqrt(L2))
+    if top2 > 0.0:
+        biggest = max(biggest, _longest(role, F, dt, cap, href, hv, movers, top2))
     return biggest
+
+
+#: An uncapped move's squared length is at least this (its larger component's
+#: square is then a normal number, and the float sum within 2 ulps of the exact
+#: one) and at most (1 - UNCAPPED) times its cap's square: the move is then
+#: certainly shorter than the cap, whatever ``np.hypot`` would round.
+UNCAPPED_MIN = 1e-280
+UNCAPPED = 1e-12
+#: The moves :func:`_longest` measures: squared length within this fraction of
+#: the largest (the rounding of the squares and of ``np.hypot``, a few ulps,
+#: can change the order of moves only that close).
+NEAR_LONGEST = 1e-9
+
+
+@njit(cache=True, inline="always")
+def _uncapped(s2, lim):
+    """Whether a move of float squared length ``s2`` is certainly shorter than
+    ``lim`` (see :data:`UNCAPPED`)."""
+    return UNCAPPED_MIN <= s2 <= (1.0 - UNCAPPED) * (lim * lim)
+
+
+@njit(cache=True)
+def _longest(role, F, dt, cap, href, hv, movers, top2):
+    """The largest ``np.hypot`` of the uncapped FREE moves of :func:`_trial`
+    (the same moves, recomputed bit for bit), of those whose squared length is
+    at least (1 - NEAR_LONGEST) ``top2``: the longest is among them."""
+    out = 0.0
+    for v in movers:
+        if role[v] != FREE:
+            continue
+        dx = dt * F[v, 0]
+        dy = dt * F[v, 1]
+        s2 = dx * dx + dy * dy
+        if s2 >= (1.0 - NEAR_LONGEST) * top2 and _uncapped(s2, cap * href * hv[v]):
+            out = max(out, np.hypot(dx, dy))
+    return out
 
 
 @njit(cache=True, inline="always")

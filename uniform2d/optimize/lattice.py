@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 import shapely
-from scipy.spatial import cKDTree
 
+from .._kernel.clearance import bucket_grid, none_within
 from .._kernel.distance import to_segments
 from .._kernel.hexrows import lattice_inside
 from ..geometry import polygon_edges
@@ -139,6 +139,19 @@ class Fit(enum.Enum):
     BELOW = "below"
 
 
+#: Bucket side (in target sizes) of the points a lattice keeps clear of
+#: (:func:`~uniform2d._kernel.clearance.bucket_grid`): above the largest
+#: distance tested (three quarters of the widest spacing searched, 1.5 h), so
+#: that a test reads the 3 x 3 buckets around a point.
+CELL = 1.2
+
+
+def _bucketed(R, cell: float) -> tuple:
+    """(R as a contiguous float array, its bucket grid of side ``cell``)."""
+    R = np.ascontiguousarray(R, dtype=float)
+    return (R, *bucket_grid(R, cell))
+
+
 class Candidates:
     """Lattice points of a given spacing inside P (or inside ``face``, one of its
     regions, anchored at ``origin``), clear of its boundary and of the first rows
@@ -164,11 +177,17 @@ class Candidates:
         self._uv = None  # the rings in the lattice's coordinates, for its origin and angle
         self.sa, self.sb = keep_clear(polygon)  # clear of the segments and fixed points too
         self.rows = rows
+        # what the lattice keeps clear of, bucketed once for the ten or so
+        # lattices a search tries (none_within: a k-d tree's decision, for
+        # less than its query's call costs)
+        self._cell = CELL * h
         if rows is not None:
-            self.rtree = cKDTree(rows)
+            self.rgrid = _bucketed(rows, self._cell)
             self.band = h * math.sqrt(3) / 2
         # points placed before the lattice anywhere (rows around small holes)
-        self.held = cKDTree(held) if held is not None and len(held) else None
+        self.held = None
+        if held is not None and len(held):
+            self.held = _bucketed(held, self._cell)
 
     def _inside(self, sp, cap):
         """The lattice points of spacing ``sp`` inside and their distance to
@@ -203,16 +222,22 @@ class Candidates:
         cap = (2.0 * self.band + 2.0 * sp) if rows else 2.0 * sp
         P, dist = self._inside(sp, cap)
         ok = dist >= 0.5 * sp
-        # a neighbour beyond 0.75 sp is all the tests below need to know of
-        # (the query returns inf for it, then): the trees' searches stop there
+        # a lattice point stays if nothing placed before it is nearer than
+        # 0.75 sp (the buckets around it read alone, _clear_of)
         clear = 0.75 * sp
         if rows:  # rows lie within ~band of the boundary: test only near ones
             ok &= dist >= self.band + 0.5 * sp
             near = np.flatnonzero(ok & (dist < 2.0 * self.band + sp))
-            ok[near] = self.rtree.query(P[near], distance_upper_bound=clear)[0] >= clear
+            ok[near] = self._clear_of(self.rgrid, P[near], clear)
         if self.held is not None:
-            ok &= self.held.query(P, distance_upper_bound=clear)[0] >= clear
+            ok &= self._clear_of(self.held, P, clear)
         return P[ok], dist[ok]
+
+    def _clear_of(self, grid, P, r):
+        """Whether each point of P has no point of ``grid`` (a point set and
+        its :func:`~uniform2d._kernel.clearance.bucket_grid`) nearer than r."""
+        R, x0, y0, nx, ny, start, order = grid
+        return none_within(P, R, x0, y0, self._cell, nx, ny, start, order, float(r))
 
 
 def closest_count(cand: Candidates, count: int, h: float, fit: Fit = Fit.NEAREST):

@@ -14,7 +14,6 @@ triangulation is returned (:func:`improve_kept`, :meth:`KernelMesh.result`).
 from __future__ import annotations
 
 import math
-from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -28,6 +27,7 @@ from ..threads import thread_map
 from ..triangulation import load_mesh, triangulate
 from ..triangulation import load as build
 from . import schedule as S
+from .halving import run_plan
 from .objective import objective_code
 from .boundary import target_size
 
@@ -194,8 +194,10 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     (``schedule_for``'s with ``winner``, overridden as :func:`improve`'s) without being loaded again, from the stage
     ``schedule.AFTER_TRIALS`` on unless ``exponents`` is given.  A start
     fixes the mesh's structure, which the short runs already show; halving spends
-    the long ones on the few that can win.  ``report(done, total)``, if given, is
-    called before the first trial and after each round of trials.  The starts
+    the long ones on the few that can win; a start's next trial starts as soon
+    as it is certain to run it (:func:`~uniform2d.optimize.halving.run_plan`:
+    no thread waits for a round's slowest start).  ``report(done, total)``, if
+    given, is called before the first trial and after each round of trials.  The starts
     are built and their trials run on :func:`uniform2d.threads.get_threads`
     threads, each start on its own kernel state, the results ranked in the
     order of the starts: the same mesh on any number of threads.
@@ -227,19 +229,13 @@ def improve_best(polygon: Polygon, starts, *, objective: str = "balanced", href=
     # ranking before it goes on into its own schedule at once (two starts,
     # above SMALL points: 12 descent sweeps fewer on the serial path)
     plan = plan[:1] + [p for p in plan[1:] if p[1] > 1]
-    total, done = sum(size for _, size, _ in plan), 0
     if report is not None:
-        report(done, total)
-    for sched, size, resumed in plan:
-        scored = thread_map(partial(_trial, sched=sched, obj=obj, resumed=resumed),
-                            alive[:size])
-        done += len(scored)
-        if report is not None:
-            report(done, total)
-        scored.sort(key=lambda r: r[:2])
-        alive = [r[1:] for r in scored]
+        report(0, sum(size for _, size, _ in plan))
+    # each start's next trial as soon as it is certain to run it (halving)
+    alive = run_plan(plan, alive, lambda a, sched, resumed: _trial(a, sched, obj, resumed),
+                     report)
     (i, st, run), = alive[:1]
-    alive = scored = None  # the losers' kernel states go now
+    alive = None  # the losers' kernel states go now
     if st is None:
         return i, *finish(polygon, None, run)
     sched = default_schedule(len(st.xy), False, True, spring_rounds=spring_rounds,
@@ -324,8 +320,10 @@ class KernelMesh(NamedTuple):
         arguments as :func:`improve`'s."""
         T0 = np.asarray(triangles, dtype=np.int32)
         m, xy, centre, scale, boundary, graded = load_mesh(polygon, points, T0, size, edges)
-        return _roles(polygon, m, xy, centre, scale, boundary, href, frozen,
-                      T0 if graded else None)
+        on = (np.array([i for i, _, _ in boundary], dtype=np.int64),
+              np.array([e for _, e, _ in boundary], dtype=np.int64),
+              np.array([t for _, _, t in boundary], dtype=np.float64))
+        return _roles(polygon, m, xy, centre, scale, on, href, frozen, T0 if graded else None)
 
     @classmethod
     def triangulated(cls, polygon: Polygon, sites, *, size=None, href=None, frozen=None,
@@ -353,9 +351,9 @@ class KernelMesh(NamedTuple):
         built = build(polygon, sites, edges=edges)
         edges = built.edges
         tb = edge_parameters(polygon, built.sites, edges)
-        boundary = [(int(i), int(edges[i]), float(tb[i])) for i in np.flatnonzero(edges >= 0)]
-        return _roles(polygon, built.m, built.xy, built.centre, built.scale, boundary, href,
-                      frozen)._replace(movable_short=movable_short)
+        on = np.flatnonzero(edges >= 0)
+        return _roles(polygon, built.m, built.xy, built.centre, built.scale,
+                      (on, edges[on], tb[on]), href, frozen)._replace(movable_short=movable_short)
 
     def advance(self, sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
         """Run the stages of ``sched``, in place; returns ``before`` with this run's
@@ -428,7 +426,9 @@ class KernelMesh(NamedTuple):
 
 def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -> KernelMesh:
     """The :class:`KernelMesh` of a mesh in kernel ``m`` (coordinates ``xy``): the
-    roles, edges and sizes of its points.  ``graded``: the mesh's triangles
+    roles, edges and sizes of its points.  ``boundary``: (the sites on P's
+    boundary, by index among the sites; their polygon edges; their parameters
+    along them), three arrays.  ``graded``: the mesh's triangles
     where the kernel reads a size field (None without one)."""
     nV = len(polygon.vertices)
     N = len(xy)
@@ -439,10 +439,10 @@ def _roles(polygon, m, xy, centre, scale, boundary, href, frozen, graded=None) -
     t = np.zeros(N)
     if frozen is not None:
         role[nV:][np.asarray(frozen, dtype=bool)] = relax.FIXED
-    for i, e, ti in boundary:
-        role[nV + i] = relax.SLIDE
-        eid[nV + i] = e
-        t[nV + i] = ti
+    on, e, ti = boundary
+    role[nV + on] = relax.SLIDE
+    eid[nV + on] = e
+    t[nV + on] = ti
     hv = np.ones(N)
     relax.refresh_sizes(m, hv, np.ones(N, np.bool_))
     if graded is not None:  # the field's shape, scaled to the edges present

@@ -53,13 +53,15 @@ def boundary_rows(polygon: Polygon, m: np.ndarray, h: float, depth: int = 1) -> 
     ok &= to_segments(R, a, b, 0.6 * G.max()) >= 0.6 * G
     R, G = R[ok], G[ok]
     keep = []
-    tree = cKDTree(R)
+    # every point's neighbours in one query (the same sets as one query a
+    # point: the greedy pass below reads them in Python alone)
+    near = cKDTree(R).query_ball_point(R, 0.75 * G)
     taken = np.zeros(len(R), bool)
     for i in range(len(R)):  # greedy, in ring order: the first of two crowded points stays
         if taken[i]:
             continue
         keep.append(i)
-        taken[tree.query_ball_point(R[i], 0.75 * G[i])] = True
+        taken[near[i]] = True
     return R[keep]
 
 
