@@ -485,11 +485,14 @@ def _room(a, b, c, d, e, f, g, h):
     )
 
 
-def warm_first_step() -> None:
-    """Compile the largest part of INSERT's first step (:func:`_current`: the
-    re-evaluation of a candidate, with the subsegments' search) on a tiny empty
-    triangulation, typed as a run types it: the first thing the command's warmer
-    compiles (:func:`uniform2d.warmup.warm`), while the run compiles the exact
-    triangulation of P and INSERT's queues, then :func:`_gather` around it."""
+def warm_run() -> None:
+    """Compile INSERT's run (:func:`run`, its queues and, called by name, its
+    steps' :func:`_gather` and :func:`_choose`) on a tiny empty triangulation,
+    typed as :func:`uniform2d.insert.insert` types it, inserting nothing: what
+    the command's warmer compiles first (:func:`uniform2d.warmup.warm`)."""
     m, _ = allocate(4, 4)
-    _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead
+    M = heap.new_heap(16)
+    push_initial(m, M)  # (no triangle yet: pushes nothing)
+    P = new_pool(64)
+    run(m, M, P, 0, np.empty((0, 2), np.float64), np.empty(0, np.float64),
+        np.zeros(0, np.bool_), 0.0, 0.0)
