@@ -29,7 +29,9 @@ from __future__ import annotations
 import numpy as np
 from numba import types
 
+from ._kernel import heap
 from ._kernel import insert as kinsert
+from ._kernel.cdt import allocate
 from ._kernel.edges import edges_by_vertex
 from .optimize import schedule as S
 from .optimize.boundary import target_size
@@ -48,7 +50,7 @@ def warm() -> None:
     # INSERT, whole: the run needs it last, and the warmer alone has the time
     # to compile it before then (compiled by the run, it was the last third of
     # the run's compile, the warmer idle)
-    kinsert.warm_run()
+    _insert_run()
     # ... and the measures of T+'s mesh (always on read-only triangles)
     edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=True), types.int64))
 
@@ -67,6 +69,18 @@ def warm() -> None:
     n = len(points) - len(polygon.vertices)
     start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
     finish(polygon, st.sites(), Progress())
+
+
+def _insert_run() -> None:
+    """Compile INSERT's run (its queues and, called by name, its steps) on a
+    tiny empty triangulation, typed as :func:`uniform2d.insert` types it,
+    inserting nothing."""
+    m, _ = allocate(4, 4)
+    M = heap.new_heap(16)
+    kinsert.push_initial(m, M)  # (no triangle yet: pushes nothing)
+    P = kinsert.new_pool(64)
+    kinsert.run(m, M, P, 0, np.empty((0, 2), np.float64), np.empty(0, np.float64),
+                np.zeros(0, np.bool_), 0.0, 0.0)
 
 
 def _lattice(k: int):
