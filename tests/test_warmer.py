@@ -41,13 +41,17 @@ exec(sys.argv[1])
 json.dump({"compiled": compiled, "marks": marks}, sys.stdout)
 """
 
-WARM = "from uniform2d.warmup import warm; warm()"
+#: As the command line's processes on a cold cache: kernels no Python code
+#: calls compiled without a wrapper for Python (see uniform2d._kernel.pywrap).
+DROP = "from uniform2d.compile_cache import drop_unused_wrappers; drop_unused_wrappers()\n"
+
+WARM = DROP + "from uniform2d.warmup import warm; warm()"
 
 #: README command 1's mesh; the mark is the end of the T+ phase (INSERT and T+):
 #: everything after it is the optimiser's.  On one thread, since with more T+
 #: is made beside the optimisation (the phase ends at once) and the mark would
 #: split nothing; the kernels' types are the same either way.
-MESH = f"""
+MESH = DROP + f"""
 from uniform2d import uniform_mesh
 from uniform2d.threads import set_threads
 from uniform2d.io import read_polygon
