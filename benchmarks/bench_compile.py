@@ -2,7 +2,8 @@
 
 Usage::
 
-    python benchmarks/bench_compile.py [--n 400] [--top 15] [--one-cpu] [--llvm]
+    python benchmarks/bench_compile.py [--n 400] [--top 15] [--one-cpu] [--llvm] [--trace]
+                                       [--timeline]
 
 Runs ``uniform2d mesh data/plate_bolts.json -n 400 -o plate.vtu --stats --plot
 plate.png`` (README command 1) in a fresh process whose numba cache is an empty
@@ -21,7 +22,10 @@ caller could save.  ``--llvm`` adds LLVM's share of the command's compile
 (function passes, module passes, machine-code generation: CPU seconds) and the
 lines of IR its module passes optimised against the same with each function
 counted once: numba links a copy of every callee into each caller's module and
-optimises and generates it again there.  ``--one-cpu`` runs the command on one CPU, where it starts
+optimises and generates it again there.  ``--trace`` adds, per process (the
+command and its warmer), when it started and ended, its CPU and its top-level
+compiles' CPU and wall (wall beyond CPU: waits for the other's claims, or for
+the CPU); ``--timeline`` lists those compiles in order.  ``--one-cpu`` runs the command on one CPU, where it starts
 no second process: the first run as it is without one.  The second process
 starts only if a CPU is idle (``uniform2d/cli/_warmer.py``); on a shared
 machine, ``nice -n -10 python benchmarks/bench_compile.py --ignore-load`` comes
