@@ -12,3 +12,14 @@ def _no_first_run_notice(request, monkeypatch):
         import uniform2d.compile_cache
 
         monkeypatch.setattr(uniform2d.compile_cache, "kernels_cold", lambda: False)
+
+
+@pytest.fixture(autouse=True)
+def _wrappers_kept_after(monkeypatch):
+    """A command run here on a (patched) cold cache drops the Python wrappers of
+    the kernels only kernels call (uniform2d._kernel.pywrap) for the whole
+    process: set back after each test, as numba has it."""
+    from uniform2d._kernel import pywrap
+
+    monkeypatch.setattr(pywrap, "_finder", [])
+    monkeypatch.setattr(pywrap, "_entries", {})

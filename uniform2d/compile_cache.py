@@ -24,9 +24,11 @@ import logging
 import os
 import pkgutil
 import sys
+from pathlib import Path
 from types import CodeType, FunctionType, ModuleType
 
-__all__ = ["cold_kernels", "entry_kernels", "kernels_cold", "cache_writable", "COMPILE_NOTICE"]
+__all__ = ["cold_kernels", "entry_kernels", "python_called", "drop_unused_wrappers",
+           "kernels_cold", "cache_writable", "COMPILE_NOTICE"]
 
 log = logging.getLogger(__name__)
 
@@ -102,6 +104,33 @@ def entry_kernels(dispatchers) -> list:
         if id(d) in wanted:
             called[id(d)] = d
     return list(called.values())
+
+
+def python_called() -> list:
+    """The kernels of ``uniform2d._kernel`` that the package's Python code calls
+    (:func:`entry_kernels` of them all), every module of the package that
+    names the kernel imported first (but the peers' adapters, which wrap other
+    meshers), not only those ``import uniform2d`` imports."""
+    import uniform2d
+
+    root = Path(uniform2d.__file__).parent
+    for path in sorted(root.rglob("*.py")):
+        parts = path.relative_to(root.parent).with_suffix("").parts
+        if "_kernel" in parts or "peers" in parts or parts[-1] == "__main__":
+            continue
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        if name not in sys.modules and "_kernel" in path.read_text(encoding="utf-8"):
+            importlib.import_module(name)
+    return entry_kernels(_kernel_dispatchers())
+
+
+def drop_unused_wrappers() -> None:
+    """Compile the kernels no Python code calls without numba's wrapper for
+    Python (:mod:`uniform2d._kernel.pywrap`): less to compile on a cold cache.
+    The command line calls it, and so does its warmer."""
+    from ._kernel.pywrap import callers_from
+
+    callers_from(python_called)
 
 
 def cold_kernels() -> tuple[int, int]:

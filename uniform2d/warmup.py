@@ -6,12 +6,15 @@ looks before it compiles anything, a kernel called from Python or one typed as
 the callee of another.  :func:`warm` compiles, in a second process that the
 command starts on a cold cache (:mod:`uniform2d.cli._warmer`), in an order
 chosen against the order a :func:`uniform2d.uniform_mesh` run needs the kernels
-in.  The run first compiles the exact triangulation of P and INSERT's queues;
-the warmer meanwhile compiles the bulk of INSERT's first step, which the run
-types next.
-Then the kernels the run needs after INSERT, from the last (the optimiser's
-spread sweeps) back to the first (the measures of T+'s mesh): the run,
-compiling them from the first, meets the warmer halfway instead of following it.
+in.  The run first compiles the optimiser's start (the distance to P's edges,
+the lattice), the exact triangulation of the start and the relaxation; INSERT,
+for T+ and the certificates' d_n, it compiles last (on a thread of its own,
+from the relaxation on: ``optimize.pipeline``), and it is the largest compile
+of all.  So the warmer compiles INSERT first, whole, then the kernels the
+run needs after its start, from the last (the optimiser's spread sweeps) back
+to the first (the start's check): the run, compiling them from the first,
+meets the warmer halfway instead of following it (the measures of T+'s mesh,
+needed after INSERT, come right after it).
 
 A kernel is cached per argument types (dtypes, layouts, int32 against int64),
 so the warm-up makes its calls with the library's own code on tiny inputs (a
@@ -26,7 +29,9 @@ from __future__ import annotations
 import numpy as np
 from numba import types
 
+from ._kernel import heap
 from ._kernel import insert as kinsert
+from ._kernel.cdt import allocate
 from ._kernel.edges import edges_by_vertex
 from .optimize import schedule as S
 from .optimize.boundary import target_size
@@ -42,13 +47,14 @@ def warm() -> None:
     """Compile, into numba's cache, kernels a :func:`uniform2d.uniform_mesh` run
     compiles late, by running the library's code on tiny inputs, in the order
     the module docstring gives."""
-    # the bulk of INSERT's first step (its candidates' re-evaluation), while the
-    # run compiles the exact triangulation of P and INSERT's queues (the rest of
-    # the step, and its later steps, the run reaches before the warmer could
-    # finish them)
-    kinsert.warm_first_step()
+    # INSERT, whole: the run needs it last, and the warmer alone has the time
+    # to compile it before then (compiled by the run, it was the last third of
+    # the run's compile, the warmer idle)
+    _insert_run()
+    # ... and the measures of T+'s mesh (always on read-only triangles)
+    edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=True), types.int64))
 
-    # then what the run compiles after INSERT, from its end back: the
+    # then what the run compiles before INSERT, from its end back: the
     # optimiser's stages, the last first, on a lattice mesh ...
     polygon, points, triangles, edges = _lattice(4)
     st = KernelMesh.from_mesh(polygon, points, triangles, edges=edges)
@@ -59,12 +65,22 @@ def warm() -> None:
                   dict(spring_rounds=1)):
         st.advance(none._replace(**stage), obj)
         st.rank(obj)
-    # ... its start (the distance to P's edges) and the start's check ...
+    # ... its start (the distance to P's edges) and the start's check
     n = len(points) - len(polygon.vertices)
     start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
     finish(polygon, st.sites(), Progress())
-    # ... and the measures of T+'s mesh (always on read-only triangles)
-    edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=True), types.int64))
+
+
+def _insert_run() -> None:
+    """Compile INSERT's run (its queues and, called by name, its steps) on a
+    tiny empty triangulation, typed as :func:`uniform2d.insert` types it,
+    inserting nothing."""
+    m, _ = allocate(4, 4)
+    M = heap.new_heap(16)
+    kinsert.push_initial(m, M)  # (no triangle yet: pushes nothing)
+    P = kinsert.new_pool(64)
+    kinsert.run(m, M, P, 0, np.empty((0, 2), np.float64), np.empty(0, np.float64),
+                np.zeros(0, np.bool_), 0.0, 0.0)
 
 
 def _lattice(k: int):

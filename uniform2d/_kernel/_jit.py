@@ -50,6 +50,7 @@ from __future__ import annotations
 from numba import njit as _njit
 
 from ..compile_claims import enable_caching
+from .pywrap import KernelDispatcher
 
 __all__ = ["njit"]
 
@@ -70,6 +71,7 @@ def njit(*args, **options):
     cache = options.pop("cache", False)
 
     def cached(dispatcher):
+        dispatcher.__class__ = KernelDispatcher  # a wrapper for Python only where it calls
         if cache:
             enable_caching(dispatcher)
         return dispatcher

@@ -59,7 +59,7 @@ from . import heap
 from .borrow import borrowed, settle
 from .cavity import _insert_point
 from .external import called_by_name
-from .cdt import allocate, circumcircle, constrained, locate, locate_scan, nxt, prv, snap
+from .cdt import circumcircle, constrained, locate, locate_scan, nxt, prv, snap
 from .predicates import dot2d
 from .outcomes import ERR_EMPTY, ERR_LOCATE, ERR_PRECISION
 from .place import between, insert_nearby, near_boundary, project
@@ -188,6 +188,22 @@ def find_constrained(m, u, v):
 
 
 @njit(cache=True)
+def _subsegment_now(m, a, b, xtol, bound):
+    """:func:`_current` of subsegment candidate (a, b): re-evaluated."""
+    h = find_constrained(m, -a - 1, np.int64(b))
+    if h < 0:
+        return False, 0.0, 0.0, 0.0
+    w, x, y = eval_segment(m, h, xtol, bound)
+    return True, w, x, y
+
+
+# the subsegments' search is the largest tree under INSERT's steps, reached from
+# both of them (_gather, _choose) and from _revalidate: one compile, called by
+# name; a triangle's re-evaluation, the common case, stays in its callers
+_subsegment_now_bn = called_by_name(_subsegment_now)
+
+
+@njit(cache=True)
 def _current(m, a, b, xtol, bound):
     """(alive, weight, x, y) of candidate (a, b) now (a subsegment is re-evaluated;
     ``bound``: a value it cannot exceed, its last key or value)."""
@@ -196,11 +212,7 @@ def _current(m, a, b, xtol, bound):
             return False, 0.0, 0.0, 0.0
         cx, cy, r = circumcircle(m.xy, m.tv[3 * a], m.tv[3 * a + 1], m.tv[3 * a + 2])
         return True, r / size_at(m, cx, cy), cx, cy
-    h = find_constrained(m, -a - 1, np.int64(b))
-    if h < 0:
-        return False, 0.0, 0.0, 0.0
-    w, x, y = eval_segment(m, h, xtol, bound)
-    return True, w, x, y
+    return _subsegment_now_bn(m, a, b, xtol, bound)
 
 
 @njit(cache=True)
@@ -484,12 +496,3 @@ def _room(a, b, c, d, e, f, g, h):
         + e.shape[0] + f.shape[0] + g.shape[0] + h.shape[0]
     )
 
-
-def warm_first_step() -> None:
-    """Compile the largest part of INSERT's first step (:func:`_current`: the
-    re-evaluation of a candidate, with the subsegments' search) on a tiny empty
-    triangulation, typed as a run types it: the first thing the command's warmer
-    compiles (:func:`uniform2d.warmup.warm`), while the run compiles the exact
-    triangulation of P and INSERT's queues, then :func:`_gather` around it."""
-    m, _ = allocate(4, 4)
-    _current(m, np.int32(0), np.int32(-1), 0.0, 0.0)  # slot 0's stamp is not -1: dead

@@ -238,13 +238,15 @@ def run_batch(args, process: Callable, plan: list, desc: str, show: Callable,
     the kernels the meshing needs later meanwhile (:mod:`._warmer`).
     """
     from . import _warmer
-    from ..compile_cache import kernels_cold
+    from ..compile_cache import drop_unused_wrappers, kernels_cold
 
     several = len(plan) > 1
     warmer = None
     if args.scheduler is None:  # here, or in local workers sharing this cache
         cold = bool(kernels_cold())
         announce_compile(args.quiet, cold)
+        if cold:
+            drop_unused_wrappers()
         if cold and warm and (args.jobs == 1 or not several):
             warmer = _warmer.start()
     try:

@@ -136,11 +136,13 @@ def main() -> None:
     closes, and at once (``os._exit``) when it is done."""
     import signal
 
+    from ..compile_cache import drop_unused_wrappers
     from ..warmup import warm
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command decides when to stop
     threading.Thread(target=_exit_at_eof, daemon=True).start()
     compile_claims.share(os.environ.get(compile_claims.ENV) or None)
+    drop_unused_wrappers()  # as the command does on a cold cache
     warm()
     # done before the command: end here, as at the end of stdin.  A normal exit
     # would finalize the interpreter under the thread blocked reading stdin,
