@@ -31,6 +31,7 @@ from numba import types
 
 from ._kernel import heap
 from ._kernel import insert as kinsert
+from ._kernel.clearance import bucket_grid, none_within
 from ._kernel.cdt import allocate
 from ._kernel.edges import edges_by_vertex
 from .optimize import schedule as S
@@ -68,6 +69,11 @@ def warm() -> None:
     # ... its start (the distance to P's edges) and the start's check
     n = len(points) - len(polygon.vertices)
     start(polygon, n, target_size(polygon, n), variants(polygon, n)[0])
+    # (the lattices' test against points placed before them, which this start
+    # does not reach: the rows around small holes)
+    R = np.zeros((1, 2))
+    x0, y0, nx, ny, first, order = bucket_grid(R, 1.0)
+    none_within(R.copy(), R, x0, y0, 1.0, nx, ny, first, order, 1.0)
     finish(polygon, st.sites(), Progress())
 
 
