@@ -61,7 +61,7 @@ from .validity import ensure_valid
 
 __all__ = ["ANGLE_SLACK", "CHECKED", "CV_SLACK", "GAIN", "InputRing", "LONGEST", "RADIUS", "STEPS",
            "TRIES", "TURNS", "band_bound", "candidate_positions", "clearances", "first_in_band",
-           "moved_stage", "nearest_distance", "nudge_rings", "nudged", "relaxed", "valid_rings"]
+           "move_ends", "moved_stage", "nearest_distance", "nudge_rings", "nudged", "relaxed", "valid_rings"]
 
 log = logging.getLogger(__name__)
 
@@ -266,41 +266,48 @@ def nudge_rings(outline: Polygon, res, points, triangles, limit: float, skip=(),
     (0.45, 0.865, True)
     """
     P = np.asarray(points, dtype=np.float64)
-    poly = res.polygon
-    off, nR = poly.ring_offsets, poly.n_ring_vertices
     E = unique_edges(triangles, len(P))
     L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
     target = 0.5 * float(L.max())
     on = np.zeros(len(P), dtype=bool)
     on[boundary_edges(triangles, len(P)).ravel()] = True
-    movable = np.zeros(len(P), dtype=bool)
+    order = np.argsort(L, kind="stable")
+    pairs = ((int(x), int(y)) for a, b in E[order[L[order] < target]] if on[a] and on[b]
+             for x, y in ((a, b), (b, a)))
+    return move_ends(outline, res, P, pairs, lambda d: d < target, limit,
+                     lambda *a: _move(*a, target, res.spacing, limit, res.polygon),
+                     skip, most, sources)
+
+
+def move_ends(outline: Polygon, res, points, pairs, wanted, limit: float, move, skip=(),
+              most: int | None = None, sources: dict | None = None):
+    """:func:`nudge_rings`'s loop: each (point, other end) of ``pairs`` with a movable
+    point (not kept), not in ``skip``, fewer than ``most`` moved and ``wanted(their
+    distance as moved so far)`` moved where ``move(InputRing, rings, ring index, index
+    in it, other end)`` says ((ring, bound) or None).  Returns as :func:`nudge_rings`."""
+    poly = res.polygon
+    off, nR = poly.ring_offsets, poly.n_ring_vertices
+    movable = np.zeros(len(points), dtype=bool)
     movable[:nR] = ~np.asarray(res.kept[:nR], dtype=bool)
     rings = [np.array(r, dtype=np.float64) for r in poly.rings]
-    Q = P.copy()  # the points as moved so far
+    Q = np.array(points, dtype=np.float64)  # the points as moved so far
     moved, stuck, dev = [], [], 0.0
     sources = {} if sources is None else sources  # per ring, the input ring as band_bound sees it
-    for j in np.argsort(L, kind="stable"):
-        if L[j] >= target:
-            break
-        a, b = E[j]
-        if not (on[a] and on[b]):
+    for x, y in pairs:
+        if (not movable[x] or (x, y) in skip or not wanted(np.hypot(*(Q[x] - Q[y])))
+                or len(moved) == most):
             continue
-        for x, y in ((a, b), (b, a)):
-            if (not movable[x] or (int(x), int(y)) in skip or np.hypot(*(Q[x] - Q[y])) >= target
-                    or len(moved) == most):
-                continue
-            ri = int(np.searchsorted(off, x, side="right") - 1)
-            if ri not in sources:
-                sources[ri] = InputRing(outline.rings[ri], limit)
-            got = _move(sources[ri], rings, ri, x - off[ri], Q[y], target, res.spacing,
-                        limit, poly)
-            if got is not None:
-                rings[ri], d = got
-                Q[x] = rings[ri][x - off[ri]]
-                moved.append((int(x), int(y)))
-                dev = max(dev, d)
-            else:
-                stuck.append((int(x), int(y)))
+        ri = int(np.searchsorted(off, x, side="right") - 1)
+        if ri not in sources:
+            sources[ri] = InputRing(outline.rings[ri], limit)
+        got = move(sources[ri], rings, ri, x - off[ri], Q[y])
+        if got is not None:
+            rings[ri], d = got
+            Q[x] = rings[ri][x - off[ri]]
+            moved.append((x, y))
+            dev = max(dev, d)
+        else:
+            stuck.append((x, y))
     return rings, moved, dev, stuck
 
 

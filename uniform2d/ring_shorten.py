@@ -43,10 +43,10 @@ from .ring_nudge import (
     CHECKED,
     GAIN,
     STEPS,
-    InputRing,
     candidate_positions,
     clearances,
     first_in_band,
+    move_ends,
     moved_stage,
 )
 from .ring_split import SPLIT_RATIO
@@ -81,38 +81,15 @@ def shorten_rings(outline: Polygon, res, points, triangles, limit: float, skip=(
     ([(1, 2)], [1.05, 0.0], True)
     """
     P = np.asarray(points, dtype=np.float64)
-    poly = res.polygon
-    off, nR = poly.ring_offsets, poly.n_ring_vertices
     E = unique_edges(triangles, len(P))
     L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
     lo = float(L.min())
     target = 2.0 * lo  # the longest edge an edge ratio of 2 allows
-    movable = np.zeros(len(P), dtype=bool)
-    movable[:nR] = ~np.asarray(res.kept[:nR], dtype=bool)
-    rings = [np.array(r, dtype=np.float64) for r in poly.rings]
-    Q = P.copy()  # the points as moved so far
-    moved, stuck, dev = [], [], 0.0
-    sources = {} if sources is None else sources
-    for j in np.argsort(-L, kind="stable"):
-        if L[j] <= target:
-            break
-        for x, y in (E[j], E[j][::-1]):
-            if (not movable[x] or (int(x), int(y)) in skip or np.hypot(*(Q[x] - Q[y])) <= target
-                    or len(moved) == most):
-                continue
-            ri = int(np.searchsorted(off, x, side="right") - 1)
-            if ri not in sources:
-                sources[ri] = InputRing(outline.rings[ri], limit)
-            got = _toward(sources[ri], rings, ri, x - off[ri], Q[y], target, lo, res.spacing,
-                          limit, poly)
-            if got is not None:
-                rings[ri], d = got
-                Q[x] = rings[ri][x - off[ri]]
-                moved.append((int(x), int(y)))
-                dev = max(dev, d)
-            else:
-                stuck.append((int(x), int(y)))
-    return rings, moved, dev, stuck
+    order = np.argsort(-L, kind="stable")
+    pairs = ((int(x), int(y)) for a, b in E[order[L[order] > target]] for x, y in ((a, b), (b, a)))
+    return move_ends(outline, res, P, pairs, lambda d: d > target, limit,
+                     lambda *a: _toward(*a, target, lo, res.spacing, limit, res.polygon),
+                     skip, most, sources)
 
 
 def _toward(source, rings, ri, k, far, target, lo, h, limit, poly):
