@@ -51,13 +51,11 @@ from numba import njit as _njit
 
 from ..compile_claims import enable_caching
 from .inlining import install as _copy_inlined_whole
-from .overloads import install as _share_overloads
 from .pywrap import KernelDispatcher
 
 __all__ = ["njit"]
 
 _copy_inlined_whole()  # numba's inlining, the callee's IR copied as a whole
-_share_overloads()  # np.empty & co. compiled once whatever the kernel's wrappers
 
 
 def njit(*args, **options):
