@@ -98,7 +98,8 @@ def test_a_mesh_after_the_warmer_compiles_nothing_it_compiled_nor_anything_after
              "uniform2d._kernel.star.edge_cv", "uniform2d._kernel.star.refresh_sizes",
              "uniform2d._kernel.insert.run", "uniform2d._kernel.insert.push_initial",
              "uniform2d._kernel.insert._gather", "uniform2d._kernel.insert._choose",
-             "uniform2d._kernel.edges.edges_by_vertex"}
+             "uniform2d._kernel.edges.edges_by_vertex",
+             "uniform2d._kernel.clearance.closest_pair"}
     assert later <= names
     compiled, (insert_done,) = mesh["compiled"], mesh["marks"]
     assert {tuple(c) for c in compiled} & {tuple(w) for w in warmed} == set()  # the cache works

@@ -31,7 +31,7 @@ from numba import types
 
 from ._kernel import heap
 from ._kernel import insert as kinsert
-from ._kernel.clearance import bucket_grid, none_within
+from ._kernel.clearance import bucket_grid, closest_pair, none_within
 from ._kernel.cdt import allocate
 from ._kernel.edges import edges_by_vertex
 from .optimize import schedule as S
@@ -52,8 +52,10 @@ def warm() -> None:
     # to compile it before then (compiled by the run, it was the last third of
     # the run's compile, the warmer idle)
     _insert_run()
-    # ... and the measures of T+'s mesh (always on read-only triangles)
+    # ... and the measures of T+'s mesh (always on read-only triangles) and of
+    # its points (d_n, for T+ and the certificates: the run's last compile)
     edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=True), types.int64))
+    closest_pair(np.zeros((2, 2)), 1.0)
 
     # then what the run compiles before INSERT, from its end back: the
     # optimiser's stages, the last first, on a lattice mesh ...

@@ -50,9 +50,12 @@ from __future__ import annotations
 from numba import njit as _njit
 
 from ..compile_claims import enable_caching
+from .inlining import install as _copy_inlined_whole
 from .pywrap import KernelDispatcher
 
 __all__ = ["njit"]
+
+_copy_inlined_whole()  # numba's inlining, the callee's IR copied as a whole
 
 
 def njit(*args, **options):
