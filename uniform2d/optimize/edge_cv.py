@@ -96,8 +96,9 @@ def _problem(polygon: Polygon, X0, T0, eid):
         var = ((L - m) ** 2).mean()
         above = np.maximum(P / pcap - 1, 0)
         under, over = np.minimum(L / lmin - 1, 0), np.maximum(L / lcap - 1, 0)
-        F = var / m**2 / cv2 + PENALTY * ((under**2).sum() + (over**2).sum() + (above**2).sum())
-        gl = ((2 * (L - m) / K / m**2 - 2 * var / m**3 / K) / cv2
+        # powers of the mean as products (see polish._problem: libm's pow)
+        F = var / (m * m) / cv2 + PENALTY * ((under**2).sum() + (over**2).sum() + (above**2).sum())
+        gl = ((2 * (L - m) / K / (m * m) - 2 * var / (m * m * m) / K) / cv2
               + 2 * PENALTY * (under / lmin + over / lcap)
               + np.bincount(TE.ravel(), np.repeat(2 * PENALTY * above / pcap, 3), K))
         gb = gl[:, None] * dv / L[:, None]

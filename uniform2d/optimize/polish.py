@@ -140,10 +140,12 @@ def _problem(polygon: Polygon, X0, T0, eid):
         gl += 2 * PENALTY * (under / lmin + over / lcap)
         m = L.mean()
         var = ((L - m) ** 2).mean()
-        spread = var / m**2 / cv2 - 1
+        # powers of the mean as products: a float's ``**`` is libm's pow, not
+        # always correctly rounded, and the mesh must scale by powers of two exactly
+        spread = var / (m * m) / cv2 - 1
         if spread > 0:
             F += PENALTY * spread**2
-            gl += 2 * PENALTY * spread / cv2 * (2 * (L - m) / K / m**2 - 2 * var / m**3 / K)
+            gl += 2 * PENALTY * spread / cv2 * (2 * (L - m) / K / (m * m) - 2 * var / (m * m * m) / K)
         gb = gl[:, None] * dv / L[:, None]
         G = accumulate(N, ends, np.concatenate([gb, -gb]))
         A, grads = corner_angles(X, C)
