@@ -51,7 +51,8 @@ def test_a_kernel_first_compiled_under_a_borrowed_helper_keeps_its_reference_cou
 
 def test_borrowed_helpers_have_no_reference_counting_and_the_others_have_it():
     borrowed = [star.star_ok, star.search, star.gather, star.counted, descent._star_energy,
-                cdt.snap_to, cdt.flip_on, lawson._not_delaunay, lawson._record]
+                descent._star_gradient, cdt.snap_to, cdt.snap_times, cdt.flip_on,
+                lawson._not_delaunay, lawson._record]
     for kernel in borrowed:
         assert isinstance(kernel, CPUDispatcher)
         assert kernel.targetoptions["_nrt"] is False, kernel.py_func.__qualname__

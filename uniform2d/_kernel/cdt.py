@@ -65,6 +65,8 @@ quadrilateral (a, d, b, c)::
            d                 d
 """
 
+import math
+
 import numpy as np
 from numba import types
 from numba.experimental import structref
@@ -243,6 +245,28 @@ def snap_to(s, cx, cy, x, y):
     read once by the caller: the loops that snap every trial place would
     otherwise pass the structref, and count a reference to it, each time."""
     return ((x * s + cx) - cx) / s, ((y * s + cy) - cy) / s
+
+
+@njit(cache=True, borrowed=True)
+def snap_times(s, r, cx, cy, x, y):
+    """:func:`snap_to` with ``r`` from :func:`snap_reciprocal`: the division
+    by s, a power of two, made as the multiplication by its exact reciprocal
+    (both round the same real number once: the same bits, for a fraction of
+    a division's time; the line search snaps every trial place); r = 0:
+    divided."""
+    if r != 0.0:
+        return ((x * s + cx) - cx) * r, ((y * s + cy) - cy) * r
+    return snap_to(s, cx, cy, x, y)
+
+
+@njit(cache=True, borrowed=True)
+def snap_reciprocal(s):
+    """1 / s if that is exact (s a power of two whose reciprocal is a float:
+    the grids of :func:`allocate`), else 0 (:func:`snap_times` then divides)."""
+    if math.frexp(s)[0] != 0.5:
+        return 0.0
+    r = 1.0 / s
+    return r if r * s == 1.0 else 0.0
 
 
 @njit(cache=True, inline="always")

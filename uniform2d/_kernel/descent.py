@@ -7,7 +7,7 @@ move keeps the mesh a valid constrained Delaunay triangulation.
 import numpy as np
 from ._jit import njit
 
-from .cdt import nxt, prv, snap_to
+from .cdt import nxt, prv, snap_reciprocal, snap_times
 from .objective import MAX_EDGE, MAX_PERIMETER, RATIO
 from .star import FIXED, TRIES, accept, counted, dead_part, gather, initial_steps
 from .star import keep_state, kept_state, legalize_live, live_slots, measure_live, objective_of
@@ -47,14 +47,38 @@ def _edge_energy(ell, s, k, p, w_len, w_short, want):
 
 
 @njit(cache=True, borrowed=True)
-def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want, cap):
-    """The cached star's share of the energy with v at (x, y) (see :func:`gather`);
-    its gradient into ``grad`` if ``want``.  ``L`` receives the spoke lengths.
-    Without ``want`` the sum stops as soon as it reaches ``cap`` (the line
-    search's bar): every term is >= 0 and a float sum of such terms never
-    decreases, so the whole share would not be below ``cap`` either; the value
-    returned is then only known to be >= ``cap``."""
-    p = 2.0**k
+def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, cap):
+    """The cached star's share of the energy with v at (x, y) (see :func:`gather`),
+    as the line search needs it: the sum stops as soon as it reaches ``cap``
+    (every term is >= 0 and a float sum of such terms never decreases, so the
+    whole share would not be below ``cap`` either; the value returned is then
+    only known to be >= ``cap``).  ``L`` receives the spoke lengths.  The terms
+    and their order are :func:`_star_gradient`'s."""
+    E = 0.0
+    for i in range(ns):
+        dx = x - SP[i, 0]
+        dy = y - SP[i, 1]
+        Li = np.sqrt(dx * dx + dy * dy)
+        L[i] = Li
+        e, _ = _edge_energy(Li / SP[i, 2], SP[i, 2], k, 0.0, w_len, w_short, np.bool_(False))
+        E += e
+        if E >= cap:
+            return E
+    if w_per > 0.0:
+        for j in range(nt):
+            i = j + 1 if j + 1 < ns else 0
+            E += w_per * _pw((L[j] + L[i] + TR[j, 0]) / TR[j, 1], k)
+            if E >= cap:
+                return E
+    return E
+
+
+@njit(cache=True, borrowed=True)
+def _star_gradient(x, y, ns, nt, SP, TR, L, k, p, w_len, w_short, w_per, grad):
+    """The cached star's share of the energy with v at (x, y) (see :func:`gather`),
+    p = 2**k, and its gradient into ``grad``.  ``L`` receives the spoke
+    lengths.  Each spoke's unit vector enters the derivatives of its two
+    triangles' perimeters: computed once, the same quotient for both."""
     E = 0.0
     gx = 0.0
     gy = 0.0
@@ -63,26 +87,32 @@ def _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, want, 
         dy = y - SP[i, 1]
         Li = np.sqrt(dx * dx + dy * dy)
         L[i] = Li
-        e, d = _edge_energy(Li / SP[i, 2], SP[i, 2], k, p, w_len, w_short, want)
+        e, d = _edge_energy(Li / SP[i, 2], SP[i, 2], k, p, w_len, w_short, np.bool_(True))
         E += e
-        if not want and E >= cap:
-            return E
-        if want:
-            gx += d * dx / Li
-            gy += d * dy / Li
-    if w_per > 0.0:
+        gx += d * dx / Li
+        gy += d * dy / Li
+    if w_per > 0.0 and nt > 0:
+        ux0 = (x - SP[0, 0]) / L[0]
+        uy0 = (y - SP[0, 1]) / L[0]
+        ujx = ux0
+        ujy = uy0
         for j in range(nt):
             i = j + 1 if j + 1 < ns else 0
             tgt = TR[j, 1]
             pi = (L[j] + L[i] + TR[j, 0]) / tgt
             q = _pw(pi, k)
             E += w_per * q
-            if not want and E >= cap:
-                return E
-            if want:
-                d = w_per * p * q / (pi * tgt)
-                gx += d * ((x - SP[j, 0]) / L[j] + (x - SP[i, 0]) / L[i])
-                gy += d * ((y - SP[j, 1]) / L[j] + (y - SP[i, 1]) / L[i])
+            d = w_per * p * q / (pi * tgt)
+            if i == 0:  # the last triangle of an interior vertex: spoke 0 again
+                uix = ux0
+                uiy = uy0
+            else:
+                uix = (x - SP[i, 0]) / L[i]
+                uiy = (y - SP[i, 1]) / L[i]
+            gx += d * (ujx + uix)
+            gy += d * (ujy + uiy)
+            ujx = uix
+            ujy = uiy
     grad[0] = gx
     grad[1] = gy
     return E
@@ -182,17 +212,17 @@ def _measure_weights(m, role, movable_short, hv, href, k, objective, slots, aliv
 
 @njit(cache=True, borrowed=True)
 def _line_search(grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
-                 w_len, w_short, w_per, g2, E0, floor):  # fmt: skip
+                 w_len, w_short, w_per, E0, floor):  # fmt: skip
     """(found, x, y, t, step): the first of :data:`TRIES` halvings of step st from
     (x0, y0) along (ux, uy) whose place keeps the star valid (``star_ok`` with
     ``floor``) and lowers v's energy share below E0.  ``grid``: the
-    triangulation's snapping grid (:func:`.cdt.snap_to`)."""
+    triangulation's snapping grid and its scale's reciprocal
+    (:func:`.cdt.snap_times`)."""
     for _k in range(TRIES):
         x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
-        x, y = snap_to(grid[0], grid[1], grid[2], x, y)
+        x, y = snap_times(grid[0], grid[3], grid[1], grid[2], x, y)
         if star_ok(x, y, x0, y0, ns, nt, SP, floor):
-            E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, g2, np.bool_(False),
-                              E0)
+            E1 = _star_energy(x, y, ns, nt, SP, TR, L, k, w_len, w_short, w_per, E0)
             if E1 < E0:
                 return True, x, y, tt, st
         st *= 0.5
@@ -206,10 +236,10 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
     (moves made, the largest energy share met).  A vertex whose share is below
     ``floor`` rests; so does one whose line search fails, until a neighbour moves."""
     xy, tv, tw = m.xy, m.tv, m.tw
-    grid = (m.gs, m.gc[0], m.gc[1])
+    grid = (m.gs, m.gc[0], m.gc[1], snap_reciprocal(m.gs))
     vh, SP, TR, L = stars(m, slots)
     grad = np.zeros(2)
-    g2 = np.zeros(2)
+    p = 2.0**k
     emax = 0.0
     moves = 0
     for v in movers:
@@ -219,8 +249,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
         x0 = xy[v, 0]
         y0 = xy[v, 1]
         ns, nt = gather(xy, tv, tw, v, h0, hv, href, SP, TR)
-        E0 = _star_energy(x0, y0, ns, nt, SP, TR, L, k, w_len, w_short, w_per, grad, np.bool_(True),
-                          np.inf)
+        E0 = _star_gradient(x0, y0, ns, nt, SP, TR, L, k, p, w_len, w_short, w_per, grad)
         emax = max(emax, E0)
         if E0 < floor:
             active[v] = False
@@ -230,7 +259,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
             continue
         ok, x, y, tt, st = _line_search(
             grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, TR, L, k,
-            w_len, w_short, w_per, g2, E0, flat * (href * hv[v]) ** 2,
+            w_len, w_short, w_per, E0, flat * (href * hv[v]) ** 2,
         )  # fmt: skip
         if ok:
             accept(xy, t, step, moved, v, x, y, tt, st, href, hv[v])

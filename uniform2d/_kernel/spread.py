@@ -8,7 +8,7 @@ the mesh a valid constrained Delaunay triangulation.
 import numpy as np
 from ._jit import njit
 
-from .cdt import snap_to
+from .cdt import snap_reciprocal, snap_times
 from .star import FIXED, TRIES, accept, counted, dead_part, edge, gather, initial_steps
 from .star import keep_state, kept_state, legalize_live, live_slots, measure_live, objective_of
 from .star import place_at, restore_state
@@ -75,10 +75,10 @@ def _line_search(grid, role, eid, t, ea, ed, v, x0, y0, ux, uy, st, ns, nt, SP, 
     (x0, y0) along (ux, uy) whose place keeps the star valid (``star_ok`` with
     ``floor``), lowers v's share of the spread below E0 and keeps the star's
     extremes within (lmax, lmin, pmax).  ``grid``: the triangulation's snapping
-    grid (:func:`.cdt.snap_to`)."""
+    grid and its scale's reciprocal (:func:`.cdt.snap_times`)."""
     for _k in range(TRIES):
         x, y, tt = place_at(role, eid, t, ea, ed, v, x0, y0, ux, uy, st)
-        x, y = snap_to(grid[0], grid[1], grid[2], x, y)
+        x, y = snap_times(grid[0], grid[3], grid[1], grid[2], x, y)
         if star_ok(x, y, x0, y0, ns, nt, SP, floor):
             E1 = _star_spread(x, y, ns, nt, SP, TR, L, cbar, g2, ext, np.bool_(False))
             if E1 < E0 and ext[0] <= lmax and ext[1] >= lmin and ext[2] <= pmax:
@@ -93,7 +93,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, moved, lmax, l
     """One sweep of :func:`spread` over the movable vertices, in order, each move
     keeping its star within the extremes (lmax, lmin, pmax); returns the moves made."""
     xy, tv, tw = m.xy, m.tv, m.tw
-    grid = (m.gs, m.gc[0], m.gc[1])
+    grid = (m.gs, m.gc[0], m.gc[1], snap_reciprocal(m.gs))
     vh, SP, TR, L = stars(m, slots)
     cbar = _mean_length(m, hv, href, slots, alive, dead)
     grad = np.zeros(2)

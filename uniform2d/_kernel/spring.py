@@ -7,7 +7,7 @@ the mesh a valid constrained Delaunay triangulation.
 import numpy as np
 from ._jit import njit
 
-from .cdt import nxt, snap_to
+from .cdt import nxt, snap_reciprocal, snap_times
 from .predicates import orient2d
 from .star import FIXED, FREE, SLIDE, counted, dead_part, legalize_live, live_slots
 from .star import refresh_sizes, ring_neighbours, t_of
@@ -102,7 +102,8 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
     whose squared length is within rounding of the largest (:func:`_longest`),
     the same value as the maximum over all of them."""
     xy = m.xy
-    gs, gx, gy = m.gs, m.gc[0], m.gc[1]  # the snapping grid (:func:`.cdt.snap_to`), read once
+    # the snapping grid and its scale's reciprocal (:func:`.cdt.snap_times`), read once
+    gs, gx, gy, gr = m.gs, m.gc[0], m.gc[1], snap_reciprocal(m.gs)
     biggest = 0.0
     top2 = 0.0  # the largest squared length of the uncapped moves
     for v in movers:
@@ -115,7 +116,7 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
         if role[v] == FREE:
             s2 = dx * dx + dy * dy
             if _uncapped(s2, lim):
-                new[v, 0], new[v, 1] = snap_to(gs, gx, gy, xy[v, 0] + dx, xy[v, 1] + dy)
+                new[v, 0], new[v, 1] = snap_times(gs, gr, gx, gy, xy[v, 0] + dx, xy[v, 1] + dy)
                 moved[v] = True
                 top2 = max(top2, s2)
                 continue
@@ -126,7 +127,7 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
                 step = lim
             if step == 0.0:
                 continue
-            new[v, 0], new[v, 1] = snap_to(gs, gx, gy, xy[v, 0] + dx, xy[v, 1] + dy)
+            new[v, 0], new[v, 1] = snap_times(gs, gr, gx, gy, xy[v, 0] + dx, xy[v, 1] + dy)
             moved[v] = True
             biggest = max(biggest, step)
         else:
@@ -142,8 +143,8 @@ def _trial(m, role, eid, t, ea, ed, hv, href, prevb, nextb, F, dt, cap, new, new
             if dtv == 0.0:
                 continue
             newt[v] = t[v] + dtv
-            new[v, 0], new[v, 1] = snap_to(gs, gx, gy, ea[e, 0] + newt[v] * ex,
-                                           ea[e, 1] + newt[v] * ey)
+            new[v, 0], new[v, 1] = snap_times(gs, gr, gx, gy, ea[e, 0] + newt[v] * ex,
+                                              ea[e, 1] + newt[v] * ey)
             moved[v] = True
             biggest = max(biggest, abs(dtv) * np.sqrt(L2))
     if top2 > 0.0:
