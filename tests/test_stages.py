@@ -115,3 +115,16 @@ def test_a_row_made_at_once_is_the_row_made_edge_by_edge(name):
         for layer in (1, 2, 3):
             want = _layer_edge_by_edge(p, m, layer)
             assert _same(_layer(p, a, d, L, m, layer), want)
+
+
+def test_the_hilbert_order_in_one_kernel_call_is_numpy_s(monkeypatch):
+    from uniform2d._kernel import hilbert
+
+    rng = np.random.default_rng(7)
+    cases = [rng.random((n, 2)) * 10.0 ** rng.integers(-3, 4) for n in (1, 2, 50, 3000)]
+    cases.append(np.round(rng.random((500, 2)) * 8) / 8)  # ties: cells shared, kept in order
+    cases.append(np.repeat(rng.random((1, 2)), 5, axis=0))  # all one point
+    kernel = [hilbert.hilbert_order(p) for p in cases]
+    monkeypatch.setattr(hilbert, "KERNEL_MAX", 0)
+    for p, got in zip(cases, kernel):
+        assert got.tobytes() == hilbert.hilbert_order(p).tobytes()
