@@ -14,9 +14,11 @@ pieces (:func:`piece_chains`, :func:`rebuild`).
 
 from __future__ import annotations
 
+import collections
 import functools
 import logging
 import numbers
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -141,31 +143,43 @@ class Loaded:
 
 
 def _rings_with_sites(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
-    """The rings with the boundary sites spliced in (kernel vertex indices), the
-    chains of sites per polygon edge: (start vertex, [sites in order along it]),
-    and the segment pieces split at their sites, as (u, v) vertex pairs."""
+    """The rings with the boundary sites spliced in (kernel vertex indices) and
+    the chains of sites per polygon edge: (start vertex, [sites in order along
+    it])."""
     nV = len(polygon.vertices)
     nE = polygon.n_ring_vertices  # ring edge e starts at vertex e
-    t = edge_parameters(polygon, sites, edges)
+    ring = np.flatnonzero((edges >= 0) & (edges < nE))
+    t = edge_parameters(polygon, sites[ring], edges[ring])
     by_edge: dict[int, list[int]] = {}
-    order = np.lexsort((np.arange(len(sites)), t))
-    for i in order[edges[order] >= 0].tolist():  # the boundary sites only, in that order
+    # along each edge by parameter, then by index (as a sort of every site by
+    # (t, index) read edge by edge)
+    for i in ring[np.lexsort((ring, t))].tolist():
         by_edge.setdefault(int(edges[i]), []).append(nV + i)
-    on = {}
-    for i in np.flatnonzero(edges >= nE):
-        on.setdefault(int(edges[i]) - nE, []).append((float(t[i]), nV + int(i)))
-    pieces = piece_pairs(polygon, on, boundary_tol(polygon))
     rings, chains = [], []
     for r in range(len(polygon.rings)):
         lo, hi = polygon.ring_offsets[r], polygon.ring_offsets[r + 1]
-        ring = []
+        ring_ = []
         for e in range(lo, hi):
-            ring.append(e)  # edge e starts at vertex e (Polygon.edges layout)
-            ring.extend(by_edge.get(e, []))
+            ring_.append(e)  # edge e starts at vertex e (Polygon.edges layout)
+            ring_.extend(by_edge.get(e, []))
             if e in by_edge:
                 chains.append((e, by_edge[e]))
-        rings.append(ring)
-    return rings, chains, pieces
+        rings.append(ring_)
+    return rings, chains
+
+
+def _pieces(polygon: Polygon, sites: np.ndarray, edges: np.ndarray):
+    """The segment pieces split at their sites, as (u, v) vertex pairs."""
+    if not len(polygon.segment_edges):
+        return []
+    nV = len(polygon.vertices)
+    nE = polygon.n_ring_vertices
+    at = np.flatnonzero(edges >= nE)
+    t = edge_parameters(polygon, sites[at], edges[at])
+    on = {}
+    for i, ti in zip(at.tolist(), t.tolist()):
+        on.setdefault(int(edges[i]) - nE, []).append((ti, nV + i))
+    return piece_pairs(polygon, on, boundary_tol(polygon))
 
 
 def _initial(allxy, rings, chains, nR, nmax, tmax, grid, normal):
@@ -225,6 +239,59 @@ def _valid(m, allxy, rings) -> bool:
     return cdt.count_not_ccw(m) == 0 and cdt.boundary_is(m, ring_next)
 
 
+#: Loads of at most this many points keep the triangulation of their rings
+#: (with the boundary sites) for the next load with the same rings and as many
+#: points (:func:`_staged`); how many are kept.
+STAGE_MAX = 25000
+STAGES = 8
+
+_stages: collections.OrderedDict = collections.OrderedDict()
+_stages_lock = threading.Lock()
+
+
+def _stage_key(polygon: Polygon, sites, edges, nmax: int, tmax: int):
+    """What decides the rings' triangulation of a load (:func:`_initial`),
+    as bytes: P, the sites on its rings (their places, edges and indices) and
+    the arrays' sizes; None for a load too large to keep (``STAGE_MAX``)."""
+    if nmax > STAGE_MAX:
+        return None
+    at = np.flatnonzero((edges >= 0) & (edges < polygon.n_ring_vertices))
+    return (polygon.vertices.tobytes(), polygon.edges.tobytes(), polygon.ring_offsets.tobytes(),
+            at.tobytes(), sites[at].tobytes(), edges[at].tobytes(), len(sites), nmax, tmax)
+
+
+def _staged(key, allxy):
+    """(m, xy): a copy of the rings' triangulation kept for ``key``
+    (:func:`_keep_stage`), its coordinates ``allxy``; (None, None) if none is.
+    The optimiser's starts of one boundary spacing (12 a mesh of 1000 points,
+    3 spacings) have the same rings: the triangulation of the rings (and the
+    Python around it, which holds the GIL while the starts are built on
+    several threads) is made once per spacing.  The rings' triangulation
+    reads no other point, so the copy is the state :func:`_initial` makes."""
+    if key is None:
+        return None, None
+    with _stages_lock:
+        kept = _stages.get(key)
+        if kept is None:
+            return None, None
+        _stages.move_to_end(key)
+    m, xy = cdt.copied(kept)
+    xy[: len(allxy)] = allxy
+    return m, xy
+
+
+def _keep_stage(key, m) -> None:
+    """Keep a copy of the rings' triangulation ``m`` for ``key`` (see :func:`_staged`)."""
+    if key is None:
+        return
+    kept, _ = cdt.copied(m)
+    with _stages_lock:
+        _stages[key] = kept
+        _stages.move_to_end(key)
+        while len(_stages) > STAGES:
+            _stages.popitem(last=False)
+
+
 def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) -> Loaded:
     """Build the exact constrained Delaunay triangulation of P's vertices and ``sites``.
 
@@ -250,14 +317,20 @@ def load(polygon: Polygon, sites=None, *, size=None, room: int = 0, edges=None) 
     nR = polygon.n_ring_vertices
     # inside the rings: the constraint vertices, the interior sites, the sites on pieces
     interior = np.concatenate([np.arange(nR, nV), nV + np.flatnonzero((edges < 0) | (edges >= nR))])
-    rings, chains, pieces = _rings_with_sites(polygon, sites, edges)
     allxy = np.concatenate([(V - centre) / scale, (sites - centre) / scale], axis=0)
-    nb0 = sum(len(r) for r in rings)
-    t0 = nb0 + 2 * (len(rings) - 1) - 2  # triangles of a triangulated polygon with holes
+    nb0 = nR + len(sites) - (len(interior) - (nV - nR))  # the rings' vertices, their sites
+    t0 = nb0 + 2 * (len(polygon.rings) - 1) - 2  # triangles of a triangulated polygon with holes
     tmax = t0 + 2 * (len(interior) + room) + 4
+    nmax = nV + len(sites) + room
     grid = _size_grid(size, centre, scale)
-    m, xy = _initial(allxy, rings, chains, nR, nV + len(sites) + room, tmax, grid,
-                     (centre, scale, snap_grain / scale))
+    key = _stage_key(polygon, sites, edges, nmax, tmax) if grid is None else None
+    m, xy = _staged(key, allxy)
+    if m is None:
+        rings, chains = _rings_with_sites(polygon, sites, edges)
+        m, xy = _initial(allxy, rings, chains, nR, nmax, tmax, grid,
+                         (centre, scale, snap_grain / scale))
+        _keep_stage(key, m)
+    pieces = _pieces(polygon, sites, edges)
     if len(interior):
         idx = interior.astype(np.int64)
         idx = idx[hilbert_order(allxy[idx])]

@@ -76,7 +76,7 @@ from .heap import grown
 from .predicates import orient2d
 
 __all__ = [
-    "Tri", "allocate", "counts", "set_nv",
+    "Tri", "allocate", "copied", "counts", "set_nv",
     "locate", "locate_scan", "reserve", "triangle_list", "circumcircle",
     "snap", "boundary_is", "count_not_ccw", "constrained",
 ]  # fmt: skip
@@ -141,6 +141,19 @@ def _new_tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf,
                 hmin = min(hmin, sgv[j, i])
     return Tri(xy, tv, tw, tstamp, vseg, tmark, vmark, vmap, stack, cav, bh, vbuf, ebuf,
                0, 0, 0, sgx, sgy, sgv, hmin, sized, gc, gs, wg, tc, vcs)  # fmt: skip
+
+
+@njit(cache=True)
+def copied(m):
+    """A copy of the triangulation ``m``, every array its own: (the copy, its
+    coordinate array).  A load starts from a kept copy of the rings'
+    triangulation (:func:`uniform2d.triangulation.load`)."""
+    c = Tri(m.xy.copy(), m.tv.copy(), m.tw.copy(), m.tstamp.copy(), m.vseg.copy(),
+            m.tmark.copy(), m.vmark.copy(), m.vmap.copy(), m.stack.copy(), m.cav.copy(),
+            m.bh.copy(), m.vbuf.copy(), m.ebuf.copy(), m.nv, m.nt, m.tag, m.sgx.copy(),
+            m.sgy.copy(), m.sgv.copy(), m.hmin, m.sized, m.gc.copy(), m.gs, m.wg, m.tc.copy(),
+            m.vcs.copy())
+    return c, c.xy
 
 
 @njit(cache=True)

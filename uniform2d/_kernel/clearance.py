@@ -26,7 +26,7 @@ import numpy as np
 
 from ._jit import njit
 
-__all__ = ["bucket_grid", "none_within", "closest_pair"]
+__all__ = ["bucket_grid", "none_within", "clear_at", "closest_pair"]
 
 #: Slack, in buckets, of the buckets a test reads beyond ``r``: the bucket
 #: index of a point is rounded, and a point nearer than ``r`` must never be
@@ -77,29 +77,32 @@ def none_within(P, R, x0, y0, cell, nx, ny, start, order, r):
     decision).  (m,) bool."""
     m = P.shape[0]
     out = np.ones(m, np.bool_)
+    for a in range(m):
+        out[a] = clear_at(P[a, 0], P[a, 1], R, x0, y0, cell, nx, ny, start, order, r)
+    return out
+
+
+@njit(cache=True, borrowed=True)
+def clear_at(px, py, R, x0, y0, cell, nx, ny, start, order, r):
+    """:func:`none_within` of the one point (px, py)."""
     r2 = r * r
     reach = int(r / cell + SLACK) + 1
-    for a in range(m):
-        px = P[a, 0]
-        py = P[a, 1]
-        fi = np.floor((px - x0) / cell)
-        fj = np.floor((py - y0) / cell)
-        i0 = int(max(fi - reach, 0.0))
-        i1 = int(min(fi + reach, nx - 1.0))
-        j0 = int(max(fj - reach, 0.0))
-        j1 = int(min(fj + reach, ny - 1.0))
-        best = np.inf
-        for j in range(j0, j1 + 1):
-            for i in range(i0, i1 + 1):
-                b = j * nx + i
-                for s in range(start[b], start[b + 1]):
-                    q = order[s]
-                    dx = R[q, 0] - px
-                    dy = R[q, 1] - py
-                    best = min(best, dx * dx + dy * dy)
-        if best < r2 and np.sqrt(best) < r:
-            out[a] = False
-    return out
+    fi = np.floor((px - x0) / cell)
+    fj = np.floor((py - y0) / cell)
+    i0 = int(max(fi - reach, 0.0))
+    i1 = int(min(fi + reach, nx - 1.0))
+    j0 = int(max(fj - reach, 0.0))
+    j1 = int(min(fj + reach, ny - 1.0))
+    best = np.inf
+    for j in range(j0, j1 + 1):
+        for i in range(i0, i1 + 1):
+            b = j * nx + i
+            for s in range(start[b], start[b + 1]):
+                q = order[s]
+                dx = R[q, 0] - px
+                dy = R[q, 1] - py
+                best = min(best, dx * dx + dy * dy)
+    return not (best < r2 and np.sqrt(best) < r)
 
 
 #: :func:`closest_pair` is certain when the smallest squared distance it finds

@@ -12,7 +12,7 @@ import shapely
 
 from .._kernel.distance import to_segments
 from ..polygon import Polygon
-from ..triangulation import triangulate
+from ..triangulation import load, triangulate, unload
 
 __all__ = ["fill_largest_gaps", "fill_band_gaps", "GAP_BLOCK", "BAND_FILL"]
 
@@ -32,7 +32,9 @@ def fill_largest_gaps(polygon: Polygon, bpts, P, count: int, face=None, bedges=N
     while len(P) < count:
         allp = np.concatenate([polygon.vertices, bpts, P])
         edges = None if bedges is None else np.concatenate([bedges, np.full(len(P), -1, np.int64)])
-        _, tri = triangulate(polygon, allp[len(polygon.vertices):], edges)
+        # the kernel's exact triangulation, not checked as a mesh (only its
+        # triangles' areas are read; the mesh made at the end is checked)
+        tri = unload(load(polygon, allp[len(polygon.vertices):], edges=edges))
         area = np.empty(len(tri))
         for lo in range(0, len(tri), GAP_BLOCK):  # (K, 3, 2) corners a block at a time
             q = allp[tri[lo:lo + GAP_BLOCK]]

@@ -17,6 +17,7 @@ import shapely
 
 from .._kernel.clearance import bucket_grid, none_within
 from .._kernel.distance import to_segments
+from .._kernel import spacing
 from .._kernel.hexrows import lattice_inside
 from ..geometry import polygon_edges
 from ..polygon import Polygon
@@ -139,6 +140,10 @@ class Fit(enum.Enum):
     BELOW = "below"
 
 
+#: Each :class:`Fit`'s code in :func:`~uniform2d._kernel.spacing.closest_count`.
+_FITS = {Fit.NEAREST: spacing.NEAREST, Fit.ABOVE: spacing.ABOVE, Fit.BELOW: spacing.BELOW}
+
+
 #: Bucket side (in target sizes) of the points a lattice keeps clear of
 #: (:func:`~uniform2d._kernel.clearance.bucket_grid`): above the largest
 #: distance tested (three quarters of the widest spacing searched, 1.5 h), so
@@ -196,6 +201,16 @@ class Candidates:
             P = hex_lattice(self.bounds, sp, self.angle, self.origin)
             P = P[shapely.contains_xy(self.face, P[:, 0], P[:, 1])]
             return P, to_segments(P, self.sa, self.sb, cap)
+        origin, rings, seg = self._lattice_coords()
+        dy, c, s, i0, i1, j0, j1 = _frame(self.bounds, sp, self.angle, origin)
+        frame = np.array([sp, dy, c, s, i0, i1, j0, j1], dtype=float)
+        return lattice_inside(frame, origin, np.asarray(self.bounds, dtype=float), *rings, seg,
+                              float(cap))
+
+    def _lattice_coords(self):
+        """(origin, P's ring edges, what the points keep clear of): the
+        arguments of :func:`~uniform2d._kernel.hexrows.lattice_inside`, the
+        rings in the lattice's coordinates for its origin and angle."""
         origin = np.asarray(self.origin, dtype=float)
         key = (origin[0], origin[1], self.angle)
         if self._uv is None or self._uv[0] != key:
@@ -209,10 +224,7 @@ class Candidates:
             U, W = uv(V)
             self._uv = (key, (U[E[:, 0]], W[E[:, 0]], U[E[:, 1]], W[E[:, 1]]),
                         (self.sa, self.sb, *uv(self.sa), *uv(self.sb)))
-        dy, c, s, i0, i1, j0, j1 = _frame(self.bounds, sp, self.angle, origin)
-        frame = np.array([sp, dy, c, s, i0, i1, j0, j1], dtype=float)
-        return lattice_inside(frame, origin, np.asarray(self.bounds, dtype=float),
-                              *self._uv[1], self._uv[2], float(cap))
+        return origin, self._uv[1], self._uv[2]
 
     def __call__(self, sp):
         # a point within rounding of the boundary may be counted inside or
@@ -238,6 +250,22 @@ class Candidates:
         its :func:`~uniform2d._kernel.clearance.bucket_grid`) nearer than r."""
         R, x0, y0, nx, ny, start, order = grid
         return none_within(P, R, x0, y0, self._cell, nx, ny, start, order, float(r))
+
+    def search(self, count: int, h: float, fit: Fit):
+        """:func:`closest_count` (the same lattice found), in one kernel call
+        where the candidates are P's (:mod:`~uniform2d._kernel.spacing`: no
+        Python between the lattices tried, which held the GIL while the
+        starts run on several threads); in a region, :func:`closest_count`."""
+        if self.face is not None:
+            return closest_count(self, count, h, fit)
+        origin, rings, seg = self._lattice_coords()
+        rows, held = self.rows is not None, self.held is not None
+        empty = _bucketed(np.empty((0, 2)), 1.0)
+        return spacing.closest_count(
+            int(count), float(h), _FITS[fit], np.asarray(self.bounds, dtype=float), origin,
+            math.cos(self.angle), math.sin(self.angle), rings, seg,
+            float(self.band) if rows else 0.0, rows, self.rgrid if rows else empty,
+            held, self.held if held else empty, float(self._cell))
 
 
 def closest_count(cand: Candidates, count: int, h: float, fit: Fit = Fit.NEAREST):
@@ -356,7 +384,7 @@ def seed_interior(
     total = count
     first = [q for q in (held, rows) if q is not None]
     count = total - sum(len(q) for q in first)
-    P, dist = closest_count(cand, count, h, fit) if lattice is None else cand(lattice[2])
+    P, dist = cand.search(count, h, fit) if lattice is None else cand(lattice[2])
     if lattice is not None and lattice[3]:
         count = len(P)
         total = count + sum(len(q) for q in first)

@@ -350,10 +350,10 @@ class KernelMesh(NamedTuple):
             return None
         built = build(polygon, sites, edges=edges)
         edges = built.edges
-        tb = edge_parameters(polygon, built.sites, edges)
         on = np.flatnonzero(edges >= 0)
+        tb = edge_parameters(polygon, built.sites[on], edges[on])  # each site's own
         return _roles(polygon, built.m, built.xy, built.centre, built.scale,
-                      (on, edges[on], tb[on]), href, frozen)._replace(movable_short=movable_short)
+                      (on, edges[on], tb), href, frozen)._replace(movable_short=movable_short)
 
     def advance(self, sched: S.Schedule, obj: int, before: Progress = Progress()) -> Progress:
         """Run the stages of ``sched``, in place; returns ``before`` with this run's

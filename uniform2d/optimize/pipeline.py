@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
+import threading
 from concurrent.futures import Future, wait
 
 import numpy as np
@@ -35,6 +36,27 @@ __all__ = ["optimize_mesh", "quality_summary"]
 log = logging.getLogger(__name__)
 
 
+class _Once:
+    """``fn(*key)``, made once per key by the first caller, whichever thread it
+    is on; the others wait for it.  The starts' shared parts (the rows, some
+    half a millisecond of Python each) are made as the starts need them, beside
+    other starts' kernels, not in a map of their own that every start waits for."""
+
+    def __init__(self, fn):
+        self._fn = fn
+        self._made: dict = {}
+        self._locks: dict = {}
+        self._lock = threading.Lock()
+
+    def __call__(self, *key):
+        with self._lock:
+            lock = self._locks.setdefault(key, threading.Lock())
+        with lock:
+            if key not in self._made:
+                self._made[key] = self._fn(*key)
+            return self._made[key]
+
+
 def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, report,
                 angled: bool = False):
     """The mesh moved from the best start of :func:`~uniform2d.optimize.seed.variants`
@@ -44,17 +66,16 @@ def _best_start(polygon: Polygon, n: int, h: float, objective: str, options, rep
     rows around small holes, the descent weighing the movable short edges
     (:func:`_finished`)."""
     tried = variants(polygon, n)
-    # the rows of a spacing are the same for every lattice edge: made once
-    kinds = list(dict.fromkeys((c, lay) for c, _, lay in tried))
-    parts = thread_map(lambda k: start_parts(polygon, n, h, *k, angled), kinds)
-    shared = dict(zip(kinds, parts))
+    # the rows of a spacing are the same for every lattice edge: made once,
+    # by the first start that needs them
+    shared = _Once(lambda c, lay: start_parts(polygon, n, h, c, lay, angled))
     ranked = len(tried) > 1
     free = stripped(polygon, n)
 
     def made_and_built(v):
         # each start built in the kernel on the thread that made it: one
         # start's Python (the lattice) runs beside another's build (nogil)
-        made = start(polygon, n, h, v, angled, shared=shared[v[0], v[2]], free=free)
+        made = start(polygon, n, h, v, angled, shared=shared(v[0], v[2]), free=free)
         if not ranked:
             return made, None
         return made, KernelMesh.built(polygon, made[0], href=h, frozen=made[2], edges=made[1],

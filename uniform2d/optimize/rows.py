@@ -36,16 +36,10 @@ def boundary_rows(polygon: Polygon, m: np.ndarray, h: float, depth: int = 1) -> 
     near-equilateral triangles along every edge), kept after the first."""
     a, d, L = polygon_edges(polygon, constraints=True)
     rows, gaps = corner_fans(polygon, L / m, h)
-    n_ring = len(polygon.edges)
     for layer in range(1, depth + 1):
-        for e in range(len(L)):
-            g = L[e] / m[e]
-            nrm = np.array([-d[e, 1], d[e, 0]]) / L[e]  # left normal: into P on every ring
-            s = ((np.arange(m[e]) + 0.5) if layer % 2 else np.arange(1, m[e])) / m[e]
-            mid = a[e] + d[e] * s[:, None]
-            for side in (1.0,) if e < n_ring else (1.0, -1.0):
-                rows.append(mid + side * nrm * g * math.sqrt(3) / 2 * layer)
-                gaps.append(np.full(len(s), g))
+        rows_, gaps_ = _layer(polygon, a, d, L, m, layer)
+        rows.append(rows_)
+        gaps.append(gaps_)
     R, G = np.concatenate(rows), np.concatenate(gaps)
     shp = polygon.to_shapely()
     ok = shapely.contains_xy(shp, R[:, 0], R[:, 1])
@@ -63,6 +57,30 @@ def boundary_rows(polygon: Polygon, m: np.ndarray, h: float, depth: int = 1) -> 
         keep.append(i)
         taken[near[i]] = True
     return R[keep]
+
+
+def _layer(polygon: Polygon, a, d, L, m, layer: int):
+    """(points, their pieces' lengths) of row ``layer`` of :func:`boundary_rows`:
+    edge by edge (a segment piece's side 1 then side -1), each edge's points in
+    order along it.  All edges at once (a few arrays, not a dozen small ones
+    per edge, which held the GIL while the starts' rows are made on several
+    threads), each point's coordinates by the operations of one edge's."""
+    g = L / m
+    nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / L[:, None]  # left normal: into P on every ring
+    count = m if layer % 2 else m - 1
+    sides = np.where(np.arange(len(L)) < len(polygon.edges), 1, 2)
+    edge = np.repeat(np.arange(len(L)), sides)  # the blocks of points: an edge's side
+    side = np.ones(len(edge))
+    side[1:][edge[1:] == edge[:-1]] = -1.0
+    size = count[edge]
+    first = np.cumsum(size) - size
+    block = np.repeat(np.arange(len(edge)), size)
+    k = np.arange(len(block)) - first[block]  # the point's place along its edge
+    e = edge[block]
+    s = ((k + 0.5) if layer % 2 else (k + 1)) / m[e]
+    mid = a[e] + d[e] * s[:, None]
+    off = side[:, None] * nrm[edge] * g[edge][:, None] * math.sqrt(3) / 2 * layer
+    return mid + off[block], g[e]
 
 
 def keep_clear(polygon: Polygon):
