@@ -136,6 +136,8 @@ def stop(proc: subprocess.Popen | None) -> None:
     if claims is not None:
         if status not in (None, 0):
             _log_early_end(status, os.path.join(claims, _STDERR))
+        else:
+            log.debug("the kernel warmer %s", "was done" if status == 0 else "stopped at work")
         shutil.rmtree(claims, ignore_errors=True)
 
 
