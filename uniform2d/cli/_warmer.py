@@ -147,11 +147,11 @@ def _log_early_end(status: int, stderr: str) -> None:
     how = ("its stdin ended" if status == EOF_STATUS else
            f"signal {-status}" if status < 0 else f"exit status {status}")
     try:
-        with open(stderr, "rb") as f:
-            f.seek(max(0, os.fstat(f.fileno()).st_size - 4000))
-            text = f.read().decode("utf-8", "replace").strip()
+        with open(stderr, "rb") as f:  # the start: a fault report's stack, most recent first
+            text = f.read(8000).decode("utf-8", "replace")
     except OSError:
         text = ""
+    text = text.split("\nExtension modules:")[0].strip()  # (faulthandler's list of them)
     log.debug("the kernel warmer ended early (%s); its stderr: %s", how, text or "(empty)")
 
 
