@@ -27,10 +27,11 @@ def _write_meshes(mesh, dsts: tuple[Path, ...], element_type) -> None:
 
 
 def load_plotting():
-    """matplotlib, on its file-only backend, and the figures' module: pyplot.
-    ``mesh`` calls it before it meshes an input with a figure: on a cold numba
-    cache the import then runs while the warmer compiles (:mod:`._warmer`), not
-    after the mesh, where the warmer is done and one CPU idles."""
+    """Import matplotlib on its file-only backend (Agg), pyplot and the figures'
+    module; returns pyplot.  ``mesh`` calls it before it meshes an input with a
+    figure: on a cold numba cache the import then runs while the warmer
+    compiles (:mod:`._warmer`), not after the mesh, where the warmer is done
+    and one CPU idles."""
     import matplotlib
 
     matplotlib.use("Agg")

@@ -19,7 +19,7 @@ It ignores Ctrl-C and ends when the command ends, however it ends
 (:func:`stop`, or the end of its stdin if the command dies first).  Its stderr
 goes to a file beside the claims, with ``faulthandler``'s report of a fatal
 signal: a warmer that ended early (not by :func:`stop`, nor done) is logged
-by :func:`stop`, at debug level (``-vv``), with the end of that file.
+by :func:`stop`, at debug level (``-vv``), with the start of that file.
 """
 
 from __future__ import annotations
