@@ -97,3 +97,77 @@ def test_other_packages_keep_numbas_copies(spied, monkeypatch):
     monkeypatch.setattr(inlining, "PACKAGES", ("uniform2d",))
     _compiled(True)
     assert spied and not any(spied)
+
+
+def _inner(x):
+    return x * x - 1.0
+
+
+def _middle(a, i):
+    return inner(a[i]) + inner(a[i] + 1.0) * SCALE
+
+
+def _outer(a):
+    t = 0.0
+    for i in range(a.shape[0]):
+        t += mid(a, i) - mid(a, a.shape[0] - 1 - i)
+    return t + mid(a, 0)
+
+
+SCALE = 2.0
+inner = mid = None  # new dispatchers per compile (set by _compiled_nested)
+
+
+def _compiled_nested(share: bool, fresh: bool = True):
+    """(result, LLVM IR) of ``_outer`` compiled afresh, inlining ``_middle``
+    (three call sites) which inlines ``_inner`` (two); with ``fresh``, the
+    two inlined kernels are new dispatchers too."""
+    global inner, mid
+    if fresh:
+        inner = njit(inline="always")(_inner)
+        mid = njit(inline="always")(_middle)
+    outer = njit(_outer)
+    with inlining.sharing(share):
+        got = outer(np.arange(-2.0, 3.0))
+    return got, outer.inspect_llvm(outer.signatures[0])
+
+
+def _expected(a):
+    def m(i):
+        return _inner(a[i]) + _inner(a[i] + 1.0) * SCALE
+
+    return sum(m(i) - m(len(a) - 1 - i) for i in range(len(a))) + m(0)
+
+
+@pytest.fixture
+def front_ends_run(monkeypatch):
+    """The functions whose front end ran and was kept, in order."""
+    monkeypatch.setattr(inlining, "PACKAGES", inlining.PACKAGES + (__name__.split(".")[0],))
+    runs = []
+
+    class Spy(dict):
+        def __setitem__(self, key, value):
+            runs.append(key[0].__name__)
+            super().__setitem__(key, value)
+
+    monkeypatch.setattr(inlining, "_front_ends", Spy())
+    return runs
+
+
+def test_front_end_once_per_function_same_llvm_ir(front_ends_run):
+    got0, each_site = _compiled_nested(False)
+    assert front_ends_run == []  # numba's front end at every site, nothing kept
+    got1, once = _compiled_nested(True)
+    assert sorted(front_ends_run) == ["_inner", "_middle"]  # one each for 3 + 2 sites
+    assert got0 == got1 == _expected(np.arange(-2.0, 3.0))
+    assert _canonical(once) == _canonical(each_site)
+
+
+def test_kept_front_end_dropped_once_a_global_it_read_is_rebound(front_ends_run, monkeypatch):
+    a = np.arange(-2.0, 3.0)
+    assert _compiled_nested(True)[0] == _expected(a)
+    assert _compiled_nested(True, fresh=False)[0] == _expected(a)
+    assert sorted(front_ends_run) == ["_inner", "_middle"]  # the second compile kept them
+    monkeypatch.setitem(globals(), "SCALE", 5.0)
+    assert _compiled_nested(True, fresh=False)[0] == _expected(a)  # _middle reads it again
+    assert sorted(front_ends_run) == ["_inner", "_middle", "_middle"]

@@ -275,3 +275,67 @@ def test_a_warmer_done_before_the_command_ends_cleanly_with_its_stdin_open():
         proc.stdin.close()
         proc.stdout.close()
         proc.stderr.close()
+
+
+def _ended_early(tmp_path, code: str, close_stdin: bool = False):
+    """A process run as :func:`_warmer.start` runs the warmer (its stderr in the
+    claims directory), ended by ``code`` before any stop."""
+    claims = tmp_path / "claims"
+    claims.mkdir()
+    with open(claims / _warmer._STDERR, "wb") as err:
+        proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                                stdout=subprocess.DEVNULL, stderr=err)
+    if close_stdin:
+        proc.stdin.close()
+    proc.wait(timeout=120)
+    return proc, claims
+
+
+@pytest.mark.skipif(not hasattr(os, "kill") or sys.platform == "win32", reason="POSIX signals")
+def test_stop_logs_a_warmer_killed_by_a_signal_with_its_fault_report(tmp_path, caplog):
+    import logging
+
+    from uniform2d import compile_claims
+
+    proc, claims = _ended_early(tmp_path, "import faulthandler, os, signal; faulthandler.enable(); "
+                                          "os.kill(os.getpid(), signal.SIGSEGV)")
+    assert proc.returncode == -11
+    compile_claims.share(str(claims))
+    with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
+        _warmer.stop(proc)
+    assert "ended early (signal 11)" in caplog.text
+    assert "Segmentation fault" in caplog.text  # faulthandler's report, from its stderr
+    assert not claims.exists() and compile_claims.shared() is None
+
+
+def test_a_warmer_whose_stdin_ends_first_says_so_and_stop_logs_it(tmp_path, caplog):
+    import logging
+
+    from uniform2d import compile_claims
+
+    root = Path(__file__).resolve().parents[1]
+    code = (f"import sys, time; sys.path[0] = {str(root)!r}; import uniform2d.warmup as w; "
+            "w.warm = lambda: time.sleep(120); from uniform2d.cli._warmer import main; main()")
+    proc, claims = _ended_early(tmp_path, code, close_stdin=True)
+    assert proc.returncode == _warmer.EOF_STATUS
+    compile_claims.share(str(claims))
+    with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
+        _warmer.stop(proc)
+    assert "ended early (its stdin ended); its stderr: (empty)" in caplog.text
+
+
+def test_stop_says_nothing_of_a_warmer_done_or_still_at_work(tmp_path, caplog):
+    import logging
+
+    from uniform2d import compile_claims
+
+    for code in ("pass", "import time; time.sleep(120)"):
+        claims = tmp_path / "claims"
+        claims.mkdir()
+        proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE)
+        if code == "pass":
+            proc.wait(timeout=120)
+        compile_claims.share(str(claims))
+        with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
+            _warmer.stop(proc)
+        assert "ended early" not in caplog.text and not claims.exists()

@@ -7,8 +7,6 @@ scripts, servers and tests (nothing is ever shown on screen).
 from __future__ import annotations
 
 import logging
-import os
-
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +16,8 @@ from matplotlib.colors import FuncNorm, ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
-from .errors import InvalidArgumentError, UnsupportedFormatError
+from .errors import InvalidArgumentError
+from .figure_path import FIGURE_FORMATS, check_figure_path
 from .measures import as_points, as_triangles, edge_lengths, histogram
 from .io.atomic import atomic_write
 from .polygon import as_polygon
@@ -27,26 +26,9 @@ __all__ = ["plot_mesh", "check_figure_path", "FIGURE_FORMATS", "EDGE_CMAP"]
 
 log = logging.getLogger(__name__)
 
-FIGURE_FORMATS = (".png", ".pdf", ".svg")
 #: Perceptual "plasma" without its light yellow end: dark blue = short, magenta =
 #: mean, orange = long.  Every colour, the mean's above all, stands out on white.
 EDGE_CMAP = ListedColormap(colormaps["plasma"](np.linspace(0.0, 0.8, 256)), name="plasma_on_white")
-
-
-def check_figure_path(path) -> str:
-    """The figure format of ``path`` (its lower-case extension, e.g. ``".png"``).
-
-    Raises
-    ------
-    UnsupportedFormatError
-        If the extension is not .png, .pdf or .svg; the message names ``path``.
-    """
-    ext = os.path.splitext(os.fspath(path))[1].lower()
-    if ext not in FIGURE_FORMATS:
-        raise UnsupportedFormatError(
-            f"cannot save a figure as '{os.fspath(path)}'; use one of {', '.join(FIGURE_FORMATS)}"
-        )
-    return ext
 
 
 def _log(x):

@@ -6,7 +6,7 @@ import os
 import secrets
 from pathlib import Path
 
-__all__ = ["write_outputs"]
+__all__ = ["write_outputs", "load_plotting"]
 
 
 def _write_meshes(mesh, dsts: tuple[Path, ...], element_type) -> None:
@@ -26,6 +26,22 @@ def _write_meshes(mesh, dsts: tuple[Path, ...], element_type) -> None:
         raise
 
 
+def load_plotting():
+    """Import matplotlib on its file-only backend (Agg), pyplot and the figures'
+    module; returns pyplot.  ``mesh`` calls it before it meshes an input with a
+    figure: on a cold numba cache the import then runs while the warmer
+    compiles (:mod:`._warmer`), not after the mesh, where the warmer is done
+    and one CPU idles."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .. import plot  # noqa: F401  (Mesh.plot's module: imported here with the rest)
+
+    return plt
+
+
 def write_outputs(mesh, dsts: tuple[Path, ...], fig: Path | None, element_type=None) -> None:
     """The mesh files and their figure, all or none: the figure is drawn to a
     temporary file next to ``fig`` first and moved into place after the mesh
@@ -36,11 +52,7 @@ def write_outputs(mesh, dsts: tuple[Path, ...], fig: Path | None, element_type=N
     if fig is None:
         _write_meshes(mesh, dsts, element_type)
         return
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = load_plotting()
     tmp = fig.with_name(f".{fig.stem}.tmp-{secrets.token_hex(4)}{fig.suffix}")
     new = [d for d in dsts if not d.exists()]
     try:

@@ -16,7 +16,10 @@ The warmer prints nothing and writes nothing but numba's cache (each file to a
 temporary name, then renamed: stopping it at any moment leaves no torn entry,
 at worst one stray temporary file).
 It ignores Ctrl-C and ends when the command ends, however it ends
-(:func:`stop`, or the end of its stdin if the command dies first).
+(:func:`stop`, or the end of its stdin if the command dies first).  Its stderr
+goes to a file beside the claims, with ``faulthandler``'s report of a fatal
+signal: a warmer that ended early (not by :func:`stop`, nor done) is logged
+by :func:`stop`, at debug level (``-vv``), with the start of that file.
 """
 
 from __future__ import annotations
@@ -31,9 +34,15 @@ import threading
 
 from .. import compile_claims
 
-__all__ = ["start", "stop", "spare_cpus", "busy", "main"]
+__all__ = ["start", "stop", "spare_cpus", "busy", "main", "EOF_STATUS"]
 
 log = logging.getLogger(__name__)
+
+#: The warmer's exit status when its stdin ends before it is done: the command
+#: died, or closed the pipe without :func:`stop` (which kills the warmer first).
+EOF_STATUS = 3
+
+_STDERR = "warmer.stderr"  # the warmer's stderr, in the claims directory
 
 
 def spare_cpus() -> int:
@@ -101,9 +110,10 @@ def start() -> subprocess.Popen | None:
         log.debug("no directory for the compile claims", exc_info=True)
         return None
     try:
-        proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                env={**os.environ, compile_claims.ENV: claims})
+        with open(os.path.join(claims, _STDERR), "wb") as err:
+            proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                                    stdout=subprocess.DEVNULL, stderr=err,
+                                    env={**os.environ, compile_claims.ENV: claims})
     except OSError:  # no process to spare: the run compiles everything itself
         log.debug("cannot start the kernel warmer", exc_info=True)
         shutil.rmtree(claims, ignore_errors=True)
@@ -117,28 +127,49 @@ def stop(proc: subprocess.Popen | None) -> None:
     that compile), wait for it and stop claiming kernels."""
     if proc is None:
         return
+    status = proc.poll()  # before the kill: None while it compiles, 0 when done
     proc.kill()
     proc.wait()
     proc.stdin.close()
     claims = compile_claims.shared()
     compile_claims.share(None)
     if claims is not None:
+        if status not in (None, 0):
+            _log_early_end(status, os.path.join(claims, _STDERR))
+        else:
+            log.debug("the kernel warmer %s", "was done" if status == 0 else "stopped at work")
         shutil.rmtree(claims, ignore_errors=True)
+
+
+def _log_early_end(status: int, stderr: str) -> None:
+    """Say, at debug level, how the warmer ended before it was done (a run then
+    compiles what the warmer did not: seconds more)."""
+    how = ("its stdin ended" if status == EOF_STATUS else
+           f"signal {-status}" if status < 0 else f"exit status {status}")
+    try:
+        with open(stderr, "rb") as f:  # the start: a fault report's stack, most recent first
+            text = f.read(8000).decode("utf-8", "replace")
+    except OSError:
+        text = ""
+    text = text.split("\nExtension modules:")[0].strip()  # (faulthandler's list of them)
+    log.debug("the kernel warmer ended early (%s); its stderr: %s", how, text or "(empty)")
 
 
 def _exit_at_eof() -> None:
     sys.stdin.buffer.read()
-    os._exit(0)
+    os._exit(EOF_STATUS)
 
 
 def main() -> None:
     """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin
     closes, and at once (``os._exit``) when it is done."""
+    import faulthandler
     import signal
 
     from ..compile_cache import drop_unused_wrappers
     from ..warmup import warm
 
+    faulthandler.enable()  # a fatal signal's report, on its stderr (see the module doc)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command decides when to stop
     threading.Thread(target=_exit_at_eof, daemon=True).start()
     compile_claims.share(os.environ.get(compile_claims.ENV) or None)

@@ -43,7 +43,7 @@ from ._common import (
     same_outputs,
     shows_progress,
 )
-from ._mesh_write import write_outputs
+from ._mesh_write import load_plotting, write_outputs
 from ._sizing import add_size_options, field_from_args, has_field
 from ._vertices import steiner_for_vertices, steiner_for_vertices_resampled
 
@@ -149,7 +149,7 @@ def _format_extension(text: str, parts=None) -> str:
 
 def _plot_target(text: str | None, several: bool) -> tuple[Path | None, bool]:
     """The --plot path and whether it names a directory, checked before any meshing."""
-    from ..plot import check_figure_path
+    from ..figure_path import check_figure_path
 
     if text is None:
         return None, False
@@ -337,6 +337,8 @@ def _process(args, job: tuple[Path, Path, Path | None]) -> dict:
     src, dst, fig = job
     polygon = read_polygon(src)
     log.info("%s: %r", src, polygon)
+    if fig is not None:
+        load_plotting()  # before the mesh, beside the warmer on a cold cache
     bar = PhaseBar(GRADED if has_field(args) else PHASES, src.name) if getattr(args, "phase_bar", False) else None
     try:
         mesh = _mesh_one(polygon, args, bar)

@@ -98,7 +98,7 @@ def _target(text: str | None, several: bool, option: str) -> tuple[Path | None, 
 
 def _plan(args, layer) -> list[tuple[Path, tuple[Path, ...], Path | None]]:
     """(input, outputs, figure) per input, every check that needs no remeshing done."""
-    from ..plot import check_figure_path
+    from ..figure_path import check_figure_path
 
     inputs = [Path(s) for s in args.inputs]
     several = len(inputs) > 1
