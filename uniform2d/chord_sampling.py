@@ -15,7 +15,7 @@ import itertools
 import numpy as np
 import shapely
 
-from .geometry import point_segment_distance
+from .segment_distance import point_segment_distance
 
 __all__ = ["plain_run", "run_counts", "sample_run", "straightened_lengths"]
 

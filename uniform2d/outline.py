@@ -55,7 +55,8 @@ import shapely
 
 from .chord_sampling import plain_run, run_counts, sample_run, straightened_lengths
 from .errors import InvalidArgumentError, InvalidPolygonError
-from .geometry import point_segment_distance, size_for_count, vertex_count
+from .geometry import size_for_count, vertex_count
+from .segment_distance import point_segment_distance
 from .outline_band import REACH, merge_short_edges, narrowest, widen_rings
 from .polygon import Polygon
 from .ring_corners import ring_corners

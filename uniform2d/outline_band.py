@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from .geometry import point_segment_distance
+from .segment_distance import point_segment_distance
 
 __all__ = ["MERGE", "REACH", "TIP_EDGE", "feature_width", "hold_tolerance", "merge_short_edges", "narrowest", "widen", "widen_moves", "widen_rings"]
 

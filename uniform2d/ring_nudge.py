@@ -47,7 +47,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from .errors import InvalidPolygonError
-from .geometry import boundary_edges, point_segment_distance, unique_edges
+from .geometry import boundary_edges, unique_edges
 from .mesh import Mesh
 from .optimize.moves import improve_kept
 from .optimize.pipeline import quality_summary
@@ -55,7 +55,9 @@ from .optimize.schedule import RELOCATE
 from .polygon import Polygon
 from .quality import quality
 from .ring_split import SPLIT_RATIO, better_mesh
+from .segment_distance import from_point, nearest
 from .sites import classify_sites
+from .threads import thread_map
 from .tolerance import boundary_tol
 from .validity import ensure_valid
 
@@ -151,7 +153,7 @@ class _Band:
         self.A, self.B = source.segments_near(X0, far + window)  # reach <= 2 window
         self.dense = source.dense_near(X0, far)
         A, B = ring, np.roll(ring, -1, axis=0)
-        near = point_segment_distance(np.broadcast_to(X0, A.shape), A, B) <= far + window
+        near = from_point(X0, A, B) <= far + window
         near[[(k - 1) % r, k]] = True  # the moved point's edges: where they go
         self.ring_edges = np.flatnonzero(near)
 
@@ -181,7 +183,7 @@ def _near_segments(ring, X, reach: float):
 
 def _near_segments_of(A, B, X, reach: float):
     """The segments (A, B) within ``reach`` of point X."""
-    near = point_segment_distance(np.broadcast_to(X, A.shape), A, B) <= reach
+    near = from_point(X, A, B) <= reach
     return A[near], B[near]
 
 
@@ -194,17 +196,9 @@ def _farthest(Z, A, B) -> float:
 
 def nearest_distance(Z, A, B) -> np.ndarray:
     """(len(Z),) the distance from each point Z to the nearest segment A B (non-empty):
-    :func:`uniform2d.geometry.point_segment_distance`'s arithmetic, broadcast
-    instead of repeated rows."""
-    AB = B - A
-    L2 = AB[:, 0] * AB[:, 0] + AB[:, 1] * AB[:, 1]
-    APx = Z[:, None, 0] - A[None, :, 0]
-    APy = Z[:, None, 1] - A[None, :, 1]
-    t = np.divide(APx * AB[:, 0] + APy * AB[:, 1], L2, out=np.zeros(APx.shape), where=L2 > 0)
-    np.clip(t, 0.0, 1.0, out=t)
-    dx = APx - t * AB[:, 0]
-    dy = APy - t * AB[:, 1]
-    return np.sqrt(dx * dx + dy * dy).min(axis=1)
+    :func:`uniform2d.geometry.point_segment_distance`'s arithmetic, compiled
+    (:func:`uniform2d.segment_distance.nearest`)."""
+    return nearest(Z, A, B)
 
 
 def _dense(line, limit: float) -> np.ndarray:
@@ -350,7 +344,7 @@ def clearances(ring, k: int, X):
     if not len(others):
         return np.full(len(X), np.inf), np.inf
     A, B = ring[others], ring[(others + 1) % r]
-    c0 = float(point_segment_distance(np.repeat(ring[k][None, :], len(A), axis=0), A, B).min())
+    c0 = float(from_point(ring[k], A, B).min())
     return nearest_distance(X, A, B), c0
 
 
@@ -481,9 +475,10 @@ def moved_stage(outline: Polygon, res, mesh, objective: str, mover, done, what: 
             break
         res2 = dataclasses.replace(res, polygon=res.polygon.with_rings(rings),
                                    deviation=max(res.deviation, dev))
-        got = [(quality(m.points, m.triangles), m)
-               for m in (relaxed(res.polygon, res2.polygon, mesh, objective, w) for w in (False, True))
-               if m is not None]
+        # the two relaxations are independent: on two threads (the same meshes)
+        made = thread_map(lambda w: relaxed(res.polygon, res2.polygon, mesh, objective, w),
+                          (False, True))
+        got = [(quality(m.points, m.triangles), m) for m in made if m is not None]
         got = [(q2, m) for q2, m in got if better_mesh(q2, q, CV_SLACK, ANGLE_SLACK)]
         if not got:
             if len(moved) == 1:  # not tried again

@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .geometry import point_segment_distance
+from .segment_distance import point_segment_distance
 from .ring_slide import SWEEPS, moved_heights, point_at, span_heights
 
 __all__ = ["OFFSETS", "PULL", "SHARP", "pull_apart"]

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from .geometry import point_segment_distance
+from .segment_distance import point_segment_distance
 
 __all__ = ["EVEN", "SWEEPS", "crowded", "edge_heights", "even_out", "moved_heights", "point_at",
            "slide_samples", "span_heights"]
