@@ -58,3 +58,12 @@ def test_inputs_are_read_not_modified_and_may_be_views():
     np.testing.assert_array_equal(got, numpy_distance(P[::2], A[::2], B[::2]))
     for a, b in zip((P, A, B), keep):
         np.testing.assert_array_equal(a, b)
+
+
+def test_other_dimensions_go_to_numpy():
+    rng = np.random.default_rng(5)
+    P, A, B = (rng.normal(size=(200, 3)) for _ in range(3))
+    np.testing.assert_array_equal(sd.point_segment_distance(P, A, B), numpy_distance(P, A, B))
+    # a 3-D distance differs from the distance of the first two coordinates
+    assert not np.array_equal(sd.point_segment_distance(P, A, B),
+                              sd.point_segment_distance(P[:, :2], A[:, :2], B[:, :2]))

@@ -15,6 +15,7 @@ import itertools
 import numpy as np
 import shapely
 
+from ._kernel.chords import chord_heights
 from .segment_distance import point_segment_distance
 
 __all__ = ["plain_run", "run_counts", "sample_run", "straightened_lengths"]
@@ -116,6 +117,22 @@ def _chord_heights(u, on, C, excess, skipped, lo, hi):
     from it (inf if its length is not within [lo, hi])."""
     nc = len(u)
     W = max(1, int(np.max(np.searchsorted(u, u + hi, side="right") - 1 - np.arange(nc))))
+    # the largest distance from a chord is at an input vertex (distance to a segment
+    # is convex along each input edge), so the candidates on input vertices are the
+    # points to check, and all of them when some input vertices are not candidates
+    # (those are then covered by ``excess``)
+    check = np.flatnonzero(on) if not skipped else np.arange(nc)
+    if C.shape[1] != 2:
+        return W, _heights_any_dimension(u, C, check, excess, W, lo, hi)
+    return W, chord_heights(np.ascontiguousarray(u, dtype=np.float64), np.ascontiguousarray(C),
+                            check, np.ascontiguousarray(excess, dtype=np.float64), W,
+                            float(lo), float(hi))
+
+
+def _heights_any_dimension(u, C, check, excess, W, lo, hi):
+    """:func:`uniform2d._kernel.chords.chord_heights` in numpy, for C in any
+    dimension (the same bits in the plane)."""
+    nc = len(u)
     i_all = np.arange(nc)
     pi, pd = [], []
     for d in range(1, W + 1):
@@ -124,11 +141,6 @@ def _chord_heights(u, on, C, excess, skipped, lo, hi):
         pi.append(i_all[sel])
         pd.append(np.full(len(sel), d))
     pi, pd = np.concatenate(pi), np.concatenate(pd)
-    # the largest distance from a chord is at an input vertex (distance to a segment
-    # is convex along each input edge), so the candidates on input vertices are the
-    # points to check, and all of them when some input vertices are not candidates
-    # (those are then covered by ``excess``)
-    check = np.flatnonzero(on) if not skipped else np.arange(nc)
     first = np.searchsorted(check, pi, side="right")
     count = np.searchsorted(check, pi + pd, side="left") - first
     hmax = np.zeros(len(pi))
@@ -141,7 +153,7 @@ def _chord_heights(u, on, C, excess, skipped, lo, hi):
         emax[s] = np.maximum(emax[s], excess[k])
     H = np.full((W + 1, nc), np.inf)
     H[pd, pi] = hmax + emax
-    return W, H
+    return H
 
 
 def _blocks(u, H, W, lo, hi):

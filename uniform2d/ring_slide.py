@@ -312,16 +312,17 @@ def moved_heights(ring, ext, S, A, e, X, Y) -> np.ndarray:
     first, last = pos == 0, pos == c[owner] + 1
     path[first] = A[e[owner[first]]]
     path[last] = A[(e[owner[last]] + 1) % r]
-    out = np.zeros(len(e))
-    np.maximum.at(out, owner, point_segment_distance(path, X[owner], Y[owner]))
+    # every path has two points or more (size >= 2), in order of its edge: each
+    # edge's path is one run of rows, reduced at the run's start
+    start = np.cumsum(size) - size
+    out = np.maximum.reduceat(point_segment_distance(path, X[owner], Y[owner]), start)
     seg = np.flatnonzero(owner[:-1] == owner[1:])
     t = np.arange(_SAMPLES + 1) / _SAMPLES
     o = owner[seg]
     Z = X[o][:, None, :] + t[None, :, None] * (Y[o] - X[o])[:, None, :]
     d = point_segment_distance(Z.reshape(-1, 2), np.repeat(path[seg], _SAMPLES + 1, axis=0),
                                np.repeat(path[seg + 1], _SAMPLES + 1, axis=0))
-    near = np.full((len(e), _SAMPLES + 1), np.inf)
-    np.minimum.at(near, o, d.reshape(len(seg), -1))
+    near = np.minimum.reduceat(d.reshape(len(seg), -1), start - np.arange(len(e)), axis=0)
     half = 0.5 * np.hypot(*(Y - X).T) / _SAMPLES
     between = 0.5 * (near[:, :-1] + near[:, 1:]) + half[:, None]
     return np.maximum(out, between.max(axis=1))

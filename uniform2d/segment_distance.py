@@ -1,5 +1,6 @@
 """Distances from points to segments in the plane, compiled, for the outline
-stages' many small sets (:mod:`uniform2d._kernel.segdist`).
+stages' many small sets (:mod:`uniform2d._kernel.segdist`); other
+dimensions go to numpy.
 
 The same bits as :func:`uniform2d.geometry.point_segment_distance` (and as
 numpy's broadcast of it), at a fraction of the cost on the few dozen points
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import geometry
 from ._kernel import segdist
 
 __all__ = ["point_segment_distance", "from_point", "nearest"]
@@ -30,8 +32,13 @@ def _xy(a) -> np.ndarray:
 
 
 def point_segment_distance(P, A, B) -> np.ndarray:
-    """(K,): the distance from P[i] to the segment A[i]-B[i] (all (K, 2))."""
-    return segdist.rowwise(_xy(P), _xy(A), _xy(B))
+    """(K,): the distance from P[i] to the segment A[i]-B[i] (all (K, D)); the
+    compiled loop for D = 2, :func:`uniform2d.geometry.point_segment_distance`
+    in any other dimension (the surface layer's boundary loops are 3-D)."""
+    P, A, B = _xy(P), _xy(A), _xy(B)
+    if P.ndim != 2 or P.shape[1] != 2:
+        return geometry.point_segment_distance(P, A, B)
+    return segdist.rowwise(P, A, B)
 
 
 def from_point(X, A, B) -> np.ndarray:
