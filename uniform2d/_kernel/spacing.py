@@ -5,9 +5,11 @@ the count it wants (:func:`uniform2d.optimize.lattice.closest_count`).  Each
 try made in Python cost some 40 microseconds of small numpy calls holding
 the GIL around the row pass (:func:`.hexrows.lattice_inside`), while the
 starts run on two threads: here the whole search runs in the kernel, nogil.
-It makes the same operations in the same order as the Python search (the
-lattice's frame, the candidates' tests, the bracket and its aims), so it finds
-the same lattice, the same bits.
+The search's steps (the bracket, its aims, when to stop: :func:`step`) are
+the ones the Python loop takes too, on the candidates of a region, which only
+shapely counts; the lattice's frame and the candidates' tests make the same
+operations in the same order as the Python ones, so it finds the same lattice,
+the same bits.
 """
 
 import math
@@ -18,7 +20,7 @@ from ._jit import njit
 from .clearance import clear_at
 from .hexrows import lattice_inside
 
-__all__ = ["closest_count", "NEAREST", "ABOVE", "BELOW"]
+__all__ = ["closest_count", "start", "step", "NEAREST", "ABOVE", "BELOW", "NEXT", "TAKE", "BEST"]
 
 #: The fits of :class:`uniform2d.optimize.lattice.Fit`, as codes.
 NEAREST, ABOVE, BELOW = 0, 1, 2
@@ -79,11 +81,60 @@ def _kept(P, dist, sp, band, rows, rgrid, held, hgrid, cell):
 
 @njit(cache=True)
 def _aim(sp, got, count, lo, hi, under):
-    """:func:`uniform2d.optimize.lattice._aim`, the same operations."""
+    """The next spacing to try after ``got`` candidates at ``sp``: where the
+    count would be ``count`` (plus a quarter of the tolerance, to land above
+    it; minus, ``under``, to land below) if it went as 1/spacing**2, strictly
+    inside the bracket (lo, hi)."""
     want = count + (-1.0 if under else 1.0) * (0.25 * (count // 500) + 0.5)
     x = sp * math.sqrt(max(got, 1) / want)
     margin = 1e-3 * (hi - lo)
     return min(max(x, lo + margin), hi - margin)
+
+
+#: What :func:`step` says of the lattice just tried: try the next spacing,
+#: take this lattice, or stop with the best one found.
+NEXT, TAKE, BEST = 0, 1, 2
+
+
+@njit(cache=True)
+def start(h):
+    """(lo, hi, mid, aimed): the search's bracket for target size ``h`` and its
+    first spacing."""
+    lo, hi = 0.5 * h, 1.5 * h
+    return lo, hi, 0.5 * (lo + hi), False
+
+
+@njit(cache=True)
+def step(got, best, have, count, h, fit, lo, hi, mid, aimed):
+    """One step of the search on the spacing (the loop of
+    :func:`uniform2d.optimize.lattice.closest_count` and of :func:`closest_count`
+    here), after ``got`` candidates at spacing ``mid``; ``best``: the count of the
+    best lattice so far (``have``: whether there is one).  Returns (better,
+    outcome, lo, hi, mid, aimed): whether this lattice is the best now, what
+    to do (:data:`NEXT` with the new bracket and spacing, :data:`TAKE`,
+    :data:`BEST`)."""
+    over, under = fit == ABOVE, fit == BELOW
+    tol = count // 500
+    off, boff = abs(got - count), abs(best - count)
+    better = not have or off < boff or (off == boff and got >= count)
+    if over and 0 <= got - count <= tol:
+        return better, TAKE, lo, hi, mid, aimed
+    if under and 0 <= count - got <= tol:
+        return better, TAKE, lo, hi, mid, aimed
+    if not (over or under) and off <= tol:  # the fix-up after it is exact
+        return better, BEST, lo, hi, mid, aimed
+    width = hi - lo
+    if got > count:
+        lo = mid
+    else:
+        hi = mid
+    fast = (over or under) and tol > 0
+    if fast and hi - lo < 1e-4 * h:
+        return better, BEST, lo, hi, mid, aimed
+    # aim, unless the last aim left more than half the bracket (then bisect)
+    aimed = fast and not (aimed and hi - lo > 0.5 * width)
+    mid = _aim(mid, got, count, lo, hi, under) if aimed else 0.5 * (lo + hi)
+    return better, NEXT, lo, hi, mid, aimed
 
 
 @njit(cache=True)
@@ -98,12 +149,7 @@ def closest_count(count, h, fit, bounds, origin, c, s, rings, seg, band, rows, r
     the points of ``rgrid`` / ``hgrid`` (bucket grids of side ``cell``) are
     kept clear of; ``band``: the rows' band."""
     ua, va, ub, vb = rings
-    over, under = fit == ABOVE, fit == BELOW
-    tol = count // 500
-    lo, hi = 0.5 * h, 1.5 * h
-    mid = 0.5 * (lo + hi)
-    fast = (over or under) and tol > 0
-    aimed = False
+    lo, hi, mid, aimed = start(h)
     best = np.empty((0, 2))
     bestd = np.empty(0)
     have = False
@@ -112,23 +158,12 @@ def closest_count(count, h, fit, bounds, origin, c, s, rings, seg, band, rows, r
         frame = _frame(bounds, mid, c, s, origin[0], origin[1])
         P, dist = lattice_inside(frame, origin, bounds, ua, va, ub, vb, seg, cap)
         P, dist = _kept(P, dist, mid, band, rows, rgrid, held, hgrid, cell)
-        got = P.shape[0]
-        off, boff = abs(got - count), abs(best.shape[0] - count)
-        if not have or off < boff or (off == boff and got >= count):
+        better, outcome, lo, hi, mid, aimed = step(P.shape[0], best.shape[0], have, count, h,
+                                                   fit, lo, hi, mid, aimed)
+        if better:
             best, bestd, have = P, dist, True
-        if over and 0 <= got - count <= tol:
+        if outcome == TAKE:
             return P, dist
-        if under and 0 <= count - got <= tol:
-            return P, dist
-        if not (over or under) and off <= tol:
+        if outcome == BEST:
             break
-        width = hi - lo
-        if got > count:
-            lo = mid
-        else:
-            hi = mid
-        if fast and hi - lo < 1e-4 * h:
-            break
-        aimed = fast and not (aimed and hi - lo > 0.5 * width)
-        mid = _aim(mid, got, count, lo, hi, under) if aimed else 0.5 * (lo + hi)
     return best, bestd

@@ -279,7 +279,7 @@ def closest_count(cand: Candidates, count: int, h: float, fit: Fit = Fit.NEAREST
     the boundary), not too few: filling those (:func:`fill_largest_gaps`)
     triangulates the whole seed.  With ABOVE and a tolerance (count >= 500)
     each step also aims where the count, about proportional to 1/spacing**2,
-    says the target is (:func:`_aim`), bisecting only where that would not
+    says the target is (:func:`uniform2d._kernel.spacing._aim`), bisecting only where that would not
     halve the bracket, and gives up where the bracket is 1e-4 h wide (the
     count jumps there: a row of an aligned lattice enters at once): 9 lattices
     a start instead of 14 on the benchmark polygons at n = 1000.  Below 500
@@ -290,46 +290,22 @@ def closest_count(cand: Candidates, count: int, h: float, fit: Fit = Fit.NEAREST
     :func:`fill_band_gaps` adds where the lattice meets the boundary: points
     dropped from that layer leave holes there that the short schedule of a
     large mesh does not close (its longest edges and largest triangles)."""
-    over, under = fit is Fit.ABOVE, fit is Fit.BELOW
-    lo, hi = 0.5 * h, 1.5 * h
+    # the steps are the kernel's (:func:`uniform2d._kernel.spacing.step`): the
+    # same search as its whole-kernel one, on candidates only Python can count
+    lo, hi, mid, aimed = spacing.start(float(h))
     best = None
-    mid = 0.5 * (lo + hi)
-    fast = (over or under) and count // 500 > 0
-    aimed = False
     for _ in range(30):
         P, dist = cand(mid)
-        if best is None or abs(len(P) - count) < abs(len(best[0]) - count) or (
-            abs(len(P) - count) == abs(len(best[0]) - count) and len(P) >= count
-        ):
+        better, outcome, lo, hi, mid, aimed = spacing.step(
+            len(P), 0 if best is None else len(best[0]), best is not None, int(count), float(h),
+            _FITS[fit], lo, hi, mid, aimed)
+        if better:
             best = (P, dist)
-        if over and 0 <= len(P) - count <= count // 500:
+        if outcome == spacing.TAKE:
             return P, dist
-        if under and 0 <= count - len(P) <= count // 500:
-            return P, dist
-        if not (over or under) and abs(len(P) - count) <= count // 500:  # the fix-up after it is exact
+        if outcome == spacing.BEST:
             break
-        width = hi - lo
-        if len(P) > count:
-            lo = mid
-        else:
-            hi = mid
-        if fast and hi - lo < 1e-4 * h:
-            break
-        # aim, unless the last aim left more than half the bracket (then bisect)
-        aimed = fast and not (aimed and hi - lo > 0.5 * width)
-        mid = _aim(mid, len(P), count, lo, hi, under) if aimed else 0.5 * (lo + hi)
     return best
-
-
-def _aim(sp: float, got: int, count: int, lo: float, hi: float, under: bool = False) -> float:
-    """The next spacing to try after ``got`` candidates at ``sp``: where the
-    count would be ``count`` (plus a quarter of the tolerance, to land above
-    it; minus, ``under``, to land below) if it went as 1/spacing**2, strictly
-    inside the bracket (lo, hi)."""
-    want = count + (-1.0 if under else 1.0) * (0.25 * (count // 500) + 0.5)
-    x = sp * math.sqrt(max(got, 1) / want)
-    margin = 1e-3 * (hi - lo)
-    return min(max(x, lo + margin), hi - margin)
 
 
 def drop_nearest(cand: Candidates, P, dist, count: int) -> np.ndarray:
