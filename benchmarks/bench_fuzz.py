@@ -4,7 +4,7 @@ Usage::
 
     python benchmarks/bench_fuzz.py [--domains 10000] [--seed 0] [--jobs 2]
                                     [--limit 120] [--out failures.json]
-                                    [--constrained 0.3]
+                                    [--constrained 0.3] [--resample 0.25]
 
 Domain i is ``uniform2d.testing.fuzz.domain(seed * 10**9 + i)``: star-shaped rings with
 short edges, exactly and nearly collinear vertices, sharp spikes, rotated
@@ -17,6 +17,16 @@ Each domain gets three calls, n drawn log-uniformly:
     insert(P, n)        n in [1, 1000]
     tplus(P, n)         n in [1, 1000]
     uniform_mesh(P, n)  n in [1, 300]   (the optimiser is the expensive call)
+
+With ``--resample TOL`` each domain gets a fourth call,
+
+    uniform_mesh(P, n, resample=TOL)  n in [1, 300]
+
+whose mesh must have exactly the kept input vertices + n points, pass the same
+checks on the resampled polygon it reports (``mesh.polygon``, its segments and
+fixed points included), and keep that polygon's rings within TOL spacings of
+the input's (shapely's Hausdorff distance, densified, both ways, ring by ring;
+rounding slack 1e-9 of the spacing).
 
 Every returned mesh is checked by ``uniform2d.testing.check_mesh`` (exactly
 |V| + n points, strictly counter-clockwise triangles, edges glued in opposite
@@ -62,11 +72,18 @@ import _checkout  # noqa: F401  (measure this checkout, not an installed uniform
 
 
 CALLS = (("insert", 1000), ("tplus", 1000), ("uniform_mesh", 300))
+#: The call --resample adds (its n drawn after the others': theirs stay the same).
+RESAMPLE = ("resample", 300)
 
 
-def _ns(case_seed):
-    rng = np.random.default_rng([case_seed, 7])
-    return [int(np.floor(np.exp(rng.uniform(0.0, np.log(hi + 1))))) for _, hi in CALLS]
+def _calls(case):
+    """The calls made on ``case`` = (seed, constrained, resample tolerance or 0)."""
+    return CALLS + ((RESAMPLE,) if case[2] > 0 else ())
+
+
+def _ns(case):
+    rng = np.random.default_rng([case[0], 7])
+    return [int(np.floor(np.exp(rng.uniform(0.0, np.log(hi + 1))))) for _, hi in _calls(case)]
 
 
 def _area_rtol(polygon):
@@ -75,10 +92,10 @@ def _area_rtol(polygon):
 
 
 def draw(case):
-    """(kind, outer, holes, segments, points) of ``case`` = (seed, constrained)."""
+    """(kind, outer, holes, segments, points) of ``case`` (see :func:`_calls`)."""
     from uniform2d.testing.fuzz import constrained, rings
 
-    seed, with_constraints = case
+    seed, with_constraints = case[:2]
     if with_constraints:
         return constrained(seed)
     kind, outer, holes = rings(seed)
@@ -98,6 +115,35 @@ def _check_constraints(poly, pts, tri):
         raise AssertionError(f"regions: {exc}") from None
 
 
+def _deviation_problem(poly, mesh, tol: float) -> str:
+    """Why the resampled polygon of ``mesh`` is farther than ``tol`` spacings from
+    ``poly`` (ring by ring, both ways), or ""."""
+    import shapely
+
+    h = mesh.info["resample"]["spacing"]
+    if len(mesh.polygon.rings) != len(poly.rings):
+        return f"{len(mesh.polygon.rings)} rings resampled from {len(poly.rings)}"
+    for i, (a, b) in enumerate(zip(poly.rings, mesh.polygon.rings)):
+        d = shapely.hausdorff_distance(shapely.LinearRing(a), shapely.LinearRing(b), densify=0.25)
+        if d > (tol + 1e-9) * h:
+            return f"ring {i} resampled {d / h:.6g} spacings from the input (tolerance {tol:g})"
+    return ""
+
+
+def _mesh(poly, call, n, tol):
+    """(points, triangles, the polygon meshed, the mesh or None) of one call."""
+    import uniform2d
+
+    if call == "insert":
+        res = uniform2d.insert(poly, n)
+        return res.mesh_points, res.triangles, poly, None
+    if call == "resample":
+        mesh = uniform2d.uniform_mesh(poly, n, resample=tol)
+        return mesh.points, mesh.triangles, mesh.polygon, mesh
+    mesh = getattr(uniform2d, call)(poly, n)
+    return mesh.points, mesh.triangles, poly, mesh
+
+
 def run_case(case):
     """[(call, n, status, seen, domain)] for one domain, ``domain`` as :func:`draw` gives it."""
     import uniform2d
@@ -105,20 +151,14 @@ def run_case(case):
 
     dom = draw(case)
     kind, outer, holes, segs, points = dom
-    case_seed = case[0]
     out = []
     try:
         poly = uniform2d.Polygon(outer, holes, segments=segs, points=points)
     except uniform2d.Uniform2dError as exc:
         return [("Polygon", 0, "refused", f"{type(exc).__name__}: {exc}", dom)]
-    for (call, _), n in zip(CALLS, _ns(case_seed)):
+    for (call, _), n in zip(_calls(case), _ns(case)):
         try:
-            if call == "insert":
-                res = uniform2d.insert(poly, n)
-                pts, tri = res.mesh_points, res.triangles
-            else:
-                mesh = getattr(uniform2d, call)(poly, n)
-                pts, tri = mesh.points, mesh.triangles
+            pts, tri, meshed, mesh = _mesh(poly, call, n, case[2])
         except uniform2d.Uniform2dError as exc:
             out.append((call, n, "refused", f"{type(exc).__name__}: {exc}", dom))
             continue
@@ -126,9 +166,13 @@ def run_case(case):
             out.append((call, n, "crash", f"{type(exc).__name__}: {exc}", dom))
             continue
         try:
-            assert len(pts) == len(poly.vertices) + n, f"{len(pts)} points for n = {n}"
-            check_mesh(pts, tri, poly, area_rtol=_area_rtol(poly))
-            _check_constraints(poly, np.asarray(pts), np.asarray(tri))
+            kept = mesh.info["resample"]["kept_vertices"] if call == "resample" else len(poly.vertices)
+            assert len(pts) == kept + n, f"{len(pts)} points for n = {n} ({kept} vertices kept)"
+            check_mesh(pts, tri, meshed, area_rtol=_area_rtol(meshed))
+            _check_constraints(meshed, np.asarray(pts), np.asarray(tri))
+            if call == "resample":
+                problem = _deviation_problem(poly, mesh, case[2])
+                assert not problem, problem
             out.append((call, n, "ok", "", dom))
         except AssertionError as exc:
             out.append((call, n, "wrong", f"WRONG MESH: {exc}", dom))
@@ -144,6 +188,7 @@ def _warm_up():
     uniform2d.insert(square, 40)
     uniform2d.tplus(square, 60)
     uniform2d.uniform_mesh(square, 60)
+    uniform2d.uniform_mesh(square, 60, resample=0.25)
 
 
 def _worker(conn):
@@ -207,10 +252,13 @@ def main(argv=None):
     ap.add_argument("--out", type=Path, default=None, help="write the reproducers here (JSON)")
     ap.add_argument("--constrained", type=float, default=0.3,
                     help="fraction of domains with segments and fixed points (default 0.3)")
+    ap.add_argument("--resample", type=float, default=0.0, metavar="TOL",
+                    help="also mesh every domain with uniform_mesh(P, n, resample=TOL)")
     args = ap.parse_args(argv)
 
     seeds = [args.seed * 10**9 + i for i in range(args.domains)]
-    todo = [(s, bool(np.random.default_rng([s, 3]).uniform() < args.constrained)) for s in seeds]
+    todo = [(s, bool(np.random.default_rng([s, 3]).uniform() < args.constrained), args.resample)
+            for s in seeds]
     todo.reverse()
     counts = {s: 0 for s in ("ok", "refused", "crash", "wrong", "hang")}
     per_call = {}
@@ -251,7 +299,7 @@ def main(argv=None):
             elif now - s.t0 > args.limit:
                 dom = draw(s.case)
                 seen = f"no answer within {args.limit:g} s"
-                record(s.case, [(c, n, "hang", seen, dom) for (c, _), n in zip(CALLS, _ns(s.case[0]))][:1])
+                record(s.case, [(c, n, "hang", seen, dom) for (c, _), n in zip(_calls(s.case), _ns(s.case))][:1])
                 done += 1
                 s.proc.kill()
                 s.proc.join()
