@@ -70,3 +70,31 @@ def test_insert_and_tplus_on_hard_domains(kind, seed, n):
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 60))
 def test_uniform_mesh_on_hard_domains(kind, seed, n):
     _run("uniform_mesh", seed, kind, n)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@settings(SETTINGS, max_examples=5)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(20, 200))
+def test_resampled_mesh_on_hard_domains(kind, seed, n):
+    """resample=0.25: exactly the kept vertices + n points, a valid mesh of the
+    resampled polygon, every ring of it within the tolerance of the input's
+    (shapely's Hausdorff distance, densified, both ways); or n too small for
+    the resampled boundary, said as such."""
+    import shapely
+
+    poly = _polygon(seed, kind)
+    if poly is None:
+        return
+    try:
+        m = uniform2d.uniform_mesh(poly, n, resample=0.25)
+    except (uniform2d.CoordinatePrecisionError, uniform2d.InsufficientPointsError):
+        return
+    info = m.info["resample"]
+    assert len(m.points) == info["kept_vertices"] + n
+    res = m.polygon
+    grain = 4 * np.spacing(float(np.abs(res.vertices).max()))
+    check_mesh(m.points, m.triangles, res, area_rtol=max(1e-9, grain * res.perimeter / res.area))
+    assert len(res.rings) == len(poly.rings)
+    for a, b in zip(poly.rings, res.rings):
+        d = shapely.hausdorff_distance(shapely.LinearRing(a), shapely.LinearRing(b), densify=0.25)
+        assert d <= (0.25 + 1e-9) * info["spacing"]
