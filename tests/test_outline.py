@@ -241,7 +241,9 @@ def test_cli_resample_and_warning(tmp_path, capsys):
                           "-o", tmp_path / "b.vtu")
     assert code == 0, err
     assert "n = 300" in out and "outline resampled" in out
-    assert "--resample" not in err
+    # not the paper's mode's advice; what the resampled boundary still forces, if anything
+    assert "resample the outline" not in err
+    assert all("resampled boundary" in line for line in err.strip().splitlines())
     import meshio
 
     m = meshio.read(tmp_path / "b.vtu")
@@ -380,3 +382,44 @@ def test_widening_keeps_fixed_points_and_segment_ends():
     m = u.uniform_mesh(p, 300, resample=0.25)
     check_mesh(m.points, m.triangles, m.polygon, n_steiner=m.n_steiner)
     assert len(m.points) == m.info["resample"]["kept_vertices"] + 300
+
+
+def test_a_resampled_boundary_that_forces_a_poor_mesh_is_said(caplog):
+    # a shoreline's piers: ring edges the tolerance pins, far shorter than the spacing
+    p = u.read_polygon(OUTLINES / "nyc_staten_island.json")
+    with caplog.at_level(logging.WARNING, logger="uniform2d"):
+        m = u.uniform_mesh(p, 2000, resample=0.25)
+    w = m.info["warning"]
+    assert "resampled boundary" in w and "--resample 0.5" in w and "it keeps" not in w
+    assert any(rec.getMessage() == w for rec in caplog.records)
+    # the bound it states holds: every ring edge is a mesh edge or split shorter
+    bound = float(w.split("edge ratio is at least ")[1].split(". ")[0].split(";")[0])
+    assert 2.0 < bound <= m.quality().edge_ratio * (1 + 1e-3)
+    # a uniform resampled mesh says nothing
+    caplog.clear()
+    with caplog.at_level(logging.INFO, logger="uniform2d.short_edges"):
+        m = u.uniform_mesh(u.read_polygon(OUTLINES / "iceland.json"), 2000, resample=0.25)
+    assert "warning" not in m.info
+
+
+def test_short_edges_between_kept_vertices_and_needles_are_said():
+    # two segments ending on the outer ring 0.1 apart: ends the resampling keeps
+    sq = [(0, 0), (10, 0), (10, 10), (0, 10)]
+    p = u.Polygon(sq, segments=[[(3, 0), (3, 5)], [(3.1, 0), (3.1, 5)]])
+    m = u.uniform_mesh(p, 400, resample=0.25)
+    w = m.info["warning"]
+    assert "between two vertices it keeps" in w and "--resample 0.5" not in w
+    assert "at (3.05, 0)" in w
+    # a needle of 0.57 degrees (resampling widens one within the tolerance; here the
+    # mesh of the needle as given, described as if resampled)
+    from uniform2d.mesh import Mesh
+    from uniform2d.short_edges import resampled_warning
+
+    outer = [(0, 0), (5.45, 0), (5.5, -10), (5.55, 0), (10, 0), (10, 10), (0, 10)]
+    m = u.uniform_mesh(u.Polygon(outer), 200)
+    w, level = resampled_warning(Mesh(m.points, m.triangles, m.polygon, m.n_steiner,
+                                      {**m.info, "resample": {"spacing": m.info["h"]}}))
+    assert "degrees at (5.5, -10)" in w and level == logging.WARNING
+    angle = float(w.split("a corner of ")[1].split(" degrees")[0])
+    assert abs(angle - np.degrees(2 * np.arctan(0.05 / 10))) < 0.01
+    assert m.quality().min_angle <= angle * (1 + 1e-2)  # every mesh's smallest angle is bounded

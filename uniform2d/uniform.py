@@ -31,6 +31,7 @@ from .ring_nudge import nudged
 from .ring_relocate import relocated
 from .ring_shorten import shortened
 from .ring_split import SPLIT_RATIO, better_mesh, edges_to_halve, halve_edges
+from .short_edges import resampled_warning
 
 __all__ = ["uniform_mesh", "steiner_count_for_size", "resampled_outline"]
 
@@ -218,10 +219,15 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
         if short:
             mesh, more = relocated(mesh, objective)
             moves += more
-    return Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
-                {**mesh.info, "resample": {**res.info(), "n": n_total, "halved_edges": split,
-                                           "relocated": moves, "nudged": nudge,
-                                           "shortened": short}})
+    out = Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
+               {**mesh.info, "resample": {**res.info(), "n": n_total, "halved_edges": split,
+                                          "relocated": moves, "nudged": nudge,
+                                          "shortened": short}})
+    warning = resampled_warning(out, res.kept)
+    if warning is not None:
+        log.log(warning[1], "%s", warning[0])
+        out.info["warning"] = warning[0]
+    return out
 
 
 def _halved(res, left, mesh, objective):
