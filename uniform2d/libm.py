@@ -25,8 +25,11 @@ __all__ = ["arctan2", "exp", "log", "arcsin", "arccos"]
 
 def _flat(*args):
     """The arguments broadcast to one shape, each as a contiguous 1-D float64
-    array, and an output array of that shape."""
-    arrays = np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in args))
+    array, and an output array of that shape (arrays of one shape are not
+    broadcast: the optimiser calls these thousands of times a mesh)."""
+    arrays = [np.asarray(a, dtype=np.float64) for a in args]
+    if any(a.shape != arrays[0].shape for a in arrays):
+        arrays = np.broadcast_arrays(*arrays)
     out = np.empty(arrays[0].shape)
     return [np.ascontiguousarray(a).reshape(-1) for a in arrays], out
 
