@@ -36,6 +36,8 @@ import math
 
 import numpy as np
 
+from uniform2d import libm
+
 from . import _igl
 from .measure import corner_angles, unique_edges
 
@@ -181,7 +183,7 @@ def _candidates(X, sub, free, locked, rule, val, mean) -> list:
 
 def _opposite_angle(X, at, p, q) -> np.ndarray:
     a, b = X[p] - X[at], X[q] - X[at]
-    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
+    return libm.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
 
 
 def _flip_pass(X, F, free, locked, rule: str, Xl) -> int:
@@ -247,7 +249,8 @@ def _flip_ok(X, old, new, strict=False) -> bool:
     n_old = _normals(X, np.asarray(old))
     n_new = _normals(X, np.asarray(new))
     ref = n_old.sum(axis=0)
-    if not (n_new @ ref > 0.5 * np.linalg.norm(ref)).all():
+    # sums of products, not ``@``/``norm``: BLAS's kernel, and its sums, are per CPU
+    if not ((n_new * ref).sum(axis=1) > 0.5 * np.sqrt(np.sum(ref * ref))).all():
         return False
     a_old = np.degrees(corner_angles(X, np.asarray(old))).min()
     a_new = np.degrees(corner_angles(X, np.asarray(new))).min()
