@@ -31,7 +31,8 @@ def _flat(*args):
     if any(a.shape != arrays[0].shape for a in arrays):
         arrays = np.broadcast_arrays(*arrays)
     out = np.empty(arrays[0].shape)
-    return [np.ascontiguousarray(a).reshape(-1) for a in arrays], out
+    # contiguous and writable: numba compiles a kernel again for a read-only array
+    return [np.require(a, np.float64, ("C", "W")).reshape(-1) for a in arrays], out
 
 
 def _unary(kernel, x):
