@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from uniform2d import libm
+
 __all__ = ["dihedral_edges", "face_adjacency"]
 
 
@@ -45,7 +47,7 @@ def face_adjacency(vertices, faces) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
     n /= np.linalg.norm(n, axis=1, keepdims=True)
     a, b = n[pairs[:, 0]], n[pairs[:, 1]]
-    angles = np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
+    angles = libm.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
     order = np.lexsort((edges[:, 1], edges[:, 0]))
     return np.sort(pairs[order], axis=1), edges[order], angles[order]
 

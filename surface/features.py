@@ -22,7 +22,7 @@ import logging
 
 import numpy as np
 
-from uniform2d import Polygon
+from uniform2d import Polygon, libm
 from uniform2d.errors import (
     InsufficientPointsError, InternalError, InvalidArgumentError, InvalidConstraintError)
 
@@ -76,8 +76,10 @@ def _check_fixed(patch: Patch, fixed) -> np.ndarray:
 
 def _turns(V, a, v, b, thr) -> bool:
     u, w = V[v] - V[a], V[b] - V[v]
-    c = float(u @ w) / (np.linalg.norm(u) * np.linalg.norm(w))
-    return np.arccos(np.clip(c, -1.0, 1.0)) > thr
+    # sums of products, not ``@``/``norm`` (BLAS, whose kernel is per CPU), and
+    # the C library's acos: the same turns on every CPU
+    c = float(np.sum(u * w)) / (np.sqrt(np.sum(u * u)) * np.sqrt(np.sum(w * w)))
+    return libm.arccos(np.clip(c, -1.0, 1.0)) > thr
 
 
 def find_chains(patch: Patch, feature_angle=None, chains=(), fixed=(), corner_angle=30.0):

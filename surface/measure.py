@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from uniform2d import libm
 from uniform2d.geometry import unique_edges
 
 __all__ = ["unique_edges", "edge_lengths", "face_edge_lengths", "corner_angles", "edge_stats"]
@@ -45,7 +46,7 @@ def corner_angles(V, F) -> np.ndarray:
     for i in range(3):
         a = V[F[:, (i + 1) % 3]] - V[F[:, i]]
         b = V[F[:, (i + 2) % 3]] - V[F[:, i]]
-        out.append(np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b)))
+        out.append(libm.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b)))
     return np.stack(out, axis=1)
 
 

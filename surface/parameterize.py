@@ -94,7 +94,7 @@ class Parameterization:
             "area_scale_min": float(self.area_scale.min()),
             "area_scale_max": float(self.area_scale.max()),
             "area_scale_ratio": float(self.area_scale.max() / self.area_scale.min()),
-            "conformal_mean": float(np.dot(conf, w) / w.sum()),
+            "conformal_mean": float(np.sum(conf * w) / w.sum()),  # not BLAS: its sums are per CPU
             "conformal_max": float(conf.max()),
             "length_distortion_max": float(
                 np.maximum(self.sigma[:, 0], 1.0 / self.sigma[:, 1]).max()

@@ -13,6 +13,8 @@ import json
 
 import numpy as np
 
+from uniform2d import libm
+
 from .errors import CrossCheckError
 
 __all__ = ["Report", "cross_check", "size_trend", "CROSS_CHECK_RTOL"]
@@ -97,13 +99,13 @@ def size_trend(edge_len, edge_scale) -> float:
     deviation of its log below :data:`TREND_MIN_SPREAD`): a developable patch
     has no trend to measure.
     """
-    x = np.log(np.asarray(edge_scale, dtype=np.float64))
-    y = np.log(np.asarray(edge_len, dtype=np.float64))
+    x = libm.log(np.asarray(edge_scale, dtype=np.float64))
+    y = libm.log(np.asarray(edge_len, dtype=np.float64))
     if x.std() < TREND_MIN_SPREAD:
         return float("nan")
     x = x - x.mean()
-    sxx = float(np.dot(x, x))
-    return float(np.dot(x, y - y.mean()) / sxx)
+    sxx = float(np.sum(x * x))  # not np.dot: BLAS's kernel, and its sums, are per CPU
+    return float(np.sum(x * (y - y.mean())) / sxx)
 
 
 @dataclasses.dataclass

@@ -36,6 +36,8 @@ import math
 
 import numpy as np
 
+from uniform2d import libm
+
 from . import _igl
 from .measure import corner_angles, unique_edges
 
@@ -97,6 +99,13 @@ def _folded(X, F, tree, N0) -> bool:
     return bool((np.einsum("ij,ij->i", _normals(X, F), nin) < np.cos(np.radians(FOLD_ANGLE))).any())
 
 
+def _fourth(r):
+    """r**4 by two squarings: numpy's ``r ** 4`` is its power ufunc, whose AVX-512
+    loop rounds otherwise than the C library's pow on other CPUs."""
+    r2 = r * r
+    return r2 * r2
+
+
 def _smooth(X, F, move, tree, N0, steps: int, size=None):
     """Spring steps of the ``move`` vertices towards edges of the mean length
     (with ``size``, a graded size: of the mean length / size times the size at
@@ -110,13 +119,13 @@ def _smooth(X, F, move, tree, N0, steps: int, size=None):
         L = np.linalg.norm(d, axis=1)
         if size is None:
             dev = L / L.mean() - 1.0
-            w = 1.0 + (dev / EXTREME) ** 4  # the far-off edges pull hardest
+            w = 1.0 + _fourth(dev / EXTREME)  # the far-off edges pull hardest
             pull = (w * dev * L.mean() / L)[:, None] * d
         else:
             hm = size(0.5 * (X[E[:, 0]] + X[E[:, 1]]))
             q = L / hm
             dev = q / q.mean() - 1.0
-            w = 1.0 + (dev / EXTREME) ** 4
+            w = 1.0 + _fourth(dev / EXTREME)
             pull = (w * dev * q.mean() * hm / L)[:, None] * d
         s = np.zeros_like(X)
         np.add.at(s, E[:, 0], pull)
@@ -181,7 +190,7 @@ def _candidates(X, sub, free, locked, rule, val, mean) -> list:
 
 def _opposite_angle(X, at, p, q) -> np.ndarray:
     a, b = X[p] - X[at], X[q] - X[at]
-    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
+    return libm.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
 
 
 def _flip_pass(X, F, free, locked, rule: str, Xl) -> int:
@@ -247,7 +256,8 @@ def _flip_ok(X, old, new, strict=False) -> bool:
     n_old = _normals(X, np.asarray(old))
     n_new = _normals(X, np.asarray(new))
     ref = n_old.sum(axis=0)
-    if not (n_new @ ref > 0.5 * np.linalg.norm(ref)).all():
+    # sums of products, not ``@``/``norm``: BLAS's kernel, and its sums, are per CPU
+    if not ((n_new * ref).sum(axis=1) > 0.5 * np.sqrt(np.sum(ref * ref))).all():
         return False
     a_old = np.degrees(corner_angles(X, np.asarray(old))).min()
     a_new = np.degrees(corner_angles(X, np.asarray(new))).min()

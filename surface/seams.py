@@ -110,7 +110,8 @@ def _nodes(V, F, label, E, fixed, on_boundary, corner):
     for v in np.flatnonzero((deg == 2) & (nf == 2)).tolist():
         a, b = adj[v]
         u, w = V[v] - V[a], V[b] - V[v]
-        if u @ w < cos_corner * np.linalg.norm(u) * np.linalg.norm(w):
+        # sums of products, not ``@``/``norm`` (BLAS, whose kernel is per CPU)
+        if np.sum(u * w) < cos_corner * np.sqrt(np.sum(u * u)) * np.sqrt(np.sum(w * w)):
             nodes.add(v)
     return nodes, adj
 

@@ -126,7 +126,8 @@ def integrals(V, F, loops, size) -> tuple[float, float]:
     area = 0.5 * np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
     mids = np.concatenate([0.5 * (V[F[:, i]] + V[F[:, (i + 1) % 3]]) for i in range(3)])
     inv2 = (1.0 / size(mids) ** 2).reshape(3, -1).mean(axis=0)  # exact for quadratics
-    ia = float(np.dot(area, inv2)) / _AREA_PER_VERTEX
+    # a pairwise sum, not np.dot: BLAS's kernel for the CPU sums in its own order
+    ia = float(np.sum(area * inv2)) / _AREA_PER_VERTEX
     ib = 0.0
     for lp in loops:
         a, b = V[lp], V[np.roll(lp, -1)]

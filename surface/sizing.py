@@ -30,6 +30,7 @@ import math
 import numpy as np
 from scipy.sparse import coo_matrix
 
+from uniform2d import libm
 from uniform2d.errors import InvalidArgumentError
 from uniform2d.geometry import vertex_count as vertex_count_for_size
 from uniform2d.sizefield import SizeField
@@ -94,7 +95,7 @@ def vertex_scale(V, F, area_scale, smooth: int = 2) -> np.ndarray:
     e2 = V[F[:, 2]] - V[F[:, 0]]
     w = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
     n = len(V)
-    logs = np.log(np.asarray(area_scale, dtype=np.float64))
+    logs = libm.log(np.asarray(area_scale, dtype=np.float64))
     num = np.bincount(F.ravel(), weights=np.repeat(w * logs, 3), minlength=n)
     den = np.bincount(F.ravel(), weights=np.repeat(w, 3), minlength=n)
     lv = num / den
@@ -106,7 +107,7 @@ def vertex_scale(V, F, area_scale, smooth: int = 2) -> np.ndarray:
         deg = np.asarray(A.sum(axis=1)).ravel()
         for _ in range(smooth):
             lv = 0.5 * lv + 0.5 * (A @ lv) / deg
-    return np.exp(lv)
+    return libm.exp(lv)
 
 
 def size_variation(scale) -> float:
@@ -173,11 +174,11 @@ def compensation_field(
     P = np.column_stack([X.ravel(), Y.ravel()])
     _, face, c = _igl.closest_faces(P, uv, F)
     bary = barycentric(c, uv[F[face, 0]], uv[F[face, 1]], uv[F[face, 2]])
-    ls = (bary * np.log(sv[F[face]])).sum(axis=1)
+    ls = (bary * libm.log(sv[F[face]])).sum(axis=1)
     if size3d is None:
-        values = h * np.sqrt(np.exp(ls)).reshape(ny, nx)
+        values = h * np.sqrt(libm.exp(ls)).reshape(ny, nx)
     else:
         V = np.asarray(V, dtype=np.float64)
         xyz = np.einsum("ki,kij->kj", bary, V[F[face]])
-        values = (size3d(xyz) * np.sqrt(np.exp(ls))).reshape(ny, nx)
+        values = (size3d(xyz) * np.sqrt(libm.exp(ls))).reshape(ny, nx)
     return SizeField(gx, gy, values)

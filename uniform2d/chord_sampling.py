@@ -15,6 +15,7 @@ import itertools
 import numpy as np
 import shapely
 
+from . import libm
 from ._kernel.chords import chord_heights
 from .segment_distance import point_segment_distance
 
@@ -194,7 +195,7 @@ def _best_path(blocks, nc, tol, href):
     bestC[0] = 0.0
     for J, I, ell, ok, hgt in blocks:
         with np.errstate(divide="ignore", invalid="ignore"):
-            c = np.where(ok & (hgt <= bound), bestC[I] + np.log(ell / href) ** 2, np.inf)
+            c = np.where(ok & (hgt <= bound), bestC[I] + libm.log(ell / href) ** 2, np.inf)
         b = np.argmin(c, axis=1)
         bestC[J] = c[np.arange(len(J)), b]
         prev[J] = np.where(np.isfinite(bestC[J]), I[np.arange(len(J)), b], -1)

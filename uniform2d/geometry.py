@@ -183,11 +183,14 @@ def signed_area(ring) -> float:
     """Shoelace area of a ring (positive if counter-clockwise), (k, 2) float64.
 
     Summed relative to the ring's first vertex, so the rounding error scales with
-    the ring's size, not with its distance from the origin."""
+    the ring's size, not with its distance from the origin.  The products are
+    added exactly (``math.fsum``), not by BLAS's dot, whose kernel OpenBLAS
+    picks per CPU, each adding in its own order: the area sets the spacing, so
+    the last bit of it must not depend on the CPU."""
     ring = np.asarray(ring, dtype=np.float64)
     x = ring[:, 0] - ring[0, 0]
     y = ring[:, 1] - ring[0, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    return 0.5 * math.fsum(np.concatenate([x * np.roll(y, -1), -(np.roll(x, -1) * y)]))
 
 
 def xy_array(coords, name: str, error: type) -> np.ndarray:

@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from . import libm
 from ._kernel.edges import edges_by_vertex
 from .errors import InvalidArgumentError
 
@@ -123,7 +124,7 @@ def triangle_measures(pts: np.ndarray, tri: np.ndarray):
     def _angle(p, q, r):  # angle at p of triangle p, q, r
         u, v = q - p, r - p
         cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        return np.arctan2(np.abs(cross), (u * v).sum(axis=1))
+        return libm.arctan2(np.abs(cross), (u * v).sum(axis=1))
 
     angles = np.degrees(np.stack([_angle(a, b, c), _angle(b, c, a), _angle(c, a, b)], axis=1))
     ab, ac = b - a, c - a

@@ -155,7 +155,9 @@ def _area_below(faces, normal, c: float) -> float:
 
 
 def _extent(faces, normal) -> tuple[float, float]:
-    s = np.concatenate([np.asarray(f.exterior.coords) @ np.asarray(normal) for f in faces])
+    # written out, not ``@``: BLAS's kernel for the CPU rounds its own way
+    s = np.concatenate([c[:, 0] * normal[0] + c[:, 1] * normal[1]
+                        for c in (np.asarray(f.exterior.coords) for f in faces)])
     return float(s.min()), float(s.max())
 
 

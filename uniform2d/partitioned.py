@@ -33,6 +33,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from . import libm
 from ._kernel.distance import to_segments
 from ._parallel import Runner, ordered_map
 from .errors import InsufficientPointsError, InternalError
@@ -231,7 +232,7 @@ def _lattice_edge(poly: Polygon, angle: float) -> int:
     within a degree): every part's lattice runs the same way, as one lattice
     of the whole would, and along the cuts."""
     _, d, L = polygon_edges(poly)
-    off = np.abs((np.arctan2(d[:, 1], d[:, 0]) - angle + math.pi / 6) % (math.pi / 3) - math.pi / 6)
+    off = np.abs((libm.arctan2(d[:, 1], d[:, 0]) - angle + math.pi / 6) % (math.pi / 3) - math.pi / 6)
     near = off <= max(off.min(), math.radians(1.0))
     return int(np.lexsort((np.arange(len(L)), -L, ~near))[0])
 
@@ -383,8 +384,7 @@ def _plan(polygon: Polygon, n: int, parts: int, objective: str, shared: bool = F
     part = partition(polygon, n, parts)
     counts = part_counts(part, n)
     _, d, L = polygon_edges(polygon)
-    e = int(np.argmax(L))
-    angle = float(np.arctan2(d[e, 1], d[e, 0]))
+    angle = math.atan2(*d[np.argmax(L)][::-1])  # the longest edge's direction
     # the whole mesh's schedule: a part is meshed as the whole would be there
     sched = schedule_for(len(polygon.vertices) + n, False)._asdict()
     lat = None

@@ -16,6 +16,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import constraints as _constraints
+from . import libm
 from . import regions as _regions
 from .errors import InvalidConstraintError, InvalidPolygonError
 from .geometry import check_finite, signed_area, xy_array
@@ -376,7 +377,7 @@ class Polygon:
             nxt = np.roll(r, -1, axis=0) - r
             cross = nxt[:, 0] * prev[:, 1] - nxt[:, 1] * prev[:, 0]
             dot = (nxt * prev).sum(axis=1)
-            ang = np.arctan2(cross, dot)
+            ang = libm.arctan2(cross, dot)
             out.append(np.where(ang <= 0, ang + 2 * np.pi, ang))
         return np.concatenate(out)
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import libm
+
 __all__ = ["ring_corners", "scale_turning"]
 
 
@@ -28,7 +30,7 @@ def scale_turning(ring: np.ndarray, s: float) -> np.ndarray:
 
     a = ring - at(cum[:-1] - s)
     b = at(cum[:-1] + s) - ring
-    return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
+    return np.abs(libm.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
 
 
 def ring_corners(ring: np.ndarray, h: float, thr: float) -> np.ndarray:
@@ -46,7 +48,7 @@ def ring_corners(ring: np.ndarray, h: float, thr: float) -> np.ndarray:
     """
     a = np.roll(ring, 1, axis=0) - ring
     b = np.roll(ring, -1, axis=0) - ring
-    own = np.pi - np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
+    own = np.pi - np.abs(libm.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
     wide = scale_turning(ring, h / 2)
     cand = np.flatnonzero((own > thr) & (wide > thr))
     out = np.zeros(len(ring), dtype=bool)

@@ -46,6 +46,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from . import libm
 from .errors import InvalidPolygonError
 from .geometry import boundary_edges, unique_edges
 from .mesh import Mesh
@@ -331,7 +332,7 @@ def candidate_positions(X0, far, h: float, toward: bool = False) -> np.ndarray:
     ``X0``, :data:`STEPS` spacings ``h`` in the :data:`TURNS` directions from
     straight away from ``far`` (``toward``: from straight towards it)."""
     d = far - X0 if toward else X0 - far
-    turn = np.arctan2(*d[::-1]) + np.asarray(TURNS)
+    turn = libm.arctan2(*d[::-1]) + np.asarray(TURNS)
     return (X0[None, None, :] + (STEPS * h)[None, :, None]
             * np.stack([np.cos(turn), np.sin(turn)], axis=1)[:, None, :]).reshape(-1, 2)
 

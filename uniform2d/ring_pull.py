@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from . import libm
 from .segment_distance import point_segment_distance
 from .ring_slide import SWEEPS, moved_heights, point_at, span_heights
 
@@ -279,4 +280,4 @@ def _clearance(P, sel, X, owner) -> np.ndarray:
 def _angle(A, B, C) -> np.ndarray:
     """(q,): the angle at B between BA and BC, radians in [0, pi]."""
     u, v = A - B, C - B
-    return np.abs(np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))
+    return np.abs(libm.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))

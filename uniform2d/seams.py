@@ -40,7 +40,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .errors import InternalError
-from .geometry import unique_edges
+from .geometry import signed_area, unique_edges
 from .optimize.moves import KernelMesh
 from .optimize.objective import objective_code
 from .optimize.schedule import SCHEDULE
@@ -217,11 +217,6 @@ def _loops(T) -> list:
     return loops
 
 
-def _area(xy) -> float:
-    x, y = xy[:, 0], xy[:, 1]
-    return float(0.5 * (x @ np.roll(y, -1) - y @ np.roll(x, -1)))
-
-
 def _components(T, n: int) -> list:
     """Triangle rows of every connected component (sharing vertices) of T."""
     from scipy.sparse import coo_matrix
@@ -240,7 +235,7 @@ def _region(P, T, free, fixed, seg):
     (those slide along P's rings), the segments inside it, its lone fixed points."""
     loops = _loops(T)
     rings = [[v for v in lp if not free[v]] for lp in loops]
-    area = [_area(P[r]) for r in rings]
+    area = [signed_area(P[r]) for r in rings]  # exact sums, not BLAS's: the same on every CPU
     outer = [k for k, s in enumerate(area) if s > 0]
     if len(outer) != 1 or any(len(r) < 3 for r in rings):
         raise InternalError("a piece's region is not one polygon (a bug: please report it)")

@@ -10,6 +10,8 @@ The functions read only ``polygon.bounds`` and ``polygon.vertices``.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["BOUNDARY_TOL", "boundary_tol", "extent", "grain", "normaliser", "rounding"]
@@ -33,7 +35,9 @@ def normaliser(polygon):
     """
     xmin, ymin, xmax, ymax = polygon.bounds
     size = max(xmax - xmin, ymax - ymin)
-    scale = 2.0 ** round(np.log2(size))
+    # the C library's log2: numpy's differs in the last bit on some CPUs (AVX-512),
+    # which would move a size near a rounding boundary to the other power of two
+    scale = 2.0 ** round(math.log2(size))
     centre = np.array([(xmin + xmax) / 2.0, (ymin + ymax) / 2.0])
     q = scale * 2.0**-20
     return np.where(np.abs(centre) <= 2.0 * size, 0.0, np.round(centre / q) * q), scale

@@ -29,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 from numba import types
 
+from . import libm
 from ._kernel import heap
 from ._kernel import insert as kinsert
 from ._kernel.clearance import bucket_grid, closest_pair, none_within
@@ -56,6 +57,12 @@ def warm() -> None:
     # its points (d_n, for T+ and the certificates: the run's last compile)
     edges_by_vertex.compile((types.Array(types.int64, 2, "C", readonly=True), types.int64))
     closest_pair(np.zeros((2, 2)), 1.0)
+    # ... and the C library's functions, which the optimiser's last stages (the
+    # polish, the angle fit) call first
+    x = np.full(2, 0.5)
+    for f in (libm.exp, libm.log, libm.arcsin, libm.arccos):
+        f(x)
+    libm.arctan2(x, x)
 
     # then what the run compiles before INSERT, from its end back: the
     # optimiser's stages, the last first, on a lattice mesh ...

@@ -245,7 +245,9 @@ def piece_chain(P, vs, start, used, V, a, b, tol):
     backs up from a dead end (each vertex is tried once: the parameter only
     grows along a chain, so a vertex that led nowhere leads nowhere again)."""
     pa, d = V[a], V[b] - V[a]
-    L2 = float(d @ d)
+    # dot products written out: ``@`` goes to BLAS, whose kernel (FMA or not)
+    # OpenBLAS picks per CPU, and the last bits decide which chain is tried first
+    L2 = float(d[0] * d[0] + d[1] * d[1])
     seen = np.zeros(len(P), bool)
     path = [(a, 0.0, None)]
     while path:
@@ -256,7 +258,7 @@ def piece_chain(P, vs, start, used, V, a, b, tol):
                 return [w for w, _, _ in path[1:]]
             nb = nb[(nb != a) & ~used[nb] & ~seen[nb]]
             rel = P[nb] - pa
-            t = (rel @ d) / L2
+            t = (rel[:, 0] * d[0] + rel[:, 1] * d[1]) / L2
             off = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / np.sqrt(L2)
             ok = (off <= tol) & (t > tc) & (t < 1.0)
             k = np.flatnonzero(ok)

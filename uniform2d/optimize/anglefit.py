@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import minimize
 from threadpoolctl import threadpool_limits
 
+from .. import libm
 from ..geometry import polygon_edges, unique_edges
 from ..polygon import Polygon
 from ..quality import quality
@@ -124,7 +125,7 @@ def _angles_and_gradients(q):
     for k in range(3):
         u = q[:, (k + 1) % 3] - q[:, k]
         w = q[:, (k + 2) % 3] - q[:, k]
-        vals.append(np.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], (u * w).sum(axis=1)))
+        vals.append(libm.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], (u * w).sum(axis=1)))
         # the angle is arg(w) - arg(u); d arg(v) / dv = perp(v) / |v|^2
         gw = np.stack([-w[:, 1], w[:, 0]], axis=1) / (w * w).sum(axis=1)[:, None]
         gu = -np.stack([-u[:, 1], u[:, 0]], axis=1) / (u * u).sum(axis=1)[:, None]
@@ -243,7 +244,8 @@ def _fit(polygon, points, triangles, edges, a, d):
         rows = _rows(points, T, E, limits, x0[-1], near)
         place, fun, jac = _program(points, T, E, D, limits, rows)
         # SLSQP's BLAS sums in another order on more threads: one thread, the
-        # same bytes on any machine
+        # same bytes on any thread count (not on any CPU: OpenBLAS's kernel for
+        # the CPU sums in its own order, docs/architecture.md)
         with threadpool_limits(limits=1, user_api="blas"):
             res = minimize(lambda x: -x[-1], x0,
                            jac=lambda x: np.r_[np.zeros(len(x) - 1), -1.0], bounds=bounds,
@@ -254,7 +256,8 @@ def _fit(polygon, points, triangles, edges, a, d):
     P = place(res.x)
     for v in free[edges[free - nV] >= 0]:  # on its edge as the kernel places a sliding point
         e = edges[v - nV]
-        P[v] = a[e] + (float((P[v] - a[e]) @ d[e]) / float(d[e] @ d[e])) * d[e]
+        r, de = P[v] - a[e], d[e]  # dot products written out: ``@`` is BLAS, per CPU
+        P[v] = a[e] + ((r[0] * de[0] + r[1] * de[1]) / (de[0] * de[0] + de[1] * de[1])) * de
     return P[nV:]
 
 

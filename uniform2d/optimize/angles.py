@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import libm
 from ..geometry import polygon_edges
 from ..polygon import Polygon
 from ..triangulation import triangulate
@@ -107,7 +108,7 @@ def min_angles(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     # the smallest angle is opposite the shortest side: sin = cross / (product of the others)
     s = np.minimum(np.minimum(a, b), c)
     prod = a * b * c / s
-    return np.degrees(np.arcsin(np.clip(cross / prod, 0.0, 1.0)))
+    return np.degrees(libm.arcsin(np.clip(cross / prod, 0.0, 1.0)))
 
 
 def _extremes(points, triangles):
@@ -128,7 +129,7 @@ def _star_scores(P, ring, lmax, lmin, pmax):
     lab = np.hypot(*(ring[:, 1] - ring[:, 0]).T)[None, :]
     s = np.minimum(np.minimum(la, lb), lab)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ang = np.degrees(np.arcsin(np.clip(cross * s / (la * lb * lab), 0.0, 1.0))).min(axis=1)
+        ang = np.degrees(libm.arcsin(np.clip(cross * s / (la * lb * lab), 0.0, 1.0))).min(axis=1)
     bad = ((cross <= 0.0).any(axis=1) | (np.maximum(la, lb).max(axis=1) > lmax)
            | (np.minimum(la, lb).min(axis=1) < lmin) | ((la + lb + lab).max(axis=1) > pmax))
     return np.where(bad, -np.inf, ang)

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import libm
 from ..errors import InvalidArgumentError
 from ..geometry import unique_edges
 from ..mesh import Mesh
@@ -67,9 +68,9 @@ NEAR_ANGLE = 0.1
 def _smooth_max(v, beta: float):
     """(log-sum-exp of ``beta * v`` over ``beta``, its gradient by ``v``)."""
     m = v.max()
-    w = np.exp(beta * (v - m))
+    w = libm.exp(beta * (v - m))
     s = w.sum()
-    return m + np.log(s) / beta, w / s
+    return m + libm.log(s) / beta, w / s
 
 
 def corner_angles(X, C):
@@ -77,7 +78,7 @@ def corner_angles(X, C):
     gradients by the three points, each (3M, 2)."""
     u = X[C[:, 1]] - X[C[:, 0]]
     w = X[C[:, 2]] - X[C[:, 0]]
-    A = np.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], (u * w).sum(axis=1))
+    A = libm.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], (u * w).sum(axis=1))
     # the angle is arg(w) - arg(u); d arg(v) / dv = perp(v) / |v|²
     gw = np.stack([-w[:, 1], w[:, 0]], axis=1) / (w * w).sum(axis=1)[:, None]
     gu = -np.stack([-u[:, 1], u[:, 0]], axis=1) / (u * u).sum(axis=1)[:, None]

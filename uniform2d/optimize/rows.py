@@ -14,6 +14,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from .. import libm
 from .._kernel.distance import to_segments
 from ..geometry import polygon_edges
 from ..polygon import Polygon
@@ -154,7 +155,7 @@ def _sectors(polygon: Polygon, vertices):
         w = np.where(C[cs, 0] == v, C[cs, 1], C[cs, 0])
         u = V[w] - V[v]
         u /= np.hypot(u[:, 0], u[:, 1])[:, None]
-        ang = np.arctan2(u[:, 1], u[:, 0])
+        ang = libm.arctan2(u[:, 1], u[:, 0])
         order = np.lexsort((cs, ang))
         cs, u, ang = cs[order], u[order], ang[order]
         gap = np.diff(np.append(ang, ang[0] + 2 * math.pi))

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import libm
 from .._kernel.distance import to_segments
 from ..geometry import is_vertex, polygon_edges
 from ..polygon import Polygon
@@ -45,7 +46,7 @@ def variants(polygon: Polygon, n: int):
     first = int(np.argmax(L))
     if n + len(polygon.vertices) > schedule.LARGE:
         return [(1.0, first, schedule.LAYERED_LARGE)]
-    ang = np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+    ang = np.degrees(libm.arctan2(d[:, 1], d[:, 0]))
     off = np.abs((ang - ang[first] + 30.0) % 60.0 - 30.0)
     other = [e for e in np.lexsort((np.arange(len(L)), -L)) if off[e] > 5.0]
     edges = [first] + ([int(other[0])] if other else [])

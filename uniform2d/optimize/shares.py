@@ -8,6 +8,7 @@ import math
 import numpy as np
 import shapely
 
+from .. import libm
 from ..geometry import polygon_edges
 from ..polygon import Polygon
 
@@ -50,7 +51,7 @@ def anchor(polygon: Polygon, sides: np.ndarray, r: int, angle: float, h: float) 
     that piece's row of :func:`boundary_rows` in step."""
     a, d, L = polygon_edges(polygon, constraints=True)
     on = np.flatnonzero((sides == r).any(axis=1))
-    ang = np.arctan2(d[on, 1], d[on, 0])
+    ang = libm.arctan2(d[on, 1], d[on, 0])
     off = np.abs((ang - angle + math.pi / 6) % (math.pi / 3) - math.pi / 6)
     near = off <= max(off.min(), math.radians(1.0))
     e = on[np.lexsort((on, -L[on], ~near))[0]]

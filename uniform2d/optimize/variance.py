@@ -27,6 +27,7 @@ import math
 
 import numpy as np
 
+from .. import libm
 from ..geometry import polygon_edges, unique_edges
 from ..polygon import Polygon
 from ..sizefield import SizeField
@@ -208,7 +209,7 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
         dv = X[E[:, 1]] - X[E[:, 0]]
         L2 = (dv**2).sum(1)
         h, gh = field.with_gradient(0.5 * (X[E[:, 0]] + X[E[:, 1]]))
-        return 0.5 * np.log(L2) - np.log(h), dv, L2, h, gh
+        return 0.5 * libm.log(L2) - libm.log(h), dv, L2, h, gh
 
     lq0 = logq(X0)[0]
     lo, hi = lq0.min(), lq0.max()
@@ -218,7 +219,7 @@ def _problem(polygon: Polygon, X0, T0, E, eid, field):
         if not np.all(areas(X, T0) > 0):
             return np.inf, None
         lq, dv, L2, h, gh = logq(X)
-        q = np.exp(lq)
+        q = libm.exp(lq)
         qm = q.mean()
         var = ((q - qm) ** 2).mean()
         over, under = np.maximum(lq - hi, 0.0), np.minimum(lq - lo, 0.0)
