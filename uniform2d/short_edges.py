@@ -15,6 +15,7 @@ import logging
 
 import numpy as np
 
+from . import libm
 from .geometry import size_for_count
 from .polygon import Polygon
 
@@ -74,7 +75,7 @@ def _sharpest_corner(polygon: Polygon) -> tuple[float, np.ndarray]:
     for R in polygon.rings:
         R = np.asarray(R, dtype=np.float64)
         d_in, d_out = R - np.roll(R, 1, axis=0), np.roll(R, -1, axis=0) - R
-        turn = np.arctan2(d_in[:, 0] * d_out[:, 1] - d_in[:, 1] * d_out[:, 0],
+        turn = libm.arctan2(d_in[:, 0] * d_out[:, 1] - d_in[:, 1] * d_out[:, 0],
                           (d_in * d_out).sum(axis=1))
         inner = np.degrees(np.pi - turn)
         k = int(np.argmin(inner))
