@@ -101,7 +101,8 @@ def start(h):
     """(lo, hi, mid, aimed): the search's bracket for target size ``h`` and its
     first spacing."""
     lo, hi = 0.5 * h, 1.5 * h
-    return lo, hi, 0.5 * (lo + hi), False
+    # np.bool_: a literal False would compile step once more (for its type)
+    return lo, hi, 0.5 * (lo + hi), np.bool_(False)
 
 
 @njit(cache=True)
@@ -152,7 +153,7 @@ def closest_count(count, h, fit, bounds, origin, c, s, rings, seg, band, rows, r
     lo, hi, mid, aimed = start(h)
     best = np.empty((0, 2))
     bestd = np.empty(0)
-    have = False
+    have = np.bool_(False)
     for _ in range(30):
         cap = (2.0 * band + 2.0 * mid) if rows else 2.0 * mid
         frame = _frame(bounds, mid, c, s, origin[0], origin[1])
