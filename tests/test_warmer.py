@@ -421,3 +421,50 @@ def test_a_killed_warmer_is_started_again_once_and_the_command_prints_the_same_b
     assert [p.returncode for p in warmer.procs][:kills] == [-6] * kills
     assert (out.replace("a.vtu", "b.vtu"), err) == (out1, err1)
     assert (tmp_path / "a.vtu").read_bytes() == (tmp_path / "b.vtu").read_bytes()
+
+
+#: The command on a cold cache (argv: its arguments), its warmer's first process
+#: killed (SIGABRT) as soon as it starts, and the restart decided before the run
+#: goes on (as :class:`_Killed` does in this process).
+KILLED_FIRST = r"""
+import os, signal, sys
+import uniform2d.cli._warmer as w
+
+w.busy = lambda cpus: False
+base = w.Warmer
+
+class Warmer(base):
+    def __init__(self, claims, spawn):
+        def spawn_killed(stderr):
+            proc = spawn(stderr)
+            if not hasattr(self, "procs"):
+                os.kill(proc.pid, signal.SIGABRT)
+            return proc
+
+        super().__init__(claims, spawn_killed)
+        self._watch.join(timeout=600)
+
+w.Warmer = Warmer
+from uniform2d.cli.main import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.compile_cache
+@pytest.mark.skipif(_warmer.spare_cpus() < 2, reason="the warmer needs two CPUs")
+@pytest.mark.skipif(not hasattr(os, "kill") or sys.platform == "win32", reason="POSIX signals")
+def test_on_a_cold_cache_a_warmer_killed_at_its_start_is_started_again_and_the_mesh_is_the_same(
+        capsys, tmp_path):
+    """The second warmer compiles the first one's list beside the run, from an
+    empty cache: the .vtu is the bytes of a run on this test session's cache."""
+    args = ["mesh", str(SQUARE), "-n", "30", "--stats", "-vv"]
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba_cache")}
+    done = subprocess.run([sys.executable, "-c", KILLED_FIRST, *args, "-o", str(tmp_path / "a.vtu")],
+                          env=env, capture_output=True, text=True, timeout=1800,
+                          cwd=Path(__file__).resolve().parents[1])
+    assert done.returncode == 0, done.stderr
+    assert "the kernel warmer ended early (signal 6), started again" in done.stderr
+    assert "the kernel warmer started again ended early" not in done.stderr
+    assert run(capsys, *args[:-1], "-o", tmp_path / "b.vtu")[0] == 0
+    assert (tmp_path / "a.vtu").read_bytes() == (tmp_path / "b.vtu").read_bytes()
