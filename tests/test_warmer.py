@@ -372,6 +372,34 @@ def test_stop_says_nothing_of_a_warmer_done_or_still_at_work_nor_starts_it_again
         caplog.clear()
 
 
+def test_a_warmer_stopped_by_an_exception_says_which_first_and_is_started_again_once(
+        tmp_path, caplog):
+    """An exception ends the warmer with its own status (not SIGABRT, which a
+    normal exit under its stdin's reader would get), the exception's line first
+    in its stderr, where stop()'s log starts."""
+    import logging
+
+    from uniform2d import compile_claims
+
+    root = Path(__file__).resolve().parents[1]
+    code = (f"import sys; sys.path[0] = {str(root)!r}; import uniform2d.warmup as w\n"
+            "def warm():\n    raise RuntimeError('no kernel today')\n"
+            "w.warm = warm\nfrom uniform2d.cli._warmer import main; main()")
+    claims = tmp_path / "claims"
+    warmer = _warmer_running(claims, code)
+    _settled(warmer)
+    assert [p.returncode for p in warmer.procs] == [_warmer.ERROR_STATUS] * 2
+    assert (claims / _warmer._STDERR).read_text().startswith(
+        "warmer stopped by RuntimeError: no kernel today\n")
+    compile_claims.share(str(claims))
+    with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
+        _warmer.stop(warmer)
+    assert ("the kernel warmer ended early (a Python exception), started again; its stderr: "
+            "warmer stopped by RuntimeError: no kernel today") in caplog.text
+    assert "the kernel warmer started again ended early (a Python exception)" in caplog.text
+    assert "Fatal Python error" not in caplog.text
+
+
 class _Killed:
     """Has the command's first ``kills`` warmer processes killed (SIGABRT, as
     the early ends seen under load) as soon as they start and, when the command

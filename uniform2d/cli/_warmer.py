@@ -45,13 +45,16 @@ import threading
 
 from .. import compile_claims
 
-__all__ = ["Warmer", "start", "stop", "spare_cpus", "busy", "main", "EOF_STATUS"]
+__all__ = ["Warmer", "start", "stop", "spare_cpus", "busy", "main", "EOF_STATUS", "ERROR_STATUS"]
 
 log = logging.getLogger(__name__)
 
 #: The warmer's exit status when its stdin ends before it is done: the command
 #: died, or closed the pipe without :func:`stop` (which kills the warmer first).
 EOF_STATUS = 3
+
+#: Its exit status after a Python exception (the exception first on its stderr).
+ERROR_STATUS = 4
 
 _STDERR = "warmer.stderr"  # the warmer's stderr, in the claims directory
 _STDERR_AGAIN = "warmer-2.stderr"  # the restarted one's
@@ -215,6 +218,7 @@ def _log_early_end(which: str, status: int, stderr: str, restarted: bool) -> Non
     compiles what the warmer did not: seconds more), and whether it was started
     again."""
     how = ("its stdin ended" if status == EOF_STATUS else
+           "a Python exception" if status == ERROR_STATUS else
            f"signal {-status}" if status < 0 else f"exit status {status}")
     try:
         with open(stderr, "rb") as f:  # the start: a fault report's stack, most recent first
@@ -231,9 +235,23 @@ def _exit_at_eof() -> None:
     os._exit(EOF_STATUS)
 
 
+def _exit_on(exc: BaseException) -> None:
+    """End the warmer after an exception, with :data:`ERROR_STATUS`: the
+    exception's line first on stderr (stop() logs the file's start), then its
+    traceback.  Not by raising it: the interpreter's exit under the thread
+    blocked reading stdin is aborted (SIGABRT, as a fatal signal would end it)."""
+    import traceback
+
+    text = "".join(traceback.format_exception_only(type(exc), exc)).strip()
+    sys.stderr.write(f"warmer stopped by {text[:2000]}\n\n")
+    traceback.print_exception(exc)
+    sys.stderr.flush()
+    os._exit(ERROR_STATUS)
+
+
 def main() -> None:
     """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin
-    closes, and at once (``os._exit``) when it is done."""
+    closes or at an exception, and at once (``os._exit``) when it is done."""
     import faulthandler
     import signal
 
@@ -244,8 +262,11 @@ def main() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command decides when to stop
     threading.Thread(target=_exit_at_eof, daemon=True).start()
     compile_claims.share(os.environ.get(compile_claims.ENV) or None)
-    drop_unused_wrappers()  # as the command does on a cold cache
-    warm()
+    try:
+        drop_unused_wrappers()  # as the command does on a cold cache
+        warm()
+    except BaseException as exc:  # (SystemExit and KeyboardInterrupt too: none is expected)
+        _exit_on(exc)
     # done before the command: end here, as at the end of stdin.  A normal exit
     # would finalize the interpreter under the thread blocked reading stdin,
     # which Python aborts ("Fatal Python error: ... could not acquire lock for
