@@ -107,7 +107,7 @@ except Exception:
 for name in os.listdir(claims):  # every claim has ended
     with open(os.path.join(claims, name)) as f:
         fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
-print(seen, len(os.listdir(claims)))
+print(seen, sum(name.endswith(".lock") for name in os.listdir(claims)))  # (not .index-lock)
 """
     claims = tmp_path / "claims"
     claims.mkdir()
@@ -124,3 +124,78 @@ def test_nothing_is_claimed_unless_shared(tmp_path):
     out, err = waiting.communicate(timeout=300)
     assert waiting.returncode == 0, err
     assert json.loads(out.splitlines()[-1]) == {"hits": 0, "compiled": ["two_sum"]}
+
+
+#: A kernel with a claimed cache (as uniform2d's), in a module of its own.
+KERNEL = """
+from numba import njit
+from uniform2d.compile_claims import enable_caching
+
+@njit
+def grown(a):
+    return a[0] + 1
+
+enable_caching(grown)
+"""
+
+#: Runs in a fresh process (the module above on sys.path, the cache in
+#: $NUMBA_CACHE_DIR): claiming in argv[1], calls grown on an array of dtype
+#: argv[2]; numba's save, once it has read the index, waits (5 s at most) for
+#: the other process's save to have read it too, as a loaded machine may leave
+#: a process between the read and the write.
+SLOW_SAVE = r"""
+import os, sys, time
+import numpy as np
+from numba.core import caching
+from uniform2d import compile_claims
+
+read, save, saving = caching.IndexDataCacheFile._load_index, caching.IndexDataCacheFile.save, []
+
+def read_then_wait(self):
+    index = read(self)
+    if saving:
+        open(sys.argv[2] + ".read", "w").close()
+        other = ("float64" if sys.argv[2] == "int64" else "int64") + ".read"
+        deadline = time.monotonic() + 5.0
+        while not os.path.exists(other) and time.monotonic() < deadline:
+            time.sleep(0.01)
+    return index
+
+def save_saying(self, key, data):
+    saving.append(key)
+    try:
+        save(self, key, data)
+    finally:
+        saving.pop()
+
+caching.IndexDataCacheFile._load_index = read_then_wait
+caching.IndexDataCacheFile.save = save_saying
+compile_claims.share(sys.argv[1])
+import kernel
+kernel.grown(np.zeros(1, sys.argv[2]))
+"""
+
+
+@pytest.mark.skipif(compile_claims.fcntl is None, reason="claims need flock")
+def test_two_processes_saving_one_kernel_for_two_types_at_once_keep_both(tmp_path):
+    """numba reads a kernel's index, then writes it and the data; two
+    processes doing so at once for two dtypes wrote the same data file's name,
+    and an index giving one's types the other's code.  Each type, loaded after
+    them, must be found in the cache with its own code."""
+    (tmp_path / "kernel.py").write_text(KERNEL)
+    claims = tmp_path / "claims"
+    claims.mkdir()
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)])}
+    procs = [subprocess.Popen([sys.executable, "-c", SLOW_SAVE, str(claims), dtype], env=env,
+                              stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+             for dtype in ("int64", "float64")]
+    for p in procs:
+        assert p.wait(timeout=300) == 0, p.stderr.read()
+        p.stderr.close()
+    check = ("import numpy as np, kernel\n"
+             "print(repr(kernel.grown(np.zeros(1, 'int64'))), repr(kernel.grown(np.zeros(1))),"
+             " len(kernel.grown.stats.cache_hits), len(kernel.grown.stats.cache_misses))")
+    done = subprocess.run([sys.executable, "-c", check], env=env, capture_output=True, text=True,
+                          timeout=300, check=True)
+    assert done.stdout.split() == ["1", "1.0", "2", "0"]

@@ -146,6 +146,11 @@ class _Started:
         monkeypatch.setattr(_warmer, "start", recording)
 
 
+def _ended(warmer) -> bool:
+    """Whether every process of ``warmer`` has ended (and been waited for)."""
+    return all(p.returncode is not None for p in warmer.procs)
+
+
 @pytest.fixture
 def cold(monkeypatch):
     """A cold cache, on a machine with a CPU to spare (whatever its load now)."""
@@ -160,8 +165,8 @@ def test_the_command_stops_its_warmer_and_prints_the_same_bytes(capfd, tmp_path,
                                                                    cold):
     started = _Started(monkeypatch)
     code, out, err = run(capfd, "mesh", SQUARE, "-n", 30, "-o", tmp_path / "a.vtu", "--stats")
-    (proc,) = started.procs
-    assert code == 0 and proc is not None and proc.returncode is not None
+    (warmer,) = started.procs
+    assert code == 0 and warmer is not None and _ended(warmer)
     monkeypatch.setattr(_warmer, "spare_cpus", lambda: 1)
     code, out1, err1 = run(capfd, "mesh", SQUARE, "-n", 30, "-o", tmp_path / "b.vtu", "--stats")
     assert code == 0 and started.procs[1:] == [None]
@@ -182,9 +187,9 @@ def test_an_interrupted_or_failed_command_stops_its_warmer(capfd, tmp_path, monk
 
     monkeypatch.setattr(U, "uniform_mesh", fails)
     code, out, err = run(capfd, "mesh", SQUARE, "-n", 30, "-o", tmp_path / "a.vtu")
-    (proc,) = started.procs
+    (warmer,) = started.procs
     assert code == (130 if stop is KeyboardInterrupt else 2)
-    assert proc is not None and proc.returncode is not None
+    assert warmer is not None and _ended(warmer)
     assert not (tmp_path / "a.vtu").exists()
 
 
@@ -277,38 +282,58 @@ def test_a_warmer_done_before_the_command_ends_cleanly_with_its_stdin_open():
         proc.stderr.close()
 
 
-def _ended_early(tmp_path, code: str, close_stdin: bool = False):
-    """A process run as :func:`_warmer.start` runs the warmer (its stderr in the
-    claims directory), ended by ``code`` before any stop."""
-    claims = tmp_path / "claims"
-    claims.mkdir()
-    with open(claims / _warmer._STDERR, "wb") as err:
-        proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
-                                stdout=subprocess.DEVNULL, stderr=err)
-    if close_stdin:
-        proc.stdin.close()
-    proc.wait(timeout=120)
-    return proc, claims
+def _warmer_running(claims: Path, code: str, close_stdin: bool = False) -> _warmer.Warmer:
+    """A :class:`_warmer.Warmer` whose processes run ``code`` (their stderr in
+    the claims directory, as :func:`_warmer.start` has it)."""
+    claims.mkdir(exist_ok=True)
+
+    def spawn(stderr):
+        with open(stderr, "wb") as err:
+            proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                                    stdout=subprocess.DEVNULL, stderr=err)
+        if close_stdin:
+            proc.stdin.close()
+        return proc
+
+    return _warmer.Warmer(str(claims), spawn)
+
+
+def _settled(warmer: _warmer.Warmer) -> None:
+    """Wait until the first process has ended, the restart is decided and every
+    process started has ended (no time limit in the outcome: the processes end
+    by themselves)."""
+    warmer.procs[0].wait(timeout=120)
+    warmer._watch.join(timeout=120)
+    assert not warmer._watch.is_alive()
+    for p in warmer.procs:
+        p.wait(timeout=120)
 
 
 @pytest.mark.skipif(not hasattr(os, "kill") or sys.platform == "win32", reason="POSIX signals")
-def test_stop_logs_a_warmer_killed_by_a_signal_with_its_fault_report(tmp_path, caplog):
+def test_a_warmer_killed_by_a_signal_is_started_again_once_and_both_fault_reports_logged(
+        tmp_path, caplog):
+    """The code crashes every time: the first process is started again, the
+    second is not; stop() logs both ends with faulthandler's reports."""
     import logging
 
     from uniform2d import compile_claims
 
-    proc, claims = _ended_early(tmp_path, "import faulthandler, os, signal; faulthandler.enable(); "
-                                          "os.kill(os.getpid(), signal.SIGSEGV)")
-    assert proc.returncode == -11
+    claims = tmp_path / "claims"
+    warmer = _warmer_running(claims, "import faulthandler, os, signal; faulthandler.enable(); "
+                                     "os.kill(os.getpid(), signal.SIGSEGV)")
+    _settled(warmer)
+    assert [p.returncode for p in warmer.procs] == [-11, -11]
     compile_claims.share(str(claims))
     with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
-        _warmer.stop(proc)
-    assert "ended early (signal 11)" in caplog.text
-    assert "Segmentation fault" in caplog.text  # faulthandler's report, from its stderr
-    assert not claims.exists() and compile_claims.shared() is None
+        _warmer.stop(warmer)
+    assert "the kernel warmer ended early (signal 11), started again" in caplog.text
+    assert "the kernel warmer started again ended early (signal 11); its stderr" in caplog.text
+    assert caplog.text.count("Segmentation fault") == 2  # faulthandler's reports, from each stderr
+    assert len(warmer.procs) == 2 and not claims.exists() and compile_claims.shared() is None
 
 
-def test_a_warmer_whose_stdin_ends_first_says_so_and_stop_logs_it(tmp_path, caplog):
+def test_a_warmer_whose_stdin_ends_first_says_so_is_not_started_again_and_stop_logs_it(
+        tmp_path, caplog):
     import logging
 
     from uniform2d import compile_claims
@@ -316,26 +341,158 @@ def test_a_warmer_whose_stdin_ends_first_says_so_and_stop_logs_it(tmp_path, capl
     root = Path(__file__).resolve().parents[1]
     code = (f"import sys, time; sys.path[0] = {str(root)!r}; import uniform2d.warmup as w; "
             "w.warm = lambda: time.sleep(120); from uniform2d.cli._warmer import main; main()")
-    proc, claims = _ended_early(tmp_path, code, close_stdin=True)
-    assert proc.returncode == _warmer.EOF_STATUS
+    claims = tmp_path / "claims"
+    warmer = _warmer_running(claims, code, close_stdin=True)
+    _settled(warmer)
+    assert [p.returncode for p in warmer.procs] == [_warmer.EOF_STATUS]  # the command is ending
     compile_claims.share(str(claims))
     with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
-        _warmer.stop(proc)
+        _warmer.stop(warmer)
     assert "ended early (its stdin ended); its stderr: (empty)" in caplog.text
+    assert "started again" not in caplog.text
 
 
-def test_stop_says_nothing_of_a_warmer_done_or_still_at_work(tmp_path, caplog):
+def test_stop_says_nothing_of_a_warmer_done_or_still_at_work_nor_starts_it_again(tmp_path,
+                                                                                  caplog):
     import logging
 
     from uniform2d import compile_claims
 
     for code in ("pass", "import time; time.sleep(120)"):
         claims = tmp_path / "claims"
-        claims.mkdir()
-        proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE)
+        warmer = _warmer_running(claims, code)
         if code == "pass":
-            proc.wait(timeout=120)
+            _settled(warmer)
         compile_claims.share(str(claims))
         with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
-            _warmer.stop(proc)
+            _warmer.stop(warmer)
+        assert len(warmer.procs) == 1 and _ended(warmer)
         assert "ended early" not in caplog.text and not claims.exists()
+        assert ("was done" if code == "pass" else "stopped at work") in caplog.text
+        caplog.clear()
+
+
+def test_a_warmer_stopped_by_an_exception_says_which_first_and_is_started_again_once(
+        tmp_path, caplog):
+    """An exception ends the warmer with its own status (not SIGABRT, which a
+    normal exit under its stdin's reader would get), the exception's line first
+    in its stderr, where stop()'s log starts."""
+    import logging
+
+    from uniform2d import compile_claims
+
+    root = Path(__file__).resolve().parents[1]
+    code = (f"import sys; sys.path[0] = {str(root)!r}; import uniform2d.warmup as w\n"
+            "def warm():\n    raise RuntimeError('no kernel today')\n"
+            "w.warm = warm\nfrom uniform2d.cli._warmer import main; main()")
+    claims = tmp_path / "claims"
+    warmer = _warmer_running(claims, code)
+    _settled(warmer)
+    assert [p.returncode for p in warmer.procs] == [_warmer.ERROR_STATUS] * 2
+    assert (claims / _warmer._STDERR).read_text().startswith(
+        "warmer stopped by RuntimeError: no kernel today\n")
+    compile_claims.share(str(claims))
+    with caplog.at_level(logging.DEBUG, logger=_warmer.__name__):
+        _warmer.stop(warmer)
+    assert ("the kernel warmer ended early (a Python exception), started again; its stderr: "
+            "warmer stopped by RuntimeError: no kernel today") in caplog.text
+    assert "the kernel warmer started again ended early (a Python exception)" in caplog.text
+    assert "Fatal Python error" not in caplog.text
+
+
+class _Killed:
+    """Has the command's first ``kills`` warmer processes killed (SIGABRT, as
+    the early ends seen under load) as soon as they start and, when the command
+    starts its warmer, waits until the restart is decided and the killed ones
+    have ended: the run then meets the same warmers whatever the timing."""
+
+    def __init__(self, monkeypatch, kills: int):
+        import signal
+
+        self.warmers, spawned = [], []
+
+        class Warmer(_warmer.Warmer):
+            def __init__(self, claims, spawn):
+                def spawn_killed(stderr):
+                    proc = spawn(stderr)
+                    if len(spawned) < kills:
+                        os.kill(proc.pid, signal.SIGABRT)
+                    spawned.append(proc)
+                    return proc
+
+                super().__init__(claims, spawn_killed)
+                self._watch.join(timeout=120)
+                assert not self._watch.is_alive()
+                for p in self.procs[:kills]:
+                    p.wait(timeout=120)
+                killed.warmers.append(self)
+
+        killed = self
+        monkeypatch.setattr(_warmer, "Warmer", Warmer)
+
+
+@pytest.mark.skipif(_warmer.spare_cpus() < 2, reason="the warmer needs two CPUs")
+@pytest.mark.skipif(not hasattr(os, "kill") or sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("kills", [1, 2])
+def test_a_killed_warmer_is_started_again_once_and_the_command_prints_the_same_bytes(
+        capfd, tmp_path, monkeypatch, cold, kills):
+    """Killed once, the warmer is started again; killed again, not a third time;
+    either way the command's output and file are an undisturbed run's."""
+    args = ("mesh", SQUARE, "-n", 30, "--stats")
+    code, out, err = run(capfd, *args, "-o", tmp_path / "a.vtu")  # undisturbed
+    assert code == 0
+    killed = _Killed(monkeypatch, kills)
+    code, out1, err1 = run(capfd, *args, "-o", tmp_path / "b.vtu")
+    assert code == 0
+    (warmer,) = killed.warmers
+    assert len(warmer.procs) == 2 and _ended(warmer)
+    assert [p.returncode for p in warmer.procs][:kills] == [-6] * kills
+    assert (out.replace("a.vtu", "b.vtu"), err) == (out1, err1)
+    assert (tmp_path / "a.vtu").read_bytes() == (tmp_path / "b.vtu").read_bytes()
+
+
+#: The command on a cold cache (argv: its arguments), its warmer's first process
+#: killed (SIGABRT) as soon as it starts, and the restart decided before the run
+#: goes on (as :class:`_Killed` does in this process).
+KILLED_FIRST = r"""
+import os, signal, sys
+import uniform2d.cli._warmer as w
+
+w.busy = lambda cpus: False
+base = w.Warmer
+
+class Warmer(base):
+    def __init__(self, claims, spawn):
+        def spawn_killed(stderr):
+            proc = spawn(stderr)
+            if not hasattr(self, "procs"):
+                os.kill(proc.pid, signal.SIGABRT)
+            return proc
+
+        super().__init__(claims, spawn_killed)
+        self._watch.join(timeout=600)
+
+w.Warmer = Warmer
+from uniform2d.cli.main import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.compile_cache
+@pytest.mark.skipif(_warmer.spare_cpus() < 2, reason="the warmer needs two CPUs")
+@pytest.mark.skipif(not hasattr(os, "kill") or sys.platform == "win32", reason="POSIX signals")
+def test_on_a_cold_cache_a_warmer_killed_at_its_start_is_started_again_and_the_mesh_is_the_same(
+        capsys, tmp_path):
+    """The second warmer compiles the first one's list beside the run, from an
+    empty cache: the .vtu is the bytes of a run on this test session's cache."""
+    args = ["mesh", str(SQUARE), "-n", "30", "--stats", "-vv"]
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba_cache")}
+    done = subprocess.run([sys.executable, "-c", KILLED_FIRST, *args, "-o", str(tmp_path / "a.vtu")],
+                          env=env, capture_output=True, text=True, timeout=1800,
+                          cwd=Path(__file__).resolve().parents[1])
+    assert done.returncode == 0, done.stderr
+    assert "the kernel warmer ended early (signal 6), started again" in done.stderr
+    assert "the kernel warmer started again ended early" not in done.stderr
+    assert run(capsys, *args[:-1], "-o", tmp_path / "b.vtu")[0] == 0
+    assert (tmp_path / "a.vtu").read_bytes() == (tmp_path / "b.vtu").read_bytes()

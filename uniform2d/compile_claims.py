@@ -18,6 +18,15 @@ its callees, and no kernel calls itself, directly or not; a wait is bounded all
 the same (:data:`PATIENCE`), after which the process compiles the kernel
 itself.  Without :func:`share` (the default, and where ``fcntl`` is missing),
 a cache behaves exactly as numba's own.
+
+A claim is per argument types, but numba keeps one index per kernel, for all
+of them: to save an overload it reads the index, picks a data file's name
+not in it, writes the index, then the data.  Two processes saving overloads
+of one kernel for different types at once (``heap.grown`` for two dtypes,
+one in each) could both read the index before either wrote it, pick the same
+name, and leave an index that gives one's types the other's code (or loses
+an entry).  While shared, each kernel's index is locked for its read-modify-
+write (and its reads, shared), so the two see each other's saves whole.
 """
 
 from __future__ import annotations
@@ -26,9 +35,10 @@ import hashlib
 import logging
 import os
 import time
+from contextlib import contextmanager
 
 from numba.core import event
-from numba.core.caching import FunctionCache
+from numba.core.caching import FunctionCache, IndexDataCacheFile
 
 try:
     import fcntl
@@ -104,9 +114,46 @@ def _release(key: str) -> None:
         os.close(fd)  # closing the only descriptor of the lock drops the lock
 
 
+@contextmanager
+def _index_locked(name: str, how: int):
+    """Hold ``flock``'s lock ``how`` on the index ``name`` in the shared
+    directory (nothing while none is shared, or if its file cannot be opened)."""
+    fd = None
+    if _state["dir"] is not None:
+        try:
+            fd = os.open(os.path.join(_state["dir"], name + ".index-lock"),
+                         os.O_RDWR | os.O_CREAT, 0o600)
+            fcntl.flock(fd, how)  # held for a file's read or write: not for long
+        except OSError:
+            log.debug("cannot lock the index %s", name, exc_info=True)
+    try:
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)
+
+
+class _LockedIndex(IndexDataCacheFile):
+    """numba's index and data files of one kernel, read and written under the
+    index's lock while a directory is shared (see the module doc)."""
+
+    def save(self, key, data):
+        with _index_locked(self._index_name, fcntl.LOCK_EX if fcntl else 0):
+            super().save(key, data)
+
+    def load(self, key):
+        with _index_locked(self._index_name, fcntl.LOCK_SH if fcntl else 0):
+            return super().load(key)
+
+
 class ClaimedCache(FunctionCache):
     """numba's per-function disk cache, claiming (see the module doc) the kernel
-    from a miss in the cache until its compiled code is saved there."""
+    from a miss in the cache until its compiled code is saved there, its index
+    locked while it is read or written."""
+
+    def __init__(self, py_func):
+        super().__init__(py_func)
+        self._cache_file.__class__ = _LockedIndex  # (numba's, made by Cache.__init__)
 
     def _key(self, sig=None) -> str:
         """The kernel's claim for the argument types ``sig``: its index file's

@@ -20,6 +20,17 @@ It ignores Ctrl-C and ends when the command ends, however it ends
 goes to a file beside the claims, with ``faulthandler``'s report of a fatal
 signal: a warmer that ended early (not by :func:`stop`, nor done) is logged
 by :func:`stop`, at debug level (``-vv``), with the start of that file.
+
+A warmer that ends early (a fatal signal, an exit status other than 0 while
+the command runs: seen under load, SIGABRT inside numba's compile) is started
+again, once (:class:`Warmer`): the kernels it had claimed are claimed no more
+(the system drops a dead process's locks), so the run compiles whichever it
+reaches first, and the new warmer loads from the cache what the first one
+and the run have compiled and goes on down its list, waiting, as the first
+did, for a kernel the run is compiling.  So a lost warmer costs the run its
+restart (Python and imports, and the compile it was in the middle of), not
+the rest of its list compiled by the run.  The compiled kernels are the same
+whoever compiles them, and so are the meshes.
 """
 
 from __future__ import annotations
@@ -34,7 +45,7 @@ import threading
 
 from .. import compile_claims
 
-__all__ = ["start", "stop", "spare_cpus", "busy", "main", "EOF_STATUS"]
+__all__ = ["Warmer", "start", "stop", "spare_cpus", "busy", "main", "EOF_STATUS", "ERROR_STATUS"]
 
 log = logging.getLogger(__name__)
 
@@ -42,7 +53,11 @@ log = logging.getLogger(__name__)
 #: died, or closed the pipe without :func:`stop` (which kills the warmer first).
 EOF_STATUS = 3
 
+#: Its exit status after a Python exception (the exception first on its stderr).
+ERROR_STATUS = 4
+
 _STDERR = "warmer.stderr"  # the warmer's stderr, in the claims directory
+_STDERR_AGAIN = "warmer-2.stderr"  # the restarted one's
 
 
 def spare_cpus() -> int:
@@ -92,7 +107,58 @@ def _idle_cpus(interval: float) -> float | None:
     return (idle1 - idle0) / (all1 - all0) * (os.cpu_count() or 1)
 
 
-def start() -> subprocess.Popen | None:
+class Warmer:
+    """A run's warmer process, and the one started again if it ends early: once.
+
+    A thread waits for the first process; if it ends before :func:`stop` with a
+    status other than 0 (done) or :data:`EOF_STATUS` (the command is ending),
+    the same warmer starts again, its stderr in a second file.  The second
+    starts after the first has ended, so the two never compile at once (the
+    claims are for the warmer and the run, one of each), and a second early
+    end is only logged: a fault that comes back at once is not paid for twice.
+    """
+
+    def __init__(self, claims: str, spawn):
+        """``spawn(stderr_path)`` starts a warmer process (a ``Popen`` with a
+        stdin pipe) or raises OSError."""
+        self.claims = claims
+        self._spawn = spawn
+        self.procs = [spawn(os.path.join(claims, _STDERR))]  # the first, then its restart
+        self.first_status = None  # the first's status, had it ended early
+        self._lock = threading.Lock()  # between the restart and stop()
+        self._stopped = False
+        self._watch = threading.Thread(target=self._restart_if_early, daemon=True,
+                                       name="uniform2d-warmer-watch")
+        self._watch.start()
+
+    def _restart_if_early(self) -> None:
+        status = self.procs[0].wait()
+        with self._lock:
+            if self._stopped or status in (0, EOF_STATUS):
+                return
+            self.first_status = status
+            try:
+                self.procs.append(self._spawn(os.path.join(self.claims, _STDERR_AGAIN)))
+            except OSError:  # the run compiles the rest itself, as without a warmer
+                log.debug("cannot start the kernel warmer again", exc_info=True)
+
+    def stop(self) -> list:
+        """Kill and wait for its processes (no restart after this); returns
+        each one's status before the kill (None: it was at work)."""
+        with self._lock:
+            self._stopped = True
+        statuses = [p.poll() for p in self.procs]
+        for p in self.procs:
+            p.kill()
+            p.wait()
+            p.stdin.close()
+        self._watch.join()  # (its process is reaped: at once)
+        if self.first_status is not None:
+            statuses[0] = self.first_status
+        return statuses
+
+
+def start() -> Warmer | None:
     """Start the warmer process, for a run about to compile the kernels, if it can
     help: their cache is writable, this process may use two CPUs or more and
     one of them is idle (:func:`busy`).  Returns it, or None."""
@@ -109,42 +175,50 @@ def start() -> subprocess.Popen | None:
     except OSError:
         log.debug("no directory for the compile claims", exc_info=True)
         return None
+    env = {**os.environ, compile_claims.ENV: claims}
+
+    def spawn(stderr: str) -> subprocess.Popen:
+        with open(stderr, "wb") as err:
+            return subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                                    stdout=subprocess.DEVNULL, stderr=err, env=env)
+
     try:
-        with open(os.path.join(claims, _STDERR), "wb") as err:
-            proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
-                                    stdout=subprocess.DEVNULL, stderr=err,
-                                    env={**os.environ, compile_claims.ENV: claims})
+        warmer = Warmer(claims, spawn)
     except OSError:  # no process to spare: the run compiles everything itself
         log.debug("cannot start the kernel warmer", exc_info=True)
         shutil.rmtree(claims, ignore_errors=True)
         return None
     compile_claims.share(claims)  # each kernel compiled by one of the two
-    return proc
+    return warmer
 
 
-def stop(proc: subprocess.Popen | None) -> None:
+def stop(warmer: Warmer | None) -> None:
     """End the warmer (it may be in the middle of a compile: nothing is lost but
     that compile), wait for it and stop claiming kernels."""
-    if proc is None:
+    if warmer is None:
         return
-    status = proc.poll()  # before the kill: None while it compiles, 0 when done
-    proc.kill()
-    proc.wait()
-    proc.stdin.close()
+    statuses = warmer.stop()
     claims = compile_claims.shared()
     compile_claims.share(None)
-    if claims is not None:
+    if claims is None:
+        return
+    files = [_STDERR, _STDERR_AGAIN]
+    for i, status in enumerate(statuses):
+        which = "kernel warmer" if i == 0 else "kernel warmer started again"
         if status not in (None, 0):
-            _log_early_end(status, os.path.join(claims, _STDERR))
+            restarted = i == 0 and len(statuses) > 1
+            _log_early_end(which, status, os.path.join(claims, files[i]), restarted)
         else:
-            log.debug("the kernel warmer %s", "was done" if status == 0 else "stopped at work")
-        shutil.rmtree(claims, ignore_errors=True)
+            log.debug("the %s %s", which, "was done" if status == 0 else "stopped at work")
+    shutil.rmtree(claims, ignore_errors=True)
 
 
-def _log_early_end(status: int, stderr: str) -> None:
+def _log_early_end(which: str, status: int, stderr: str, restarted: bool) -> None:
     """Say, at debug level, how the warmer ended before it was done (a run then
-    compiles what the warmer did not: seconds more)."""
+    compiles what the warmer did not: seconds more), and whether it was started
+    again."""
     how = ("its stdin ended" if status == EOF_STATUS else
+           "a Python exception" if status == ERROR_STATUS else
            f"signal {-status}" if status < 0 else f"exit status {status}")
     try:
         with open(stderr, "rb") as f:  # the start: a fault report's stack, most recent first
@@ -152,7 +226,8 @@ def _log_early_end(status: int, stderr: str) -> None:
     except OSError:
         text = ""
     text = text.split("\nExtension modules:")[0].strip()  # (faulthandler's list of them)
-    log.debug("the kernel warmer ended early (%s); its stderr: %s", how, text or "(empty)")
+    log.debug("the %s ended early (%s)%s; its stderr: %s", which, how,
+              ", started again" if restarted else "", text or "(empty)")
 
 
 def _exit_at_eof() -> None:
@@ -160,9 +235,23 @@ def _exit_at_eof() -> None:
     os._exit(EOF_STATUS)
 
 
+def _exit_on(exc: BaseException) -> None:
+    """End the warmer after an exception, with :data:`ERROR_STATUS`: the
+    exception's line first on stderr (stop() logs the file's start), then its
+    traceback.  Not by raising it: the interpreter's exit under the thread
+    blocked reading stdin is aborted (SIGABRT, as a fatal signal would end it)."""
+    import traceback
+
+    text = "".join(traceback.format_exception_only(type(exc), exc)).strip()
+    sys.stderr.write(f"warmer stopped by {text[:2000]}\n\n")
+    traceback.print_exception(exc)
+    sys.stderr.flush()
+    os._exit(ERROR_STATUS)
+
+
 def main() -> None:
     """The warmer process: :func:`uniform2d.warmup.warm`, ending early when its stdin
-    closes, and at once (``os._exit``) when it is done."""
+    closes or at an exception, and at once (``os._exit``) when it is done."""
     import faulthandler
     import signal
 
@@ -173,8 +262,11 @@ def main() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command decides when to stop
     threading.Thread(target=_exit_at_eof, daemon=True).start()
     compile_claims.share(os.environ.get(compile_claims.ENV) or None)
-    drop_unused_wrappers()  # as the command does on a cold cache
-    warm()
+    try:
+        drop_unused_wrappers()  # as the command does on a cold cache
+        warm()
+    except BaseException as exc:  # (SystemExit and KeyboardInterrupt too: none is expected)
+        _exit_on(exc)
     # done before the command: end here, as at the end of stdin.  A normal exit
     # would finalize the interpreter under the thread blocked reading stdin,
     # which Python aborts ("Fatal Python error: ... could not acquire lock for
