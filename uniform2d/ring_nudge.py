@@ -64,7 +64,7 @@ from .validity import ensure_valid
 
 __all__ = ["ANGLE_SLACK", "CHECKED", "CV_SLACK", "GAIN", "InputRing", "LONGEST", "RADIUS", "STEPS",
            "TRIES", "TURNS", "band_bound", "candidate_positions", "clearances", "first_in_band",
-           "move_ends", "moved_stage", "nearest_distance", "nudge_rings", "nudged", "relaxed", "valid_rings"]
+           "move_ends", "moved_stage", "nudge_rings", "nudged", "relaxed", "valid_rings"]
 
 log = logging.getLogger(__name__)
 
@@ -192,14 +192,7 @@ def _farthest(Z, A, B) -> float:
     """The largest, over points Z, of the distance to the nearest segment A B (inf if none)."""
     if not len(A):
         return np.inf
-    return float(nearest_distance(Z, A, B).max())
-
-
-def nearest_distance(Z, A, B) -> np.ndarray:
-    """(len(Z),) the distance from each point Z to the nearest segment A B (non-empty):
-    :func:`uniform2d.geometry.point_segment_distance`'s arithmetic, compiled
-    (:func:`uniform2d.segment_distance.nearest`)."""
-    return nearest(Z, A, B)
+    return float(nearest(Z, A, B).max())
 
 
 def _dense(line, limit: float) -> np.ndarray:
@@ -346,7 +339,7 @@ def clearances(ring, k: int, X):
         return np.full(len(X), np.inf), np.inf
     A, B = ring[others], ring[(others + 1) % r]
     c0 = float(from_point(ring[k], A, B).min())
-    return nearest_distance(X, A, B), c0
+    return nearest(X, A, B), c0
 
 
 def first_in_band(source, rings, ri: int, k: int, X, order, cap: float, step: float,
@@ -367,7 +360,7 @@ def first_in_band(source, rings, ri: int, k: int, X, order, cap: float, step: fl
     # the band check's first sample is the position itself (computed alike), its
     # distance to these edges at most that to the nearer ones it measures: farther
     # than the tolerance, it fails
-    order = order[nearest_distance(prv + (X[order] - prv), band.A, band.B) <= limit]
+    order = order[nearest(prv + (X[order] - prv), band.A, band.B) <= limit]
     e1, e2 = np.hypot(*(X - prv).T), np.hypot(*(nxt - X).T)
     for i in order:
         R = ring.copy()

@@ -28,7 +28,8 @@ __all__ = ["point_segment_distance", "from_point", "nearest"]
 
 
 def _xy(a) -> np.ndarray:
-    return np.ascontiguousarray(a, dtype=np.float64)
+    # contiguous and writable: numba compiles a kernel again for a read-only array
+    return np.require(a, np.float64, ("C", "W"))
 
 
 def point_segment_distance(P, A, B) -> np.ndarray:
