@@ -169,18 +169,40 @@ def row_start(polygon: Polygon, n: int, h: float, edge: int, exact: bool = True,
 def _rows_at(polygon: Polygon, n: int, h: float, edge: int, t0: float, exact: bool = True):
     """:func:`row_start` with rows about t0 apart: (how many row pieces took a
     point more or fewer to make the count exact, the start or None)."""
-    a, d, L = polygon_edges(polygon)
+    a, d, _ = polygon_edges(polygon)
     u, nrm, lev = _levels(polygon, edge)
     origin = a[edge]
     V = polygon.vertices
     vl = (V - origin) @ nrm
     levels = _row_levels(lev, float(vl.min()), float(vl.max()), t0)
-    shp = polygon.to_shapely()
     reach = 2.0 * float(np.ptp(V, axis=0).max()) + float(np.abs(V - origin).max())
-    pieces = _pieces(polygon, shp, origin, u, nrm, levels, reach)
+    pieces = _pieces(polygon, polygon.to_shapely(), origin, u, nrm, levels, reach)
     if not pieces:
         return 0, None
-    # where the row pieces meet the boundary: fixed, whatever the spacing
+    frame = (origin, u, nrm, levels)
+    bpts, beid = _crossings(polygon, pieces, frame, h)
+    runs = _runs(polygon, pieces, frame)
+    want = n - len(bpts)
+    missing, k, phase = _along_spacing(runs, want, h)
+    if exact:
+        lengths = np.array([s1 - s0 for _, s0, s1, _ in runs])
+        k = _exact(k, k - 1 + phase, lengths, want)
+    ipts, ppts, peid = _run_points(polygon, runs, k, phase, frame)
+    bpts = np.concatenate([bpts, ppts])
+    beid = np.concatenate([beid, peid])
+    if exact and len(bpts) + len(ipts) != n:
+        return 0, None
+    deep = to_segments(ipts, a, a + d, 2.0 * schedule.BAND * h) > schedule.BAND * h
+    frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
+    edges = np.concatenate([beid, np.full(len(ipts), -1, np.int64)])
+    return missing, (np.concatenate([bpts, ipts]), edges, frozen, len(bpts))
+
+
+def _crossings(polygon: Polygon, pieces, frame, h: float):
+    """The boundary points of the edges the row pieces cross (:func:`_boundary`):
+    where the pieces meet the boundary is fixed, whatever the along-row spacing."""
+    a, d, _ = polygon_edges(polygon)
+    origin, u, nrm, levels = frame
     cross, ceid, ct = [], [], []
     for j, s0, s1 in pieces:
         for s in (s0, s1):
@@ -189,9 +211,16 @@ def _rows_at(polygon: Polygon, n: int, h: float, edge: int, t0: float, exact: bo
                 cross.append(a[hit[0]] + d[hit[0]] * hit[1])
                 ceid.append(hit[0])
                 ct.append(hit[1])
-    bpts, beid = _boundary(polygon, np.array(cross).reshape(-1, 2), np.array(ceid, np.int64),
-                           np.array(ct), u, h)
-    # the runs of points: the row pieces inside (-1), then the parallel edges
+    return _boundary(polygon, np.array(cross).reshape(-1, 2), np.array(ceid, np.int64),
+                     np.array(ct), u, h)
+
+
+def _runs(polygon: Polygon, pieces, frame) -> list:
+    """The runs of points, (row, start, end, polygon edge or -1) along the rows:
+    the row pieces inside (-1), then the edges parallel to the rows (on the row
+    nearest each)."""
+    a, d, L = polygon_edges(polygon)
+    origin, u, nrm, levels = frame
     runs = [(j, s0, s1, -1) for j, s0, s1 in pieces]
     sine = np.abs(d[:, 0] * u[1] - d[:, 1] * u[0]) / L
     for e in np.flatnonzero(sine <= PARALLEL):
@@ -199,10 +228,16 @@ def _rows_at(polygon: Polygon, n: int, h: float, edge: int, t0: float, exact: bo
         j = int(np.argmin(np.abs(levels - y)))
         sa, sb = float((a[e] - origin) @ u), float((a[e] + d[e] - origin) @ u)
         runs.append((j, min(sa, sb), max(sa, sb), int(e)))
+    return runs
+
+
+def _along_spacing(runs, want: int, h: float):
+    """(how far the nearest count is from ``want``, pieces per run, stagger per
+    run) at the along-row spacing, bisected between 0.6 h and 1.6 h, whose
+    points are nearest ``want``."""
     lengths = np.array([s1 - s0 for _, s0, s1, _ in runs])
     starts = np.array([s0 for _, s0, _, _ in runs])
     rowj = np.array([j for j, _, _, _ in runs])
-    want = n - len(bpts)
 
     def layout(s):
         """(points of every run, pieces, stagger) at along-row spacing s."""
@@ -226,11 +261,16 @@ def _rows_at(polygon: Polygon, n: int, h: float, edge: int, t0: float, exact: bo
             lo_s = mid
         else:
             hi_s = mid
-    missing, k, phase = best
-    missing = abs(missing - want)
-    if exact:
-        k = _exact(k, k - 1 + phase, lengths, want)
-    ipts, ppts, peid = [], [], []
+    c, k, phase = best
+    return abs(c - want), k, phase
+
+
+def _run_points(polygon: Polygon, runs, k, phase, frame):
+    """(points inside, points on the parallel edges, their edges): ``k[i]``
+    pieces a run, its points at the pieces' ends or (staggered) middles."""
+    a, d, _ = polygon_edges(polygon)
+    origin, u, nrm, levels = frame
+    ipts, ppts, peid = [], [np.empty((0, 2))], [np.empty(0, np.int64)]
     for (j, s0, s1, e), kk, ph in zip(runs, k, phase):
         i = (np.arange(kk) + 0.5) if ph else np.arange(1, kk, dtype=np.float64)
         s = s0 + (s1 - s0) * i / kk
@@ -242,14 +282,7 @@ def _rows_at(polygon: Polygon, n: int, h: float, edge: int, t0: float, exact: bo
         ppts.append(a[e] + d[e] * np.sort(t)[:, None])
         peid.append(np.full(len(t), e, np.int64))
     ipts = np.concatenate(ipts) if ipts else np.empty((0, 2))
-    bpts = np.concatenate([bpts, *ppts])
-    beid = np.concatenate([beid, *peid])
-    if exact and len(bpts) + len(ipts) != n:
-        return 0, None
-    deep = to_segments(ipts, a, a + d, 2.0 * schedule.BAND * h) > schedule.BAND * h
-    frozen = np.concatenate([np.zeros(len(bpts), bool), deep])
-    edges = np.concatenate([beid, np.full(len(ipts), -1, np.int64)])
-    return missing, (np.concatenate([bpts, ipts]), edges, frozen, len(bpts))
+    return ipts, np.concatenate(ppts), np.concatenate(peid)
 
 
 def _boundary(polygon: Polygon, cross, ceid, ct, u, h: float):
