@@ -97,6 +97,32 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
     module says; ``area_rtol`` is the relative tolerance of the area sum."""
     points = np.asarray(points, dtype=np.float64)
     triangles = np.asarray(triangles, dtype=np.int64)
+    _check_arrays(points, triangles)
+    o = orientations(points, triangles)
+    if not (o > 0).all():
+        raise AssertionError(f"{int((o <= 0).sum())} triangles are not strictly counter-clockwise")
+    # neighbour symmetry: no directed edge twice; each undirected edge at most twice
+    he, twin, key = edge_table(triangles)
+    if len(np.unique(key)) != len(key):
+        raise AssertionError("a directed edge appears in two triangles")
+    nV = len(polygon.vertices)
+    if not np.array_equal(points[:nV], polygon.vertices):
+        raise AssertionError("mesh must start with the polygon vertices")
+    _check_boundary(points, he[twin < 0], polygon)
+    if n_steiner is not None and len(points) != nV + n_steiner:
+        raise AssertionError(f"{len(points) - nV} Steiner points, not {n_steiner}")
+    _check_fixed(points, triangles, polygon)
+    on_segments = segment_chains(points, he, polygon)
+    _check_area(points, triangles, polygon, area_rtol)
+    if delaunay:
+        bad = non_delaunay_edges(points, triangles, he, twin)
+        bad = [h for h in bad if (int(he[h, 0]), int(he[h, 1])) not in on_segments]
+        if bad:
+            raise AssertionError(f"{len(bad)} interior edges are not locally Delaunay, e.g. {bad[:3]}")
+
+
+def _check_arrays(points, triangles) -> None:
+    """Shapes, indices in range and finite coordinates."""
     if not (points.ndim == 2 and points.shape[1] == 2):
         raise AssertionError(f"points must be (N, 2), got {points.shape}")
     if not (triangles.ndim == 2 and triangles.shape[1] == 3):
@@ -106,28 +132,17 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
     if not np.isfinite(points).all():
         raise AssertionError("a point has a non-finite coordinate")
 
-    # orientation
-    o = orientations(points, triangles)
-    if not (o > 0).all():
-        raise AssertionError(f"{int((o <= 0).sum())} triangles are not strictly counter-clockwise")
 
-    # neighbour symmetry: no directed edge twice; each undirected edge at most twice
-    he, twin, key = edge_table(triangles)
-    if len(np.unique(key)) != len(key):
-        raise AssertionError("a directed edge appears in two triangles")
-
-    # boundary = polygon edges split at mesh vertices on them
-    bnd = he[twin < 0]
+def _check_boundary(points, bnd, polygon) -> None:
+    """The boundary half-edges ``bnd`` are the polygon's edges split at mesh
+    vertices on them, in order: each polygon edge walked from its start vertex,
+    every hop staying on the edge, and no boundary edge left over."""
     succ = {}
     for u, v in bnd:
         if int(u) in succ:
             raise AssertionError(f"boundary vertex {int(u)} has two outgoing boundary edges")
         succ[int(u)] = int(v)
     V = polygon.vertices
-    nV = len(V)
-    if not np.array_equal(points[:nV], V):
-        raise AssertionError("mesh must start with the polygon vertices")
-    # walk each polygon edge from its start vertex; every hop must stay on the edge
     covered = 0
     for a, b in polygon.edges:
         cur = int(a)
@@ -156,17 +171,19 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
             raise AssertionError("boundary walk did not terminate")
     if covered != len(bnd):
         raise AssertionError("the mesh boundary has edges that are not on the polygon")
-    if n_steiner is not None:
-        if len(points) != nV + n_steiner:
-            raise AssertionError(f"{len(points) - nV} Steiner points, not {n_steiner}")
+
+
+def _check_fixed(points, triangles, polygon) -> None:
+    """Every fixed point is a mesh vertex (used by a triangle) where it was given."""
     used = np.zeros(len(points), bool)
     used[triangles.ravel()] = True
     for i, k in enumerate(np.asarray(polygon.fixed)):
         if not (used[k] and np.array_equal(points[k], polygon.points[i])):
             raise AssertionError(f"fixed point {i} is not a mesh vertex where it was given")
-    on_segments = segment_chains(points, he, polygon)
 
-    # area
+
+def _check_area(points, triangles, polygon, area_rtol: float) -> None:
+    """The triangles' areas sum to the polygon's, within ``area_rtol``."""
     p = points[triangles]
     area = 0.5 * (
         (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
@@ -174,12 +191,6 @@ def check_mesh(points, triangles, polygon, *, delaunay=True, area_rtol=1e-9, n_s
     ).sum()
     if not (abs(area - polygon.area) <= area_rtol * polygon.area):
         raise AssertionError(f"the triangles cover {area!r}, the polygon {polygon.area!r}")
-
-    if delaunay:
-        bad = non_delaunay_edges(points, triangles, he, twin)
-        bad = [h for h in bad if (int(he[h, 0]), int(he[h, 1])) not in on_segments]
-        if bad:
-            raise AssertionError(f"{len(bad)} interior edges are not locally Delaunay, e.g. {bad[:3]}")
 
 
 def segment_chains(points, he, polygon) -> set:
