@@ -278,6 +278,19 @@ def _remesh_patch(P: Patch, prm, N, h, *, size, compensate, corner_angle, chord_
     meshlab = meshlab_checks(P, xyz, tris, stats, fidelity, times, check, hausdorff)
     times["total"] = time.perf_counter() - t0
 
+    return _patch_result(P, prm, h, domain, field, (pts, tris, xyz, bmask),
+                         (stats, fidelity, meshlab), times, mesher, compensate)
+
+
+def _patch_result(P: Patch, prm, h, domain, field, mesh, measured, times, mesher,
+                  compensate) -> RemeshResult:
+    """The single-chart remesh's result and report: ``mesh`` is (uv points,
+    triangles, lifted points, boundary mask), ``measured`` (3-D edge stats,
+    fidelity, MeshLab's checks); with a graded size ``h`` (:class:`Size3D`) the
+    edges are also measured against it."""
+    pts, tris, xyz, bmask = mesh
+    stats, fidelity, meshlab = measured
+    graded = h if isinstance(h, Size3D) else None
     dist = prm.distortion(P.face_areas)
     dist["attempts"] = [list(a) for a in prm.attempts]
     edges = {k: v for k, v in stats.items() if not k.startswith("face_")}
@@ -292,7 +305,7 @@ def _remesh_patch(P: Patch, prm, N, h, *, size, compensate, corner_angle, chord_
         n_corners=domain.n_corners, target_size=target, diagonal=P.diagonal,
         edges=edges,
         edges_uv={k: v for k, v in edge_stats(pts, tris).items() if not k.startswith("face_")},
-        meshlab=meshlab, parameterization=dist, size_trend=_size_trend(pts, tris, xyz, field, h if graded is None else graded),
+        meshlab=meshlab, parameterization=dist, size_trend=_size_trend(pts, tris, xyz, field, h),
         fidelity=fidelity, timings=times, mesher=mesher, compensate=bool(compensate),
     )
     for arr in (xyz, tris, pts, bmask):
