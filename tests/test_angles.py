@@ -20,12 +20,7 @@ import uniform2d
 from uniform2d.geometry import polygon_edges
 from uniform2d.io import read_polygon
 from uniform2d.optimize import improve
-from uniform2d.optimize.angles import (
-    ANGLE_FINE,
-    ANGLE_POOR,
-    min_angles,
-    raise_worst_angle,
-)
+from uniform2d.optimize.angles import ANGLE_FINE, min_angles, raise_worst_angle
 from uniform2d.optimize.boundary import boundary_counts, target_size
 from uniform2d.optimize.objective import extremes
 from uniform2d.optimize.transition import transition_rows
@@ -100,11 +95,13 @@ def test_worst_angle_pass_holds_the_extremes():
     assert (edges >= 0).any() and (edges < 0).any()
 
 
-def test_angle_attempt_only_where_the_angle_needs_it():
+def test_angle_attempt_kept_at_its_rate():
     """The angle attempt (rows around small holes) is kept where the first
-    mesh's worst angle is poor (the bolt plate at 500 vertices: 7.1 deg), not
-    where it is acceptable and the rows would cost the edges (``plate_zones``
-    at n = 1000: 25.1 deg, edge ratio 2.33 against 2.68 with the rows)."""
+    mesh's worst angle is poor (the bolt plate at 500 vertices: 7.1 deg), and
+    where it is acceptable if its edges cost at most SLACK a degree gained
+    (``plate_zones`` at n = 1000: 25.1 -> 35.5 deg for an edge ratio of 2.68
+    against 2.33), the fit then lifting it with the edges held (Gmsh: 36.84
+    deg, edge ratio 3.19, CV 0.122, bench_constrained)."""
     zones = read_polygon(Path(__file__).resolve().parents[1] / "data" / "constrained"
                          / "plate_zones.json")
     h = target_size(zones, 1000)
@@ -113,6 +110,8 @@ def test_angle_attempt_only_where_the_angle_needs_it():
     m = uniform2d.uniform_mesh(zones, 1000)
     check_mesh(m.points, m.triangles, zones)
     q = m.quality()
-    assert m.info["angle_attempt"] is False and ANGLE_POOR <= q.min_angle < ANGLE_FINE
+    assert m.info["angle_attempt"] is True and m.info["angle_fits"] >= 1
+    assert m.info["angle_first_fits"] == 0  # above ANGLE_FINE: no edges traded after it
+    assert q.min_angle >= max(ANGLE_FINE, 36.84) and q.edge_ratio < 3.19 and q.cv_edge < 0.122
     plate = uniform2d.uniform_mesh(PLATE, 500 - len(PLATE.vertices))
     assert plate.info["angle_attempt"] is True  # the floor: test_bolt_plate_angle_floor

@@ -7,6 +7,7 @@ import math
 import numbers
 import threading
 from concurrent.futures import Future, wait
+from functools import partial
 
 import numpy as np
 
@@ -19,7 +20,7 @@ from ..threads import get_threads, in_background, thread_map
 from ..tplus import tplus_if_feasible
 from ..validity import ensure_valid
 from . import schedule as S
-from .anglefit import fit_worst_angle
+from .anglefit import fit_worst_angle, loosen_worst_angle
 from .angles import ANGLE_FINE, ANGLES_MAX, angle_attempt_wins, raise_worst_angle
 from .boundary import target_size
 from .moves import KernelMesh, improve_best, improve_kept
@@ -133,15 +134,22 @@ def _finished(polygon: Polygon, n: int, h: float, objective: str, options, repor
     return pts, tri, run, k, variant, moved, raised, edges
 
 
-def _fitted(polygon: Polygon, pts, tri, edges, q):
-    """The chosen mesh after :func:`~uniform2d.optimize.anglefit.fit_worst_angle`,
-    checked if it moved: (points, triangles, quality, rounds kept)."""
-    pts, tri, fitted = fit_worst_angle(polygon, pts, tri, edges)
-    if fitted:
-        log.info("uniform: %d round(s) of the angle fit", fitted)
-        ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
-        q = quality(pts, tri)
-    return pts, tri, q, fitted
+def _fitted(polygon: Polygon, pts, tri, edges, q, allowed):
+    """The chosen mesh after :func:`~uniform2d.optimize.anglefit.fit_worst_angle`
+    (the edges held) and then :func:`~uniform2d.optimize.anglefit.loosen_worst_angle`
+    (the worst angle first, its meshes ``allowed``), checked if it moved:
+    (points, triangles, quality, rounds kept of each)."""
+    rounds = []
+    for stage, what in ((fit_worst_angle, "the angle fit"),
+                        (partial(loosen_worst_angle, allowed=allowed),
+                         "the angle fit, the worst angle first")):
+        pts, tri, made = stage(polygon, pts, tri, edges, q)
+        if made:
+            log.info("uniform: %d round(s) of %s", made, what)
+            ensure_valid(pts, tri, polygon, len(pts) - len(polygon.vertices), "uniform_mesh")
+            q = quality(pts, tri)
+        rounds.append(made)
+    return pts, tri, q, rounds
 
 
 def _held_stage(stage, polygon: Polygon, pts, tri, edges, q, what: str):
@@ -159,12 +167,13 @@ def _held_stage(stage, polygon: Polygon, pts, tri, edges, q, what: str):
     return pts, tri, q, made["kept"]
 
 
-def _last_stages(polygon: Polygon, pts, tri, edges, q):
-    """The chosen mesh after the angle fit (:func:`_fitted`), the polish (up to
-    ``POLISH_MAX`` points) and the CV stage (more than ``CV_STAGE_MIN`` and up
-    to ``CV_STAGE_MAX`` points): (points, triangles, quality, angle-fit rounds,
-    polished, CV lowered)."""
-    pts, tri, q, fitted = _fitted(polygon, pts, tri, edges, q)
+def _last_stages(polygon: Polygon, pts, tri, edges, q, allowed):
+    """The chosen mesh after the angle fit (:func:`_fitted`; ``allowed``: the
+    loose rounds' meshes it may keep), the polish (up to ``POLISH_MAX``
+    points) and the CV stage (more than ``CV_STAGE_MIN`` and up to
+    ``CV_STAGE_MAX`` points): (points, triangles, quality, the angle fit's
+    rounds (held, loose), polished, CV lowered)."""
+    pts, tri, q, fitted = _fitted(polygon, pts, tri, edges, q, allowed)
     n, polished, lowered = len(pts), False, False
     if n <= POLISH_MAX:
         pts, tri, q, polished = _held_stage(polish_extremes, polygon, pts, tri, edges, q,
@@ -397,9 +406,11 @@ def optimize_mesh(
         if angle_attempt_wins(q_new, q_other):
             pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = other
             q_new, angled = q_other, True
-    pts, tri, q_new, fitted, polished, cv_lowered = _last_stages(polygon, pts, tri, edges, q_new)
-    v_new = quality_objective(objective, q_new, h)
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
+    # the loose angle rounds may trade edges, never below T+ on the objective
+    pts, tri, q_new, (fitted, loosened), polished, cv_lowered = _last_stages(
+        polygon, pts, tri, edges, q_new, lambda q: quality_objective(objective, q, h) <= v_tp)
+    v_new = quality_objective(objective, q_new, h)
 
     info = {
         "method": "uniform",
@@ -416,6 +427,7 @@ def optimize_mesh(
         "angle_rounds": raised,
         "angle_attempt": angled,
         "angle_fits": fitted,
+        "angle_first_fits": loosened,
         "polished": polished,
         "cv_lowered": cv_lowered,
         "start": (None if tp_info is None
