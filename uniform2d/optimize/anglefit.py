@@ -62,8 +62,11 @@ FIT_MAX = 1000
 ANGLE_GOOD = 40.0
 #: Above FIT_MAX points a round whose region has more than REGION_MAX free
 #: points is not made: the program's time grows with the cube of its
-#: variables (the bolt plate at 8000 points: 305 free points 0.36 s, 406 2.7 s).
-REGION_MAX = 250
+#: variables and more when it finds no feasible rise (the bolt plate at 8000
+#: points: 305 free points 0.36 s, 406 2.7 s; a resampled outline at 2000
+#: points, ``triangle_A`` of bench_real: 199 free points 1.2 s for no round
+#: kept).  ``plate_zones`` at n = 1000 has 51 to 79.
+REGION_MAX = 100
 #: Meshes of fewer than FIT_MIN sites are left as they are (the region is
 #: then the whole mesh).
 FIT_MIN = 50
@@ -98,8 +101,8 @@ CV_SLACK = 1e-3
 #: left out, the program with all of them runs instead.
 NEAR_ANGLE = 10.0
 NEAR_LENGTH = 0.05
-#: A mesh whose worst angle is still below ANGLE_FINE degrees after the
-#: rounds above (the edges held) gets up to LOOSE_ROUNDS more
+#: A mesh of up to FIT_MAX points whose worst angle is still below ANGLE_FINE
+#: degrees after the rounds above (the edges held) gets up to LOOSE_ROUNDS more
 #: (:func:`loosen_worst_angle`) in which the
 #: worst angle comes first, until it reaches ANGLE_GOOD: each round may
 #: lengthen the longest edge and the largest perimeter and shorten the
@@ -394,7 +397,7 @@ def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarr
     """(points, triangles, rounds kept): a mesh whose worst angle is below
     ``ANGLE_FINE`` after up to ``LOOSE_ROUNDS`` loose rounds (module
     docstring), the worst angle first; other meshes, and those of more than
-    ``ANGLES_MAX`` points or fewer than ``FIT_MIN`` sites, as they are.
+    ``FIT_MAX`` points or fewer than ``FIT_MIN`` sites, as they are.
     Arguments as for :func:`fit_worst_angle`; ``allowed``: a test of a round's
     :class:`~uniform2d.quality_result.Quality` that the mesh kept must pass
     too (the optimiser's: its objective no higher than T+'s).  Inputs are not
@@ -411,7 +414,7 @@ def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarr
     """
     nV = len(polygon.vertices)
     edges = np.asarray(edges)
-    if len(points) > ANGLES_MAX or len(points) - nV < FIT_MIN:
+    if len(points) > FIT_MAX or len(points) - nV < FIT_MIN:
         return points, triangles, 0
     q0 = quality(points, triangles) if measured is None else measured
     if q0.min_angle >= ANGLE_FINE:
