@@ -230,22 +230,24 @@ def test_moved_heights_bounds_the_hausdorff_distance_to_the_spanned_input():
         assert d <= got[q] + 1e-12 and got[q] <= d + step
 
 
-def test_merge_refused_next_to_a_shorter_ring_edge():
+def test_merge_refused_next_to_a_shorter_ring_edge_pinned_at_its_far_end():
     """A corner 0.32 from a sample, the ring edge after that sample's neighbour shorter
-    still (0.22, a spike's tip): merging would leave that edge as short with one ring
-    point fewer around it, so the pair stays; with that edge longer (0.45) it merges."""
-    def merged(tip):
+    still (0.22) and ending at a point that stays (a spike's tip): merging would leave
+    that edge as short with one ring point fewer around it, so the pair stays; with
+    that edge longer (0.45), or its far end free to move, it merges."""
+    def merged(tip, tip_free=False):
         ring = np.array([(0, 0), (4, 0), (4.1, 0.3), (4, 4), tip, (0, 4)], float)
         ext = measure(ring)
         corner = np.array([0, 1, 0, 0, 0, 0], bool)
-        free = np.array([0, 0, 1, 1, 0, 0], bool)
+        free = np.array([0, 0, 1, 1, tip_free, 0], bool)
         keep, _, P2, m = merge_corners(ring, ext, ext[:6], ring.copy(), corner, free, 1.0, 0.25)
         L = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
         L2 = np.hypot(*(np.roll(P2[keep], -1, axis=0) - P2[keep]).T)
         return bool(m.any()), L.min(), L2.min()
-    short_tip, longer_tip = merged((3.8, 4.1)), merged((3.6, 4.2))
-    assert short_tip[0] is False and short_tip[1] == short_tip[2]
-    assert longer_tip[0] is True and longer_tip[2] > longer_tip[1]
+    pinned, longer, free = merged((3.8, 4.1)), merged((3.6, 4.2)), merged((3.8, 4.1), True)
+    assert pinned[0] is False and pinned[1] == pinned[2]
+    assert longer[0] is True and longer[2] > longer[1]
+    assert free[0] is True
 
 
 def test_merge_mode_ring_no_shorter_than_keep_mode_on_russia():
