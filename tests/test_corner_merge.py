@@ -228,3 +228,35 @@ def test_moved_heights_bounds_the_hausdorff_distance_to_the_spanned_input():
         d = shapely.hausdorff_distance(path, edge, densify=0.01)
         step = np.hypot(*(Y[q] - X[q])) / 32
         assert d <= got[q] + 1e-12 and got[q] <= d + step
+
+
+def test_merge_refused_next_to_a_shorter_ring_edge_pinned_at_its_far_end():
+    """A corner 0.32 from a sample, the ring edge after that sample's neighbour shorter
+    still (0.22) and ending at a point that stays (a spike's tip): merging would leave
+    that edge as short with one ring point fewer around it, so the pair stays; with
+    that edge longer (0.45), or its far end free to move, it merges."""
+    def merged(tip, tip_free=False):
+        ring = np.array([(0, 0), (4, 0), (4.1, 0.3), (4, 4), tip, (0, 4)], float)
+        ext = measure(ring)
+        corner = np.array([0, 1, 0, 0, 0, 0], bool)
+        free = np.array([0, 0, 1, 1, tip_free, 0], bool)
+        keep, _, P2, m = merge_corners(ring, ext, ext[:6], ring.copy(), corner, free, 1.0, 0.25)
+        L = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
+        L2 = np.hypot(*(np.roll(P2[keep], -1, axis=0) - P2[keep]).T)
+        return bool(m.any()), L.min(), L2.min()
+    pinned, longer, free = merged((3.8, 4.1)), merged((3.6, 4.2)), merged((3.8, 4.1), True)
+    assert pinned[0] is False and pinned[1] == pinned[2]
+    assert longer[0] is True and longer[2] > longer[1]
+    assert free[0] is True
+
+
+def test_merge_mode_ring_no_shorter_than_keep_mode_on_russia():
+    """Russia at n = 2000: a corner merged next to a spike's tip left the sample before
+    the tip 0.43 h from it (0.58 h with the corner kept); merge mode's shortest ring
+    edge must be no shorter than keep mode's."""
+    p = u.read_polygon(OUTLINES / "russia.json")
+
+    def shortest(corners):
+        r, _ = resample_polygon(p, 2000, tolerance=0.25, corners=corners)
+        return min(np.hypot(*(np.roll(g, -1, axis=0) - g).T).min() for g in r.polygon.rings) / r.spacing
+    assert shortest("merge") >= shortest("keep")

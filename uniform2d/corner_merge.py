@@ -9,7 +9,10 @@ the three still hold the tolerance (every input vertex between their ends
 within it; with every ring point on the outline, the Hausdorff bound holds both
 ways).  The corner vertex itself is then no longer a mesh vertex: the outline
 there is followed within the tolerance, not through the corner.  Segment ends,
-fixed points and the points where crossings were split never merge.
+fixed points and the points where crossings were split never merge, and no pair
+merges where a ring edge next to the three it replaces is no longer than the
+shortest of them: the ring would stay as short there, with one point fewer for the later
+stages to even it out with (a sample pinned by a spike's tip stays pinned).
 """
 
 from __future__ import annotations
@@ -47,7 +50,8 @@ def corner_policy(corners) -> bool:
 
 
 def merge_corners(ring, ext, S, P, corner, free, h: float, limit: float):
-    """The ring's short corner edges merged (shortest first), each into one point.
+    """The ring's short corner edges merged (shortest first), each into one point,
+    where both ring edges next to the three a merge replaces are longer than their shortest.
 
     Parameters
     ----------
@@ -110,6 +114,12 @@ def merge_corners(ring, ext, S, P, corner, free, h: float, limit: float):
         a, i, j, b = idx[(e - 1) % m], idx[e], nx[e], idx[(e + 2) % m]
         if m < 4 or len({int(a), int(i), int(j), int(b)}) < 4:
             break
+        # an edge next to the stretch no longer than the three the merge replaces: the
+        # ring stays as short there, with one point fewer for the slide and pull to move
+        floor = min(L[(e - 1) % m], L[e], L[(e + 1) % m])
+        if ((L[(e - 2) % m] <= floor and not free[idx[(e - 2) % m]])
+                or (L[(e + 2) % m] <= floor and not free[idx[(e + 3) % m]])):
+            continue
         best = _best_point(ring, ext, total, S, P, a, i, j, b, L[e], limit)
         if best is None:
             continue
