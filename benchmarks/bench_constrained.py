@@ -6,9 +6,9 @@ Usage::
 
 Cases: the constrained examples of ``data/constrained/`` (a slab with column supports,
 an opening and a stiffener; a roof panel with a ridge and two valleys; a plate with a
-doubler zone) and ``mixed``, a square with a hole, an edge-to-edge wall, a closed zone,
-a free stiffener, a bent segment ending near the hole and fixed points on and off the
-segments.
+doubler zone; ``mixed``, a square with a hole, an edge-to-edge wall, a closed zone, a
+free stiffener, a bent segment ending near the hole and fixed points on and off the
+segments).
 
 For every case and n it makes:
 
@@ -35,8 +35,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parents[1]
 
 import _checkout  # noqa: E402, F401  (measure this checkout, not an installed uniform2d)
@@ -45,22 +43,9 @@ from uniform2d.errors import InternalError, Uniform2dError  # noqa: E402
 from uniform2d.mesh_regions import polygon_vertices_first, triangle_regions  # noqa: E402
 
 
-def mixed() -> uniform2d.Polygon:
-    t = 2 * np.pi * np.arange(16) / 16
-    hole = np.c_[7.5 + np.cos(t), 7.5 + np.sin(t)]
-    return uniform2d.Polygon(
-        [(0, 0), (10, 0), (10, 10), (0, 10)], [hole],
-        segments=[[(4, 0), (4, 10)], [(5, 2), (8, 2), (8, 5), (5, 5), (5, 2)],
-                  [(1, 1), (3, 3)], [(5.5, 7), (6.2, 7.4)]],
-        points=[(2, 8), (6.5, 3.5), (4, 5), (2, 2)],
-        regions=[(2, 5, "west"), (6.5, 3, "zone")])
-
-
 def cases() -> dict[str, uniform2d.Polygon]:
-    out = {p.stem: uniform2d.read_polygon(p)
-           for p in sorted((ROOT / "data" / "constrained").glob("*.json"))}
-    out["mixed"] = mixed()
-    return out
+    return {p.stem: uniform2d.read_polygon(p)
+            for p in sorted((ROOT / "data" / "constrained").glob("*.json"))}
 
 
 def conforms(polygon, points, triangles) -> bool:

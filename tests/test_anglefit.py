@@ -167,13 +167,8 @@ def test_a_near_program_breaking_a_left_out_constraint_gives_way_to_the_full_one
 def _mixed():
     """bench_constrained's ``mixed``: a hole of 16 edges of 0.64 target sizes
     at n = 300, a closed zone, a wall, free segments and fixed points."""
-    t = 2 * np.pi * np.arange(16) / 16
-    hole = np.c_[7.5 + np.cos(t), 7.5 + np.sin(t)]
-    return uniform2d.Polygon(
-        [(0, 0), (10, 0), (10, 10), (0, 10)], [hole],
-        segments=[[(4, 0), (4, 10)], [(5, 2), (8, 2), (8, 5), (5, 5), (5, 2)],
-                  [(1, 1), (3, 3)], [(5.5, 7), (6.2, 7.4)]],
-        points=[(2, 8), (6.5, 3.5), (4, 5), (2, 2)])
+    return uniform2d.read_polygon(Path(__file__).resolve().parents[1] / "data" / "constrained"
+                                  / "mixed.json")
 
 
 @pytest.fixture(scope="module")

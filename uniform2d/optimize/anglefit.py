@@ -379,17 +379,11 @@ def fit_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray,
     >>> fit_worst_angle(sq, pts, tri, np.array([-1]))[2]  # too few sites: as it is
     0
     """
-    nV = len(polygon.vertices)
-    edges = np.asarray(edges)
-    if len(points) > ANGLES_MAX or len(points) - nV < FIT_MIN:
-        return points, triangles, 0
-    q0 = quality(points, triangles) if measured is None else measured
-    if q0.min_angle >= FIT_BELOW or (len(points) > FIT_MAX and q0.min_angle >= ANGLE_GOOD):
-        return points, triangles, 0
-    a, d, _ = polygon_edges(polygon, constraints=True)
-    points, triangles, _, kept = _rounds(polygon, points, triangles, edges, a, d, q0, ROUNDS,
-                                         FIT_BELOW)
-    return points, triangles, kept
+    def untouched(n_points: int, q0) -> bool:
+        return q0.min_angle >= FIT_BELOW or (n_points > FIT_MAX and q0.min_angle >= ANGLE_GOOD)
+
+    return _run(polygon, points, triangles, edges, measured, ANGLES_MAX, untouched,
+                (ROUNDS, FIT_BELOW, 0.0, None))
 
 
 def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, edges,
@@ -412,14 +406,22 @@ def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarr
     >>> loosen_worst_angle(sq, pts, tri, np.array([-1]))[2]  # too few sites: as it is
     0
     """
-    nV = len(polygon.vertices)
+    return _run(polygon, points, triangles, edges, measured, FIT_MAX,
+                lambda n_points, q0: q0.min_angle >= ANGLE_FINE,
+                (LOOSE_ROUNDS, ANGLE_GOOD, LOOSE_STEP, allowed))
+
+
+def _run(polygon, points, triangles, edges, measured, most: int, untouched, how):
+    """(points, triangles, rounds kept) of :func:`_rounds` with ``how`` =
+    (rounds, stop, slack, allowed), or the mesh as it is where it has more
+    than ``most`` points, fewer than FIT_MIN sites, or ``untouched(points,
+    quality)``."""
     edges = np.asarray(edges)
-    if len(points) > FIT_MAX or len(points) - nV < FIT_MIN:
+    if len(points) > most or len(points) - len(polygon.vertices) < FIT_MIN:
         return points, triangles, 0
     q0 = quality(points, triangles) if measured is None else measured
-    if q0.min_angle >= ANGLE_FINE:
+    if untouched(len(points), q0):
         return points, triangles, 0
     a, d, _ = polygon_edges(polygon, constraints=True)
-    points, triangles, _, kept = _rounds(polygon, points, triangles, edges, a, d, q0,
-                                         LOOSE_ROUNDS, ANGLE_GOOD, LOOSE_STEP, allowed)
+    points, triangles, _, kept = _rounds(polygon, points, triangles, edges, a, d, q0, *how)
     return points, triangles, kept
