@@ -342,6 +342,23 @@ def quality_summary(q) -> dict | None:
     }
 
 
+def _angle_choice(polygon: Polygon, n: int, h: float, objective: str, options, first, ahead):
+    """(the finished mesh kept, its quality, whether it is the angle attempt's):
+    ``first`` (a :func:`_finished` tuple), or, where its worst angle is below
+    ``ANGLE_FINE``, the angle attempt (``ahead``'s, or made now) if it wins
+    (:func:`~uniform2d.optimize.angles.angle_attempt_wins`)."""
+    q = quality(first[0], first[1])  # the measures: as for T+ (_reference)
+    if len(first[0]) > ANGLES_MAX or q.min_angle >= ANGLE_FINE:
+        return first, q, False
+    log.info("uniform: worst angle %.1f deg; the angle attempt too", q.min_angle)
+    other = (ahead.result() if ahead is not None
+             else _finished(polygon, n, h, objective, options, _quiet, angled=True))
+    q_other = quality(other[0], other[1])
+    if angle_attempt_wins(q, q_other):
+        return other, q_other, True
+    return first, q, False
+
+
 def optimize_mesh(
     polygon: Polygon,
     n: int,
@@ -389,23 +406,14 @@ def optimize_mesh(
     h = target_size(polygon, n)
     ahead = _angle_attempt_ahead(polygon, n, h, objective, options)
     try:
-        pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = _finished(
-            polygon, n, h, objective, options, _starting(report, reference))
+        first = _finished(polygon, n, h, objective, options, _starting(report, reference))
     finally:  # not left running beyond this call, whatever happens
         wait([ahead] if ahead is not None else [])
         if reference is not None:
             reference.wait()
     tp_info, q_tp, d_n = made if reference is None else reference.result()
-    q_new = quality(pts, tri)  # the measures: as for T+ (_reference)
-    angled = False
-    if n + nV <= ANGLES_MAX and q_new.min_angle < ANGLE_FINE:
-        log.info("uniform: worst angle %.1f deg; the angle attempt too", q_new.min_angle)
-        other = (ahead.result() if ahead is not None
-                 else _finished(polygon, n, h, objective, options, _quiet, angled=True))
-        q_other = quality(other[0], other[1])
-        if angle_attempt_wins(q_new, q_other):
-            pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = other
-            q_new, angled = q_other, True
+    chosen, q_new, angled = _angle_choice(polygon, n, h, objective, options, first, ahead)
+    pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = chosen
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
     # the loose angle rounds may trade edges, never below T+ on the objective
     pts, tri, q_new, (fitted, loosened), polished, cv_lowered = _last_stages(
