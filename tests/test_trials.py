@@ -15,7 +15,8 @@ from support.benchmarks import benchmark_polygons
 import uniform2d
 from uniform2d.optimize import schedule as S
 from uniform2d.optimize.boundary import target_size
-from uniform2d.optimize.moves import KernelMesh, Progress, _trial_plan
+from uniform2d._kernel.descent import GAIN, PATIENCE
+from uniform2d.optimize.moves import KernelMesh, Progress, _trial_plan, default_schedule
 from uniform2d.optimize.objective import objective_code
 from uniform2d.optimize.seed import start, variants
 from uniform2d.testing import check_mesh
@@ -149,8 +150,14 @@ def test_the_winner_of_a_medium_mesh_goes_on_with_the_medium_schedule(monkeypatc
     # above SMALL, SCHEDULE's stages with a shorter spread stage
     assert S.schedule_for(S.SMALL + 1, False, winner=True) == S.SCHEDULE_BIG
     assert S.schedule_for(S.LARGE, False, winner=True) == S.SCHEDULE_BIG
-    assert S.SCHEDULE_BIG == S.SCHEDULE._replace(spread_sweeps=S.SCHEDULE_BIG.spread_sweeps)
+    assert S.SCHEDULE_BIG._replace(stages=()) == S.SCHEDULE._replace(
+        spread_sweeps=S.SCHEDULE_BIG.spread_sweeps)
     assert S.SCHEDULE_BIG.spread_sweeps < S.SCHEDULE.spread_sweeps
+    # ... whose stages run as many sweeps at most, but stop sooner on a slow creep
+    for k in S.SCHEDULE_BIG.exponents:
+        stage = S.SCHEDULE_BIG.stage(k)
+        assert stage.sweeps == S.SCHEDULE.sweeps and stage.patience < PATIENCE
+        assert stage.gain is None or stage.gain > GAIN
     assert S.schedule_for(S.SMALL + 1, False) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, False) == S.SCHEDULE
     assert S.schedule_for(S.MEDIUM + 1, True, winner=True) == S.SCHEDULE_GRADED
@@ -168,3 +175,26 @@ def test_the_winner_of_a_medium_mesh_goes_on_with_the_medium_schedule(monkeypatc
     check_mesh(full.points, full.triangles, p)
     assert medium.info["relax_iterations"] < full.info["relax_iterations"]
     assert _digest(medium) != _digest(full)
+
+
+def test_a_stage_keeps_its_own_limits():
+    # Stage(sweeps, patience, gain): at most ``sweeps``; with gain 1 no sweep can
+    # lower the objective by the whole of it, so the stage ends after exactly
+    # ``patience`` sweeps (each lowering the objective or not: square2holes at
+    # 3000 still moves after the spring rounds)
+    p = BENCH["square2holes"]
+    n = 3000
+    h = target_size(p, n)
+    sites, edges, frozen, _ = start(p, n, h, variants(p, n)[0])
+    made = {}
+    for stage in (S.Stage(3), S.Stage(25, 2, 1.0), S.Stage(25, 4, 1.0)):
+        st = KernelMesh.built(p, sites, href=h, frozen=frozen, edges=edges)
+        st.advance(S.Schedule(20, 0, (), 0), OBJ)
+        sched = S.Schedule(0, 25, (5,), 0, stages=((5, stage),))
+        made[stage] = st.advance(sched, OBJ).sweeps
+    assert made == {S.Stage(3): 3, S.Stage(25, 2, 1.0): 2, S.Stage(25, 4, 1.0): 4}
+    # a stage the schedule does not name: its sweeps and the kernel's rule
+    assert S.Schedule(0, 25, (5, 6), 0, stages=((5, S.Stage(3)),)).stage(6) == S.Stage(25)
+    # a caller's sweeps hold for every stage
+    big = default_schedule(S.SMALL + 1, False, True, sweeps=10)
+    assert big.stages == () and big.stage(5) == S.Stage(10)

@@ -21,7 +21,8 @@ __all__ = ["descend"]
 RELEVANT = 1e-2
 #: A descent stage ends after PATIENCE sweeps in a row none of which lowered the
 #: objective by the fraction GAIN below the last value that did (slow creep is
-#: not worth the sweeps).
+#: not worth the sweeps); the defaults of :func:`descend`'s ``patience`` and
+#: ``gain`` (:class:`uniform2d.optimize.schedule.Stage` may set others).
 PATIENCE = 6
 GAIN = 1e-4
 
@@ -273,7 +274,7 @@ def _sweep(m, role, eid, t, ea, ed, hv, href, prevb, nextb, step, active, moved,
 
 @njit(cache=True)
 def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, flat,
-            restrict=False, movable_short=False):  # fmt: skip
+            restrict=False, movable_short=False, patience=PATIENCE, gain=GAIN):  # fmt: skip
     """Gauss-Seidel line-search sweeps on the p-norm energy of ``objective``, p = 2**k.
 
     After each sweep the mesh is legalised and measured; the run ends in the
@@ -285,7 +286,8 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, flat
     until a neighbour moves (an active set: converged regions cost nothing).  A
     move may not flatten a triangle around the vertex whose doubled area is below
     ``flat * (href * hv[v])**2`` any further.  The run ends early when the
-    objective stops improving (:data:`PATIENCE`, :data:`GAIN`) or nothing moves.
+    objective stops improving (``patience`` sweeps in a row none of which lowered it
+    by the fraction ``gain``; defaults :data:`PATIENCE`, :data:`GAIN`) or nothing moves.
     A vertex's star is read once per visit (:func:`gather`); the trials of its
     line search only recompute the distances to the moved vertex.  With
     ``restrict`` the passes cover only the triangles the moves can change
@@ -307,7 +309,7 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, flat
     todo = np.empty(64, np.int32)
     done = 0
     stale = 0
-    mark = best  # the value PATIENCE sweeps must beat by GAIN
+    mark = best  # the value ``patience`` sweeps must beat by ``gain``
     emax = 0.0
     for sweep in range(sweeps):
         if m.sized:
@@ -334,12 +336,12 @@ def descend(m, role, eid, t, ea, ed, hv, href, objective, sweeps, k, step0, flat
         if val < best:
             best = val
             nu = keep_state(m, t, movers, best_xy, best_t)
-        if val < mark * (1.0 - GAIN):
+        if val < mark * (1.0 - gain):
             mark = val
             stale = 0
         else:
             stale += 1
-        if moves == 0 or stale >= PATIENCE:
+        if moves == 0 or stale >= patience:
             break
     restore_state(m, t, movers, best_xy, best_t, undo, nu)
     return done, best

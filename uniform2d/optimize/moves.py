@@ -19,6 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._kernel import cdt, relax
+from .._kernel.descent import GAIN, PATIENCE
 from .._kernel.objective import BALANCED
 from ..geometry import polygon_edges
 from ..polygon import Polygon, as_polygon
@@ -151,10 +152,12 @@ class Progress(NamedTuple):
 def default_schedule(n_points: int, graded: bool, winner: bool = False,
                      **overrides) -> S.Schedule:
     """:func:`~uniform2d.optimize.schedule.schedule_for` with the fields of
-    ``overrides`` that are not None put in."""
-    return S.schedule_for(n_points, graded, winner)._replace(
-        **{k: v for k, v in overrides.items() if v is not None}
-    )
+    ``overrides`` that are not None put in (a caller's ``sweeps`` hold for
+    every stage: the schedule's own stage limits go)."""
+    given = {k: v for k, v in overrides.items() if v is not None}
+    if "sweeps" in given:
+        given.setdefault("stages", ())
+    return S.schedule_for(n_points, graded, winner)._replace(**given)
 
 
 def finish(polygon: Polygon, unloaded: "tuple | None", run: Progress):
@@ -370,9 +373,12 @@ class KernelMesh(NamedTuple):
             )
         for k in sched.exponents:
             # each stage ends in its best state, the next goes on from there
+            st = sched.stage(int(k))
             made, value = relax.descend(
-                *args, objective=obj, sweeps=sched.sweeps, k=int(k), step0=S.SEARCH_STEP,
+                *args, objective=obj, sweeps=st.sweeps, k=int(k), step0=S.SEARCH_STEP,
                 flat=S.FLAT, restrict=restrict, movable_short=self.movable_short,
+                patience=PATIENCE if st.patience is None else int(st.patience),
+                gain=GAIN if st.gain is None else float(st.gain),
             )
             done += made
         if sched.spread_sweeps:

@@ -11,6 +11,18 @@ from fractions import Fraction
 from typing import NamedTuple
 
 
+class Stage(NamedTuple):
+    """One descent stage's own limits, where a schedule sets them
+    (:attr:`Schedule.stages`)."""
+
+    sweeps: int  # at most
+    #: the stage ends after ``patience`` sweeps in a row none of which lowered
+    #: the objective by the fraction ``gain``; None: the kernel's
+    #: (:data:`uniform2d._kernel.descent.PATIENCE`, ``GAIN``)
+    patience: int | None = None
+    gain: float | None = None
+
+
 class Schedule(NamedTuple):
     """Iteration counts of one :func:`uniform2d.optimize.improve` run."""
 
@@ -18,6 +30,13 @@ class Schedule(NamedTuple):
     sweeps: int  # descent sweeps per stage (at most)
     exponents: tuple  # stage k minimises the p-norm energy with p = 2**k
     spread_sweeps: int  # sweeps of the final stage that lowers the edge spread
+    #: ((k, Stage), ...): the stages p = 2**k with limits of their own (the
+    #: others: ``sweeps`` and the kernel's stopping rule)
+    stages: tuple = ()
+
+    def stage(self, k: int) -> Stage:
+        """The limits of the stage p = 2**k."""
+        return dict(self.stages).get(k, Stage(self.sweeps))
 
 
 #: Meshes up to LARGE points: stages up to p = 256, which lowers the longest edge
@@ -46,7 +65,13 @@ SCHEDULE_GRADED = Schedule(60, 25, (2, 3, 4, 5, 6), 30)
 #: they keep SCHEDULE's stages (SCHEDULE_BIG).  5 spread sweeps instead of 10
 #: leave every extreme as it was (within 0.1 %) and the edge CV up to 0.36 %
 #: higher (0.2 % in the geometric means) for 5 % less CPU time at n = 1000.
-SCHEDULE_MEDIUM = Schedule(20, 25, (4, 5, 6, 7, 8), 5)
+#: The p = 32, 64 and 256 stages stop at 20 sweeps (p = 128 keeps 25): every
+#: measure of the benchmark polygons at 1000, 1500 and 3000 points and the
+#: bolt plate at 2000 and 4000 within 0.62 % (geometric means within 0.25 %),
+#: 3.6 % less CPU time at n = 1000; 20 sweeps in every stage, or in the
+#: first three, cost the plate's CV at 2000 3 %.
+SCHEDULE_MEDIUM = Schedule(20, 25, (4, 5, 6, 7, 8), 5,
+                           stages=((5, Stage(20)), (6, Stage(20)), (8, Stage(20))))
 MEDIUM = 1000
 #: The winner above SMALL points, up to LARGE: SCHEDULE with 5 spread sweeps
 #: instead of 20, which at n = 10000 (bench_uniform) and the bolt plate at
@@ -54,8 +79,17 @@ MEDIUM = 1000
 #: 0.03 %) and the edge CV up to 0.41 % higher (0.2 % in the geometric mean),
 #: for 13 % less CPU time.  Fewer sweeps a stage (25, 32) or spring rounds
 #: (30), or one stage fewer (p = 2**6 or 2**7), cost a longest edge or the
-#: plate's worst angle more than 1 %.
-SCHEDULE_BIG = Schedule(60, 40, (4, 5, 6, 7, 8), 5)
+#: plate's worst angle more than 1 %.  Its stages stop after 5 sweeps without
+#: gain (the kernel's PATIENCE is 6), the p = 32 and 64 ones after 5 sweeps
+#: that lower the objective by less than 3e-4 each (GAIN 1e-4: slow creep
+#: there is undone by the later stages anyway): every measure of the
+#: benchmark polygons at 6000, 10000 and 15000 points and the bolt plate at
+#: 6000, 8000 and 15000 within 0.83 % (geometric means within 0.1 %), 6 %
+#: less CPU time at n = 10000.  Patience 2 in those two stages saves 13-16 %
+#: but costs the plate at 6000 4.5 % of its edge ratio.
+SCHEDULE_BIG = Schedule(60, 40, (4, 5, 6, 7, 8), 5,
+                        stages=((4, Stage(40, 5)), (5, Stage(40, 5, 3e-4)),
+                                (6, Stage(40, 5, 3e-4)), (7, Stage(40, 5)), (8, Stage(40, 5))))
 #: Point counts (|V| + n) above which fewer starts are tried
 #: (:func:`uniform2d.optimize.seed.variants`: above SMALL fewer, above LARGE
 #: one) and, above LARGE, SCHEDULE_LARGE is used.
