@@ -198,6 +198,12 @@ def summary(rows, tol) -> None:
             ok = sum(r[key] <= lim for r in rs)
             if rs:
                 print(f"{mode:9s} goal {key} <= {lim:.3g}: met on {ok} of {len(rs)} outlines")
+        # issue 34's angle goal, against Gmsh on the same resampled outline
+        peer = {r["outline"]: r["min_angle"] for r in rows if r["mode"] == "gmsh-rs"}
+        both = [r for r in rs if r["outline"] in peer]
+        if both:
+            ok = sum(r["min_angle"] >= peer[r["outline"]] for r in both)
+            print(f"{mode:9s} worst angle >= gmsh-rs's: {ok} of {len(both)} outlines")
 
 
 def why(rows) -> None:
