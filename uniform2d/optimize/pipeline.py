@@ -415,7 +415,7 @@ def optimize_mesh(
     chosen, q_new, angled = _angle_choice(polygon, n, h, objective, options, first, ahead)
     pts, tri, run, k, (spacing, edge, layered), moved, raised, edges = chosen
     v_tp = quality_objective(objective, q_tp, h) if q_tp is not None else math.inf
-    # the loose angle rounds may trade edges, never below T+ on the objective
+    # the loose angle rounds may trade edges, never to an objective above T+'s
     pts, tri, q_new, (fitted, loosened), polished, cv_lowered = _last_stages(
         polygon, pts, tri, edges, q_new, lambda q: quality_objective(objective, q, h) <= v_tp)
     v_new = quality_objective(objective, q_new, h)
