@@ -27,8 +27,7 @@ from ..polygon import Polygon
 from ..triangulation import triangulate
 
 __all__ = ["ANGLES_MAX", "ANGLE_FINE", "ANGLE_POOR", "HELD", "RATE", "ROUNDS", "SLACK", "WORST",
-           "worth_its_edges",
-           "angle_attempt_wins", "min_angles", "raise_worst_angle"]
+           "angle_attempt_wins", "min_angles", "raise_worst_angle", "worth_its_edges"]
 
 #: Meshes of up to ANGLES_MAX points get the pass (each round triangulates the
 #: whole mesh again).
