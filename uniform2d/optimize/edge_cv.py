@@ -36,7 +36,7 @@ import numpy as np
 from ..polygon import Polygon
 # the polish's margins: both stages' penalties are soft in the same way
 from .polish import (ANGLE_MARGIN, LENGTH_MARGIN, NEAR_ANGLE, accumulate, corner_angles, kept_if,
-                     measured, mesh_parts)
+                     mesh_parts, stage_input)
 from .schedule import SMALL
 from .variance import areas, lbfgs, sliding_variables
 
@@ -173,11 +173,7 @@ def lower_edge_cv(polygon: Polygon, points, triangles, edges, *, iterations: int
     >>> info["kept"], info["after"][3] < info["before"][3], len(p2) == len(pts)
     (True, True, True)
     """
-    X0 = np.array(points, dtype=np.float64)
-    T0 = np.array(triangles, dtype=np.int64)
-    eid = np.array(edges, dtype=np.int64)
-    before = measured(X0, T0)
-    info = {"kept": False, "before": before, "after": before}
+    X0, T0, eid, info = stage_input(points, triangles, edges)
     if iterations <= 0:
         return X0, T0, info
     fun, x, unpack = _problem(polygon, X0, T0, eid)

@@ -203,11 +203,7 @@ def polish_extremes(polygon: Polygon, points, triangles, edges, *, iterations: i
     >>> info["kept"], info["after"][2] < info["before"][2], len(p2) == len(pts)
     (True, True, True)
     """
-    X0 = np.array(points, dtype=np.float64)
-    T0 = np.array(triangles, dtype=np.int64)
-    eid = np.array(edges, dtype=np.int64)
-    before = measured(X0, T0)
-    info = {"kept": False, "before": before, "after": before}
+    X0, T0, eid, info = stage_input(points, triangles, edges)
     if iterations <= 0:
         return X0, T0, info
     fun, x, unpack = _problem(polygon, X0, T0, eid)
@@ -220,6 +216,17 @@ def _better(after, before) -> bool:
     """No measure worse, and one of ratio, longest edge, largest perimeter lower."""
     no_worse = all(a <= b for a, b in zip(after[:4], before[:4])) and after[4] >= before[4]
     return no_worse and any(a < b for a, b in zip(after[:3], before[:3]))
+
+
+def stage_input(points, triangles, edges) -> tuple:
+    """(points, triangles, edges, info) as a stage that moves the points with
+    the triangulation held starts: fresh arrays (the caller's are never
+    changed) and ``info`` saying nothing kept yet, its ``before`` and
+    ``after`` :func:`measured`'s tuple of the input."""
+    X0 = np.array(points, dtype=np.float64)
+    T0 = np.array(triangles, dtype=np.int64)
+    before = measured(X0, T0)
+    return X0, T0, np.array(edges, dtype=np.int64), {"kept": False, "before": before, "after": before}
 
 
 def kept_if(polygon: Polygon, X0, T0, eid, X, info: dict, better) -> tuple:
