@@ -147,10 +147,10 @@ def test_a_near_program_breaking_a_left_out_constraint_gives_way_to_the_full_one
     ran = []
     program = anglefit._program
 
-    def counted(points, T, E, D, limits, rows=None):
+    def counted(points, T, E, D, limits, rows=None, give=False):
         if rows is not None:
             ran.append(len(rows[0]) == 3 * len(T))
-        return program(points, T, E, D, limits, rows)
+        return program(points, T, E, D, limits, rows, give)
 
     monkeypatch.setattr(anglefit, "_program", counted)
     monkeypatch.setattr(anglefit, "NEAR_ANGLE", 0.0)
