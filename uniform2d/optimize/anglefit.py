@@ -44,12 +44,12 @@ from ..geometry import polygon_edges, unique_edges
 from ..polygon import Polygon
 from ..quality import quality
 from ..triangulation import triangulate
-from .angles import ANGLE_FINE, ANGLES_MAX, MIN_GAIN, min_angles, worth_its_edges
+from .angles import ANGLE_FINE, ANGLE_POOR, ANGLES_MAX, MIN_GAIN, min_angles, worth_its_edges
 from .boundary import target_size
 
 __all__ = ["ANGLE_GOOD", "BAND", "CV_SLACK", "FIT_BELOW", "FIT_MAX", "FIT_MIN", "GIVES",
            "GIVE_COST", "GIVE_UNIT", "LOOSE_BUDGET", "LOOSE_ROUNDS", "LOOSE_STEP", "REGION_MAX",
-           "ROUNDS", "fit_worst_angle", "forced_angle", "loosen_worst_angle"]
+           "ROUNDS", "WIDE_BAND", "fit_worst_angle", "forced_angle", "loosen_worst_angle"]
 
 #: Meshes whose worst angle is FIT_BELOW degrees or more are left as they are
 #: (as for the shift: Gmsh's worst angles on the benchmark polygons at n = 300
@@ -107,18 +107,19 @@ CV_SLACK = 1e-3
 NEAR_ANGLE = 10.0
 NEAR_LENGTH = 0.05
 #: A mesh of up to FIT_MAX points whose worst angle is still below ANGLE_FINE
-#: degrees (or below its forced angle if less, :func:`forced_angle`) after the
-#: rounds above (the edges held) gets up to LOOSE_ROUNDS more
-#: (:func:`loosen_worst_angle`) in which the worst angle comes first, until
-#: it reaches ANGLE_GOOD (or the forced angle if less): each round may
-#: lengthen the longest edge and the largest perimeter, shorten the shortest
-#: edge and widen the spread by the fraction LOOSE_STEP each, at a price
-#: (GIVE_COST), and all of them together never by more than LOOSE_BUDGET over
-#: the mesh they started from; of the rounds made, the last whose mesh is
-#: worth its edges against the start's is kept
+#: degrees (or below its forced angle if less, :func:`forced_angle`, but at
+#: least ANGLE_POOR) after the rounds above (the edges held) gets up to
+#: LOOSE_ROUNDS more (:func:`loosen_worst_angle`) in which the worst angle
+#: comes first, until it reaches ANGLE_GOOD (or that forced angle if less):
+#: held rounds in a wider region while they gain (WIDE_BAND), then rounds
+#: that may lengthen the longest edge and the largest perimeter, shorten the
+#: shortest edge and widen the spread by the fraction LOOSE_STEP each, at a
+#: price (GIVE_COST), and all of them together never by more than
+#: LOOSE_BUDGET over the mesh they started from; of the rounds made, the last
+#: whose mesh is worth its edges against the start's is kept
 #: (:func:`~uniform2d.optimize.angles.worth_its_edges`: 1 %, or 2 % a degree
 #: gained if more).  ``mixed`` of bench_constrained at n = 300: 31.1 -> 39.4
-#: degrees (Gmsh 38.7), the edge ratio 2.41 -> 2.60 (Gmsh 2.99).
+#: degrees (Gmsh 38.7), the edge ratio 2.41 -> 2.55 (Gmsh 2.99).
 LOOSE_ROUNDS = 20
 LOOSE_STEP = 0.01
 LOOSE_BUDGET = 0.25
@@ -132,17 +133,25 @@ MARGIN = 1e-9
 #: whole give (5: 0.05 degrees for 1 %, so the angle still comes first, up to
 #: its RISE, and no limit gives where the angle does not need it).  Without a
 #: price the program left every limit at its most (``mixed`` at n = 300, the
-#: same 39.4 degrees: edge ratio 2.77 against 2.60; 20: the rounds stop at 31.1).
+#: same 39.4 degrees: edge ratio 2.77 against 2.60; 20: the rounds stop at 31.1,
+#: 50 with WIDE_BAND at 31.2).
 GIVES = 4
 GIVE_UNIT = 0.01
 GIVE_COST = 5.0
+#: The loose rounds are held ones first, while they gain, in a region of the
+#: triangles within WIDE_BAND degrees of the worst (``mixed`` at n = 300: the
+#: held rounds of BAND stop at 31.1 degrees, of WIDE_BAND go on to 35.0, the
+#: edges as they were); the rounds that give their limits have BAND (wider,
+#: each program costs more than it saves).
+WIDE_BAND = 8.0
 
 
-def _region(points, triangles, nV):
+def _region(points, triangles, nV, band: float = BAND):
     """(free points, the triangles they touch, the edges they touch): the
-    region of the round (module docstring)."""
+    region of the round (module docstring), of the triangles within ``band``
+    degrees of the worst."""
     ang = min_angles(points, triangles)
-    near = np.unique(triangles[ang < ang.min() + BAND])
+    near = np.unique(triangles[ang < ang.min() + band])
     near = np.unique(triangles[np.isin(triangles, near).any(axis=1)])
     free = near[near >= nV]
     touched = triangles[np.isin(triangles, free).any(axis=1)]
@@ -290,12 +299,13 @@ def _program(points, T, E, D, limits, rows=None, give: bool = False):
     return place, fun, jac
 
 
-def _fit(polygon, points, triangles, edges, a, d, slack: float = 0.0):
+def _fit(polygon, points, triangles, edges, a, d, slack: float = 0.0, band: float = BAND):
     """The sites after one round's program (None if the region is empty, or
     too large: :data:`REGION_MAX`); ``slack``: the fraction each kind of
-    limit may give, at a price (a loose round: :data:`GIVE_COST`)."""
+    limit may give, at a price (a loose round: :data:`GIVE_COST`); ``band``:
+    the region's (:func:`_region`)."""
     nV = len(polygon.vertices)
-    free, T, E = _region(points, triangles, nV)
+    free, T, E = _region(points, triangles, nV, band)
     if len(free) == 0 or (len(points) > FIT_MAX and len(free) > REGION_MAX):
         return None
     q = points[triangles]
@@ -382,6 +392,16 @@ def _within(start, q) -> bool:
             and q.max_perimeter <= start.max_perimeter * cap and q.cv_edge <= start.cv_edge * cap)
 
 
+def _round(polygon, points, triangles, edges, a, d, slack: float, band: float = BAND):
+    """(points, triangles, quality) after one round of :func:`_fit`, or
+    (None, None, None) where it makes none."""
+    sites = _fit(polygon, points, triangles, edges, a, d, slack, band)
+    if sites is None:
+        return None, None, None
+    P, T = triangulate(polygon, sites, edges)
+    return P, T, quality(P, T)
+
+
 def _rounds(polygon, points, triangles, edges, a, d, q0, rounds: int, stop: float,
             slack: float = 0.0, allowed=None):
     """(points, triangles, quality, rounds kept) after up to ``rounds`` rounds,
@@ -391,18 +411,20 @@ def _rounds(polygon, points, triangles, edges, a, d, q0, rounds: int, stop: floa
     too small to judge the rate on, the first rounds' cost the most), and
     ``allowed`` (a test of its quality) if given."""
     start, kept, made = q0, 0, [(points, triangles, q0)]
+    wide = bool(slack)  # loose rounds: first held ones in the wide band
     for _ in range(rounds):
         if q0.min_angle >= stop:
             break
-        sites = _fit(polygon, points, triangles, edges, a, d, slack)
-        if sites is None:
-            break
-        P, T = triangulate(polygon, sites, edges)
-        q = quality(P, T)
-        # the fresh triangulation may join the moved points in triangles the
-        # program did not bound: a loose round is judged with twice its slack
-        if not (_kept(q0, q, 2.0 * slack) and (slack == 0.0 or _within(start, q))):
-            break
+        if wide:
+            P, T, q = _round(polygon, points, triangles, edges, a, d, 0.0, WIDE_BAND)
+            wide = q is not None and _kept(q0, q) and _within(start, q)
+        if not wide:
+            P, T, q = _round(polygon, points, triangles, edges, a, d, slack)
+            # the fresh triangulation may join the moved points in triangles the
+            # program did not bound: a loose round is judged with twice its slack
+            if q is None or not (_kept(q0, q, 2.0 * slack)
+                                 and (slack == 0.0 or _within(start, q))):
+                break
         points, triangles, q0 = P, T, q
         made.append((points, triangles, q0))
         kept += 1
@@ -447,9 +469,10 @@ def fit_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray,
 def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, edges,
                        measured=None, allowed=None):
     """(points, triangles, rounds kept): a mesh whose worst angle is below
-    ``ANGLE_FINE`` and below its :func:`forced_angle` after up to
-    ``LOOSE_ROUNDS`` loose rounds (module docstring), the worst angle first,
-    until it reaches the smaller of ``ANGLE_GOOD`` and the forced angle;
+    ``ANGLE_FINE`` and below its :func:`forced_angle` (at least
+    ``ANGLE_POOR``) after up to ``LOOSE_ROUNDS`` loose rounds (module
+    docstring), the worst angle first, until it reaches the smaller of
+    ``ANGLE_GOOD`` and that forced angle;
     other meshes, and those of more than ``FIT_MAX`` points or fewer than
     ``FIT_MIN`` sites, as they are.
     Arguments as for :func:`fit_worst_angle`; ``allowed``: a test of a round's
@@ -467,7 +490,9 @@ def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarr
     0
     """
     def stop_at(points, triangles, q0):
-        forced = forced_angle(polygon, points, triangles)
+        # a worst angle below ANGLE_POOR is poor next to any piece (the bolt
+        # plate at 500 vertices: forced 17.9 degrees, the rounds take it to 20.8)
+        forced = max(ANGLE_POOR, forced_angle(polygon, points, triangles))
         return None if q0.min_angle >= min(ANGLE_FINE, forced) else min(ANGLE_GOOD, forced)
 
     return _run(polygon, points, triangles, edges, measured, FIT_MAX, stop_at,
