@@ -15,7 +15,9 @@ from support.benchmarks import benchmark_polygons
 from support.boundary_edges import edges_of
 
 import uniform2d
+from uniform2d.geometry import polygon_edges
 from uniform2d.optimize import anglefit
+from uniform2d.optimize.boundary import target_size
 from uniform2d.optimize.angles import MIN_GAIN
 from uniform2d.peers import base as peers
 from uniform2d.quality import quality
@@ -147,10 +149,10 @@ def test_a_near_program_breaking_a_left_out_constraint_gives_way_to_the_full_one
     ran = []
     program = anglefit._program
 
-    def counted(points, T, E, D, limits, rows=None):
+    def counted(points, T, E, D, limits, rows=None, give=False):
         if rows is not None:
             ran.append(len(rows[0]) == 3 * len(T))
-        return program(points, T, E, D, limits, rows)
+        return program(points, T, E, D, limits, rows, give)
 
     monkeypatch.setattr(anglefit, "_program", counted)
     monkeypatch.setattr(anglefit, "NEAR_ANGLE", 0.0)
@@ -235,3 +237,48 @@ def test_loose_rounds_stay_below_tplus_objective(monkeypatch):
     held = uniform2d.uniform_mesh(p, 200)
     assert held.info["angle_first_fits"] == 0
     assert held.quality().min_angle + 5.0 < m.quality().min_angle
+
+
+def test_loose_program_jacobian_matches_differences(unfitted):
+    """The loose program's constraint Jacobian, moves and gives alike, is the
+    derivative of its constraints (central differences), at a point where
+    every give is under way."""
+    p, m = unfitted
+    nV = len(p.vertices)
+    free, T, E = anglefit._region(m.points, m.triangles, nV)
+    a, d, _ = polygon_edges(p, constraints=True)
+    edges = edges_of(p, m.points)
+    q = m.points[T]
+    L = np.hypot(*(m.points[E[:, 0]] - m.points[E[:, 1]]).T)
+    per = np.hypot(*(q - q[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
+    limits = (L.max(), L.min(), per.max(), L.mean(), ((L - L.mean()) ** 2).sum())
+    D, _ = anglefit._jacobian_map(m.points, free, edges, nV, d, 1.0)
+    _, fun, jac = anglefit._program(m.points, T, E, D, limits, None, True)
+    rng = np.random.default_rng(1)
+    x = np.r_[rng.uniform(-1e-3, 1e-3, D.shape[2]), [0.3, 0.5, 0.7, 0.9], 30.0]
+    J = jac(x)
+    assert J.shape == (len(fun(x)), len(x))
+    step = 1e-6
+    for col in list(range(3)) + list(range(len(x) - 1 - anglefit.GIVES, len(x))):
+        e = np.zeros(len(x))
+        e[col] = step
+        numeric = (fun(x + e) - fun(x - e)) / (2 * step)
+        assert np.allclose(J[:, col], numeric, rtol=1e-5, atol=1e-6)
+
+
+def test_no_loose_rounds_above_the_forced_angle():
+    """``plate_zones`` at n = 300: its worst triangle stands on the hole, whose
+    24 edges (a circle of radius 20: 2 * 20 * sin(7.5 deg) = 5.22) are 0.27 of
+    the target size h; the angle forced there, 2 asin(l / (l + h)) = 24.3 deg,
+    is below the mesh's 32.0 (Gmsh's, bench_constrained: 22.50), so no edges
+    are traded for the angle."""
+    p = uniform2d.read_polygon(Path(__file__).resolve().parents[1] / "data" / "constrained"
+                               / "plate_zones.json")
+    m = uniform2d.uniform_mesh(p, 300)
+    piece = 2 * 20 * np.sin(np.radians(7.5))
+    h = target_size(p, 300)
+    forced = np.degrees(2 * np.arcsin(piece / (piece + h)))
+    assert 24.0 < forced < 24.5
+    assert np.isclose(anglefit.forced_angle(p, m.points, m.triangles), forced, rtol=1e-6)
+    assert m.info["angle_first_fits"] == 0
+    assert m.quality().min_angle > forced > 22.50

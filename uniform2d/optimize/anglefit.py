@@ -22,11 +22,15 @@ grew and the edge CV grew by at most ``CV_SLACK``.
 
 Where the worst angle is still poor-ish after that (below
 :data:`~uniform2d.optimize.angles.ANGLE_FINE`), the worst angle comes first:
-*loose* rounds give those limits a little each (:data:`LOOSE_STEP`), within a
-budget over the mesh they start from (:data:`LOOSE_BUDGET`), until the worst
-angle reaches :data:`ANGLE_GOOD`.  A finite-element user's mesh is not to be
-worse in its worst angle than a frontal mesher's of the same count, whose
-edges are less even than the loose rounds leave ours.
+*loose* rounds may give those limits a little each (:data:`LOOSE_STEP`), at a
+price the program pays against the angle (:data:`GIVE_COST`), so that a
+limit gives only as far as the angle needs; within a budget over the mesh
+they start from (:data:`LOOSE_BUDGET`), until the worst angle reaches
+:data:`ANGLE_GOOD`, or the angle a mesh of the target size is forced to at
+its worst triangle if less (:func:`forced_angle`: next to a piece of P much
+shorter than the size).  A finite-element user's mesh is not to be worse in
+its worst angle than a frontal mesher's of the same count, whose edges are
+less even than the loose rounds leave ours.
 """
 
 from __future__ import annotations
@@ -40,11 +44,12 @@ from ..geometry import polygon_edges, unique_edges
 from ..polygon import Polygon
 from ..quality import quality
 from ..triangulation import triangulate
-from .angles import ANGLE_FINE, ANGLES_MAX, MIN_GAIN, min_angles, worth_its_edges
+from .angles import ANGLE_FINE, ANGLE_POOR, ANGLES_MAX, MIN_GAIN, min_angles, worth_its_edges
+from .boundary import target_size
 
-__all__ = ["ANGLE_GOOD", "BAND", "CV_SLACK", "FIT_BELOW", "FIT_MAX", "FIT_MIN", "LOOSE_BUDGET",
-           "LOOSE_ROUNDS", "LOOSE_STEP", "REGION_MAX", "ROUNDS", "fit_worst_angle",
-           "loosen_worst_angle"]
+__all__ = ["ANGLE_GOOD", "BAND", "CV_SLACK", "FIT_BELOW", "FIT_MAX", "FIT_MIN", "GIVES",
+           "GIVE_COST", "GIVE_UNIT", "LOOSE_BUDGET", "LOOSE_ROUNDS", "LOOSE_STEP", "REGION_MAX",
+           "ROUNDS", "WIDE_BAND", "fit_worst_angle", "forced_angle", "loosen_worst_angle"]
 
 #: Meshes whose worst angle is FIT_BELOW degrees or more are left as they are
 #: (as for the shift: Gmsh's worst angles on the benchmark polygons at n = 300
@@ -102,29 +107,51 @@ CV_SLACK = 1e-3
 NEAR_ANGLE = 10.0
 NEAR_LENGTH = 0.05
 #: A mesh of up to FIT_MAX points whose worst angle is still below ANGLE_FINE
-#: degrees after the rounds above (the edges held) gets up to LOOSE_ROUNDS more
-#: (:func:`loosen_worst_angle`) in which the
-#: worst angle comes first, until it reaches ANGLE_GOOD: each round may
-#: lengthen the longest edge and the largest perimeter and shorten the
-#: shortest edge by the fraction LOOSE_STEP (the CV by twice that), and all of
-#: them together never by more than LOOSE_BUDGET over the mesh they started
-#: from; of the rounds made, the last whose mesh is worth its edges against
-#: the start's is kept (:func:`~uniform2d.optimize.angles.worth_its_edges`:
-#: 1 %, or 2 % a degree gained if more).  ``mixed`` of bench_constrained at n = 300: 31.1 -> 39.4 degrees
-#: (Gmsh 38.7), the edge ratio 2.41 -> 2.77 (Gmsh 2.99).
+#: degrees (or below its forced angle if less, :func:`forced_angle`, but at
+#: least ANGLE_POOR) after the rounds above (the edges held) gets up to
+#: LOOSE_ROUNDS more (:func:`loosen_worst_angle`) in which the worst angle
+#: comes first, until it reaches ANGLE_GOOD (or that forced angle if less):
+#: held rounds in a wider region while they gain (WIDE_BAND), then rounds
+#: that may lengthen the longest edge and the largest perimeter, shorten the
+#: shortest edge and widen the spread by the fraction LOOSE_STEP each, at a
+#: price (GIVE_COST), and all of them together never by more than
+#: LOOSE_BUDGET over the mesh they started from; of the rounds made, the last
+#: whose mesh is worth its edges against the start's is kept
+#: (:func:`~uniform2d.optimize.angles.worth_its_edges`: 1 %, or 2 % a degree
+#: gained if more).  ``mixed`` of bench_constrained at n = 300: 31.1 -> 39.4
+#: degrees (Gmsh 38.7), the edge ratio 2.41 -> 2.55 (Gmsh 2.99).
 LOOSE_ROUNDS = 20
 LOOSE_STEP = 0.01
 LOOSE_BUDGET = 0.25
 #: The constraints are met with this relative margin, so that rounding in the
 #: program's last step cannot lengthen the longest edge.
 MARGIN = 1e-9
+#: A loose round's program has a variable for each kind of limit (the
+#: longest edge, the shortest, the largest perimeter, the spread: GIVES), the
+#: fraction it gives, in units of GIVE_UNIT (of order one, as SLSQP wants its
+#: variables), and maximises the worst angle less GIVE_COST degrees for each
+#: whole give (5: 0.05 degrees for 1 %, so the angle still comes first, up to
+#: its RISE, and no limit gives where the angle does not need it).  Without a
+#: price the program left every limit at its most (``mixed`` at n = 300, the
+#: same 39.4 degrees: edge ratio 2.77 against 2.60; 20: the rounds stop at 31.1,
+#: 50 with WIDE_BAND at 31.2).
+GIVES = 4
+GIVE_UNIT = 0.01
+GIVE_COST = 5.0
+#: The loose rounds are held ones first, while they gain, in a region of the
+#: triangles within WIDE_BAND degrees of the worst (``mixed`` at n = 300: the
+#: held rounds of BAND stop at 31.1 degrees, of WIDE_BAND go on to 35.0, the
+#: edges as they were); the rounds that give their limits have BAND (wider,
+#: each program costs more than it saves).
+WIDE_BAND = 8.0
 
 
-def _region(points, triangles, nV):
+def _region(points, triangles, nV, band: float = BAND):
     """(free points, the triangles they touch, the edges they touch): the
-    region of the round (module docstring)."""
+    region of the round (module docstring), of the triangles within ``band``
+    degrees of the worst."""
     ang = min_angles(points, triangles)
-    near = np.unique(triangles[ang < ang.min() + BAND])
+    near = np.unique(triangles[ang < ang.min() + band])
     near = np.unique(triangles[np.isin(triangles, near).any(axis=1)])
     free = near[near >= nV]
     touched = triangles[np.isin(triangles, free).any(axis=1)]
@@ -193,20 +220,25 @@ def _rows(points, T, E, limits, t0, near: bool):
             E[L <= lmin * (1 + NEAR_LENGTH)], T[per >= pmax * (1 - NEAR_LENGTH)])
 
 
-def _program(points, T, E, D, limits, rows=None):
+def _program(points, T, E, D, limits, rows=None, give: bool = False):
     """(place, constraints, their Jacobian) of the program in the variables x
     (the moves, then t): every angle of T at least t, the edges E and
     perimeters of T within ``limits`` = (longest, shortest, largest
     perimeter, mean length, spread), all scaled to be of order one.
     ``rows``: :func:`_rows`, the angles, edges and perimeters stated (all
-    if None; the spread is of every edge of E)."""
+    if None; the spread is of every edge of E).  With ``give`` (a loose
+    round) a variable g stands before t: the limits are given the fraction
+    g (the longest edge and perimeter times 1 + g, the shortest edge over
+    it, the spread times its square)."""
     lmax, lmin, pmax, mean, spread = limits
     angle_rows, E_hi, E_lo, T_per = rows if rows is not None else (None, E, E, T)
     corners = _corners(T) if angle_rows is None else _corners(T)[angle_rows]
     s = 100.0 / lmax
+    k = D.shape[2]
+    extra = 1 + GIVES * give  # variables after the moves
 
     def place(x):
-        return points + np.einsum("nck,k->nc", D, x[:-1])
+        return points + np.einsum("nck,k->nc", D, x[:k])
 
     def through(idx, g):  # gradients by points (m, j, 2) -> by the variables (m, k)
         return np.einsum("mjc,mjck->mk", g, D[idx])
@@ -223,9 +255,11 @@ def _program(points, T, E, D, limits, rows=None):
         L = lengths(P, E)
         qp = P[T_per]
         per = np.hypot(*(qp - qp[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
-        return np.concatenate([A - x[-1], (lmax - lengths(P, E_hi)) * s,
-                               (lengths(P, E_lo) - lmin) * s, (pmax - per) * s,
-                               [(spread - ((L - mean) ** 2).sum()) * s * s]])
+        # 1.0: the held limits exactly
+        gh, gl, gp, gs = 1.0 + x[k:k + GIVES] * GIVE_UNIT if give else (1.0, 1.0, 1.0, 1.0)
+        return np.concatenate([A - x[-1], (lmax * gh - lengths(P, E_hi)) * s,
+                               (lengths(P, E_lo) - lmin / gl) * s, (pmax * gp - per) * s,
+                               [(spread * gs * gs - ((L - mean) ** 2).sum()) * s * s]])
 
     def length_gradients(P, edges):
         dE = P[edges[:, 0]] - P[edges[:, 1]]
@@ -238,7 +272,8 @@ def _program(points, T, E, D, limits, rows=None):
         _, gA = _angles_and_gradients(q)
         if angle_rows is not None:
             gA = gA[angle_rows]
-        JA = np.concatenate([through(corners, gA), -np.ones((len(corners), 1))], axis=1)
+        JA = np.concatenate([through(corners, gA), np.zeros((len(corners), extra - 1)),
+                             -np.ones((len(corners), 1))], axis=1)
         L = lengths(P, E)
         gL = length_gradients(P, E)
         qp = P[T_per]
@@ -248,17 +283,29 @@ def _program(points, T, E, D, limits, rows=None):
         gS = np.einsum("m,mk->k", 2.0 * (L - mean), gL)[None]
         rest = np.concatenate([-length_gradients(P, E_hi) * s, length_gradients(P, E_lo) * s,
                                -gP * s, -gS * s * s])
-        return np.concatenate([JA, np.concatenate([rest, np.zeros((len(rest), 1))], axis=1)])
+        cols = [rest]
+        if give:  # the rows' derivatives by the gives, one for each kind of row
+            gl, gs = 1.0 + x[k + 1] * GIVE_UNIT, 1.0 + x[k + 3] * GIVE_UNIT
+            G = np.zeros((len(rest), GIVES))
+            ends = np.cumsum([len(E_hi), len(E_lo), len(T_per), 1])
+            G[:ends[0], 0] = lmax * s * GIVE_UNIT
+            G[ends[0]:ends[1], 1] = lmin / (gl * gl) * s * GIVE_UNIT
+            G[ends[1]:ends[2], 2] = pmax * s * GIVE_UNIT
+            G[ends[2], 3] = 2.0 * spread * gs * s * s * GIVE_UNIT
+            cols.append(G)
+        cols.append(np.zeros((len(rest), 1)))
+        return np.concatenate([JA, np.concatenate(cols, axis=1)])
 
     return place, fun, jac
 
 
-def _fit(polygon, points, triangles, edges, a, d, slack: float = 0.0):
+def _fit(polygon, points, triangles, edges, a, d, slack: float = 0.0, band: float = BAND):
     """The sites after one round's program (None if the region is empty, or
-    too large: :data:`REGION_MAX`); ``slack``: the fraction the edge limits
-    may give (a loose round)."""
+    too large: :data:`REGION_MAX`); ``slack``: the fraction each kind of
+    limit may give, at a price (a loose round: :data:`GIVE_COST`); ``band``:
+    the region's (:func:`_region`)."""
     nV = len(polygon.vertices)
-    free, T, E = _region(points, triangles, nV)
+    free, T, E = _region(points, triangles, nV, band)
     if len(free) == 0 or (len(points) > FIT_MAX and len(free) > REGION_MAX):
         return None
     q = points[triangles]
@@ -266,32 +313,26 @@ def _fit(polygon, points, triangles, edges, a, d, slack: float = 0.0):
     all_edges = unique_edges(triangles)
     mean = float(np.hypot(*(points[all_edges[:, 0]] - points[all_edges[:, 1]]).T).mean())
     L = np.hypot(*(points[E[:, 0]] - points[E[:, 1]]).T)
-    grow = 1.0 + slack  # 1.0 in a held round: the limits exactly as measured
-    limits = (L_all.max() * (1 - MARGIN) * grow, L_all.min() * (1 + MARGIN) / grow,
-              L_all.sum(axis=1).max() * (1 - MARGIN) * grow, mean,
-              ((L - mean) ** 2).sum() * (1 - MARGIN) * grow * grow)
+    limits = (L_all.max() * (1 - MARGIN), L_all.min() * (1 + MARGIN),
+              L_all.sum(axis=1).max() * (1 - MARGIN), mean,
+              ((L - mean) ** 2).sum() * (1 - MARGIN))
     # moves in a power of two near the longest edge: the program's numbers,
     # and so the mesh, scale exactly with a power-of-two scaling of P
     unit = float(np.ldexp(1.0, int(np.frexp(limits[0])[1])))
     D, reach = _jacobian_map(points, free, edges, nV, d, unit)
     step = REACH * float(L.min())
-    x0 = np.zeros(D.shape[2] + 1)
+    loose = bool(slack)
+    x0 = np.zeros(D.shape[2] + 1 + GIVES * loose)
     x0[-1] = float(min_angles(points, T).min())
-    bounds = [(-step * r, step * r) for r in reach] + [(None, x0[-1] + RISE)]
+    bounds = ([(-step * r, step * r) for r in reach] + [(0.0, slack / GIVE_UNIT)] * (GIVES * loose)
+              + [(None, x0[-1] + RISE)])
     # first the constraints near binding alone, then, if the result breaks one
     # left out, all of them
     for near in (True, False):
         rows = _rows(points, T, E, limits, x0[-1], near)
-        place, fun, jac = _program(points, T, E, D, limits, rows)
-        # SLSQP's BLAS sums in another order on more threads: one thread, the
-        # same bytes on any thread count (not on any CPU: OpenBLAS's kernel for
-        # the CPU sums in its own order, docs/architecture.md)
-        with threadpool_limits(limits=1, user_api="blas"):
-            res = minimize(lambda x: -x[-1], x0,
-                           jac=lambda x: np.r_[np.zeros(len(x) - 1), -1.0], bounds=bounds,
-                           method="SLSQP", options={"maxiter": ITERATIONS},
-                           constraints=[{"type": "ineq", "fun": fun, "jac": jac}])
-        if not near or _meets_all(_program(points, T, E, D, limits)[1], fun, res.x):
+        place, fun, jac = _program(points, T, E, D, limits, rows, loose)
+        res = _solve(x0, bounds, fun, jac, loose)
+        if not near or _meets_all(_program(points, T, E, D, limits, None, loose)[1], fun, res.x):
             break
     P = place(res.x)
     for v in free[edges[free - nV] >= 0]:  # on its edge as the kernel places a sliding point
@@ -299,6 +340,31 @@ def _fit(polygon, points, triangles, edges, a, d, slack: float = 0.0):
         r, de = P[v] - a[e], d[e]  # dot products written out: ``@`` is BLAS, per CPU
         P[v] = a[e] + ((r[0] * de[0] + r[1] * de[1]) / (de[0] * de[0] + de[1] * de[1])) * de
     return P[nV:]
+
+
+def _solve(x0, bounds, fun, jac, loose: bool):
+    """SLSQP's result for the program (:func:`_program`): t largest, less
+    the gives' price in a loose round."""
+    price = GIVE_COST * GIVE_UNIT
+    if loose:
+        def goal(x):
+            return float(x[-1 - GIVES:-1].sum() * price - x[-1])
+
+        grad = np.zeros(len(x0))
+        grad[-1 - GIVES:-1] = price
+        grad[-1] = -1.0
+    else:
+        def goal(x):
+            return -x[-1]
+
+        grad = np.r_[np.zeros(len(x0) - 1), -1.0]
+    # SLSQP's BLAS sums in another order on more threads: one thread, the
+    # same bytes on any thread count (not on any CPU: OpenBLAS's kernel for
+    # the CPU sums in its own order, docs/architecture.md)
+    with threadpool_limits(limits=1, user_api="blas"):
+        return minimize(goal, x0, jac=lambda x: grad, bounds=bounds, method="SLSQP",
+                        options={"maxiter": ITERATIONS},
+                        constraints=[{"type": "ineq", "fun": fun, "jac": jac}])
 
 
 def _meets_all(full, near, x) -> bool:
@@ -326,6 +392,16 @@ def _within(start, q) -> bool:
             and q.max_perimeter <= start.max_perimeter * cap and q.cv_edge <= start.cv_edge * cap)
 
 
+def _round(polygon, points, triangles, edges, a, d, slack: float, band: float = BAND):
+    """(points, triangles, quality) after one round of :func:`_fit`, or
+    (None, None, None) where it makes none."""
+    sites = _fit(polygon, points, triangles, edges, a, d, slack, band)
+    if sites is None:
+        return None, None, None
+    P, T = triangulate(polygon, sites, edges)
+    return P, T, quality(P, T)
+
+
 def _rounds(polygon, points, triangles, edges, a, d, q0, rounds: int, stop: float,
             slack: float = 0.0, allowed=None):
     """(points, triangles, quality, rounds kept) after up to ``rounds`` rounds,
@@ -335,18 +411,20 @@ def _rounds(polygon, points, triangles, edges, a, d, q0, rounds: int, stop: floa
     too small to judge the rate on, the first rounds' cost the most), and
     ``allowed`` (a test of its quality) if given."""
     start, kept, made = q0, 0, [(points, triangles, q0)]
+    wide = bool(slack)  # loose rounds: first held ones in the wide band
     for _ in range(rounds):
         if q0.min_angle >= stop:
             break
-        sites = _fit(polygon, points, triangles, edges, a, d, slack)
-        if sites is None:
-            break
-        P, T = triangulate(polygon, sites, edges)
-        q = quality(P, T)
-        # the fresh triangulation may join the moved points in triangles the
-        # program did not bound: a loose round is judged with twice its slack
-        if not (_kept(q0, q, 2.0 * slack) and (slack == 0.0 or _within(start, q))):
-            break
+        if wide:
+            P, T, q = _round(polygon, points, triangles, edges, a, d, 0.0, WIDE_BAND)
+            wide = q is not None and _kept(q0, q) and _within(start, q)
+        if not wide:
+            P, T, q = _round(polygon, points, triangles, edges, a, d, slack)
+            # the fresh triangulation may join the moved points in triangles the
+            # program did not bound: a loose round is judged with twice its slack
+            if q is None or not (_kept(q0, q, 2.0 * slack)
+                                 and (slack == 0.0 or _within(start, q))):
+                break
         points, triangles, q0 = P, T, q
         made.append((points, triangles, q0))
         kept += 1
@@ -379,19 +457,24 @@ def fit_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray,
     >>> fit_worst_angle(sq, pts, tri, np.array([-1]))[2]  # too few sites: as it is
     0
     """
-    def untouched(n_points: int, q0) -> bool:
-        return q0.min_angle >= FIT_BELOW or (n_points > FIT_MAX and q0.min_angle >= ANGLE_GOOD)
+    def stop_at(points, triangles, q0):
+        if q0.min_angle >= FIT_BELOW or (len(points) > FIT_MAX and q0.min_angle >= ANGLE_GOOD):
+            return None
+        return FIT_BELOW
 
-    return _run(polygon, points, triangles, edges, measured, ANGLES_MAX, untouched,
-                (ROUNDS, FIT_BELOW, 0.0, None))
+    return _run(polygon, points, triangles, edges, measured, ANGLES_MAX, stop_at,
+                (ROUNDS, 0.0, None))
 
 
 def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, edges,
                        measured=None, allowed=None):
     """(points, triangles, rounds kept): a mesh whose worst angle is below
-    ``ANGLE_FINE`` after up to ``LOOSE_ROUNDS`` loose rounds (module
-    docstring), the worst angle first; other meshes, and those of more than
-    ``FIT_MAX`` points or fewer than ``FIT_MIN`` sites, as they are.
+    ``ANGLE_FINE`` and below its :func:`forced_angle` (at least
+    ``ANGLE_POOR``) after up to ``LOOSE_ROUNDS`` loose rounds (module
+    docstring), the worst angle first, until it reaches the smaller of
+    ``ANGLE_GOOD`` and that forced angle;
+    other meshes, and those of more than ``FIT_MAX`` points or fewer than
+    ``FIT_MIN`` sites, as they are.
     Arguments as for :func:`fit_worst_angle`; ``allowed``: a test of a round's
     :class:`~uniform2d.quality_result.Quality` that the mesh kept must pass
     too (the optimiser's: its objective no higher than T+'s).  Inputs are not
@@ -406,22 +489,62 @@ def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarr
     >>> loosen_worst_angle(sq, pts, tri, np.array([-1]))[2]  # too few sites: as it is
     0
     """
-    return _run(polygon, points, triangles, edges, measured, FIT_MAX,
-                lambda n_points, q0: q0.min_angle >= ANGLE_FINE,
-                (LOOSE_ROUNDS, ANGLE_GOOD, LOOSE_STEP, allowed))
+    def stop_at(points, triangles, q0):
+        # a worst angle below ANGLE_POOR is poor next to any piece (the bolt
+        # plate at 500 vertices: forced 17.9 degrees, the rounds take it to 20.8)
+        forced = max(ANGLE_POOR, forced_angle(polygon, points, triangles))
+        return None if q0.min_angle >= min(ANGLE_FINE, forced) else min(ANGLE_GOOD, forced)
+
+    return _run(polygon, points, triangles, edges, measured, FIT_MAX, stop_at,
+                (LOOSE_ROUNDS, LOOSE_STEP, allowed))
 
 
-def _run(polygon, points, triangles, edges, measured, most: int, untouched, how):
+def forced_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray) -> float:
+    """The worst angle a mesh of the target size h is forced to at its worst
+    triangle, in degrees (infinite if none): where that triangle has a corner
+    at a vertex of P, the angle opposite the shortest piece of P's edges and
+    segments at that vertex, of length l, in the isosceles triangle whose
+    other sides grade from l to h in one row, (l + h) / 2.  Next to a piece
+    much shorter than h (a small hole) a mesh of that size, ours or a
+    frontal mesher's, must grade that fast; the loose rounds do not trade
+    edges for an angle beyond it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> pts, tri = triangulate(sq, [(0.5, 0.5)])
+    >>> h = target_size(sq, 1)  # 0.84
+    >>> bool(np.isclose(forced_angle(sq, pts, tri), np.degrees(2 * np.arcsin(1 / (1 + h)))))
+    True
+    """
+    nV = len(polygon.vertices)
+    corners = triangles[int(np.argmin(min_angles(points, triangles)))]
+    pieces = polygon.constraint_edges
+    at = np.isin(pieces, corners[corners < nV]).any(axis=1)
+    if not at.any():
+        return float("inf")
+    _, _, L = polygon_edges(polygon, constraints=True)
+    piece = float(L[at].min())
+    h = target_size(polygon, len(points) - nV)
+    return float(np.degrees(libm.arcsin(np.array([piece / (piece + h)]))[0])) * 2.0
+
+
+def _run(polygon, points, triangles, edges, measured, most: int, stop_at, how):
     """(points, triangles, rounds kept) of :func:`_rounds` with ``how`` =
-    (rounds, stop, slack, allowed), or the mesh as it is where it has more
-    than ``most`` points, fewer than FIT_MIN sites, or ``untouched(point
-    count, quality)``."""
+    (rounds, slack, allowed) until the worst angle reaches ``stop_at(points,
+    triangles, quality)``, or the mesh as it is where it has more than
+    ``most`` points, fewer than FIT_MIN sites, or ``stop_at`` is None."""
     edges = np.asarray(edges)
     if len(points) > most or len(points) - len(polygon.vertices) < FIT_MIN:
         return points, triangles, 0
     q0 = quality(points, triangles) if measured is None else measured
-    if untouched(len(points), q0):
+    stop = stop_at(points, triangles, q0)
+    if stop is None:
         return points, triangles, 0
+    rounds, slack, allowed = how
     a, d, _ = polygon_edges(polygon, constraints=True)
-    points, triangles, _, kept = _rounds(polygon, points, triangles, edges, a, d, q0, *how)
+    points, triangles, _, kept = _rounds(polygon, points, triangles, edges, a, d, q0, rounds,
+                                         stop, slack, allowed)
     return points, triangles, kept
