@@ -18,7 +18,7 @@ import uniform2d
 from uniform2d.geometry import polygon_edges
 from uniform2d.optimize import anglefit
 from uniform2d.optimize.boundary import target_size
-from uniform2d.optimize.angles import MIN_GAIN
+from uniform2d.optimize.angles import MIN_GAIN, angles_and_gradients, forced_angle
 from uniform2d.peers import base as peers
 from uniform2d.quality import quality
 from uniform2d.testing import check_mesh
@@ -126,7 +126,7 @@ def test_near_rows_hold_the_binding_ones(unfitted):
     nV = len(p.vertices)
     free, T, E = anglefit._region(m.points, m.triangles, nV)
     q = m.points[T]
-    A, _ = anglefit._angles_and_gradients(q)
+    A, _ = angles_and_gradients(q)
     L = np.hypot(*(m.points[E[:, 0]] - m.points[E[:, 1]]).T)
     per = np.hypot(*(q - q[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
     limits = (L.max(), L.min(), per.max(), L.mean(), 0.0)
@@ -279,6 +279,6 @@ def test_no_loose_rounds_above_the_forced_angle():
     h = target_size(p, 300)
     forced = np.degrees(2 * np.arcsin(piece / (piece + h)))
     assert 24.0 < forced < 24.5
-    assert np.isclose(anglefit.forced_angle(p, m.points, m.triangles), forced, rtol=1e-6)
+    assert np.isclose(forced_angle(p, m.points, m.triangles), forced, rtol=1e-6)
     assert m.info["angle_first_fits"] == 0
     assert m.quality().min_angle > forced > 22.50

@@ -27,7 +27,7 @@ price the program pays against the angle (:data:`GIVE_COST`), so that a
 limit gives only as far as the angle needs; within a budget over the mesh
 they start from (:data:`LOOSE_BUDGET`), until the worst angle reaches
 :data:`ANGLE_GOOD`, or the angle a mesh of the target size is forced to at
-its worst triangle if less (:func:`forced_angle`: next to a piece of P much
+its worst triangle if less (:func:`~uniform2d.optimize.angles.forced_angle`: next to a piece of P much
 shorter than the size).  A finite-element user's mesh is not to be worse in
 its worst angle than a frontal mesher's of the same count, whose edges are
 less even than the loose rounds leave ours.
@@ -39,17 +39,16 @@ import numpy as np
 from scipy.optimize import minimize
 from threadpoolctl import threadpool_limits
 
-from .. import libm
 from ..geometry import polygon_edges, unique_edges
 from ..polygon import Polygon
 from ..quality import quality
 from ..triangulation import triangulate
-from .angles import ANGLE_FINE, ANGLE_POOR, ANGLES_MAX, MIN_GAIN, min_angles, worth_its_edges
-from .boundary import target_size
+from .angles import (ANGLE_FINE, ANGLE_POOR, ANGLES_MAX, MIN_GAIN, angle_corners, angles_and_gradients,
+                     forced_angle, min_angles, worth_its_edges)
 
 __all__ = ["ANGLE_GOOD", "BAND", "CV_SLACK", "FIT_BELOW", "FIT_MAX", "FIT_MIN", "GIVES",
            "GIVE_COST", "GIVE_UNIT", "LOOSE_BUDGET", "LOOSE_ROUNDS", "LOOSE_STEP", "REGION_MAX",
-           "ROUNDS", "WIDE_BAND", "fit_worst_angle", "forced_angle", "loosen_worst_angle"]
+           "ROUNDS", "WIDE_BAND", "fit_worst_angle", "loosen_worst_angle"]
 
 #: Meshes whose worst angle is FIT_BELOW degrees or more are left as they are
 #: (as for the shift: Gmsh's worst angles on the benchmark polygons at n = 300
@@ -107,7 +106,7 @@ CV_SLACK = 1e-3
 NEAR_ANGLE = 10.0
 NEAR_LENGTH = 0.05
 #: A mesh of up to FIT_MAX points whose worst angle is still below ANGLE_FINE
-#: degrees (or below its forced angle if less, :func:`forced_angle`, but at
+#: degrees (or below its forced angle if less, :func:`~uniform2d.optimize.angles.forced_angle`, but at
 #: least ANGLE_POOR) after the rounds above (the edges held) gets up to
 #: LOOSE_ROUNDS more (:func:`loosen_worst_angle`) in which the worst angle
 #: comes first, until it reaches ANGLE_GOOD (or that forced angle if less):
@@ -181,30 +180,9 @@ def _jacobian_map(points, free, edges, nV, d, unit):
     return D, np.array(reach)
 
 
-def _angles_and_gradients(q):
-    """The three angles (degrees) of triangles ``q`` (m, 3, 2), shape (3m,), and
-    their gradients by the corners, (3m, 3, 2) with the corner order of
-    :func:`_corners`."""
-    vals, grads = [], []
-    for k in range(3):
-        u = q[:, (k + 1) % 3] - q[:, k]
-        w = q[:, (k + 2) % 3] - q[:, k]
-        vals.append(libm.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], (u * w).sum(axis=1)))
-        # the angle is arg(w) - arg(u); d arg(v) / dv = perp(v) / |v|^2
-        gw = np.stack([-w[:, 1], w[:, 0]], axis=1) / (w * w).sum(axis=1)[:, None]
-        gu = -np.stack([-u[:, 1], u[:, 0]], axis=1) / (u * u).sum(axis=1)[:, None]
-        grads.append(np.stack([-(gu + gw), gu, gw], axis=1))
-    return np.degrees(np.concatenate(vals)), np.degrees(np.concatenate(grads))
-
-
-def _corners(T):
-    """The points of each angle of :func:`_angles_and_gradients`, (3m, 3)."""
-    return np.concatenate([T[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
-
-
 def _rows(points, T, E, limits, t0, near: bool):
-    """The constraints the program states: (angle rows into :func:`_corners`
-    of T, edges held below the longest, edges held above the shortest,
+    """The constraints the program states: (angle rows into
+    :func:`~uniform2d.optimize.angles.angle_corners` of T, edges held below the longest, edges held above the shortest,
     triangles whose perimeter is held).  With ``near`` only those near
     binding at the start (module docstring: :data:`NEAR_ANGLE`,
     :data:`NEAR_LENGTH`); else all."""
@@ -213,7 +191,7 @@ def _rows(points, T, E, limits, t0, near: bool):
     if not near:
         return corners, E, E, T
     q = points[T]
-    A, _ = _angles_and_gradients(q)
+    A, _ = angles_and_gradients(q)
     L = np.hypot(*(points[E[:, 0]] - points[E[:, 1]]).T)
     per = np.hypot(*(q - q[:, [1, 2, 0]]).transpose(2, 0, 1)).sum(axis=1)
     return (corners[A <= t0 + NEAR_ANGLE], E[L >= lmax * (1 - NEAR_LENGTH)],
@@ -232,7 +210,7 @@ def _program(points, T, E, D, limits, rows=None, give: bool = False):
     it, the spread times its square)."""
     lmax, lmin, pmax, mean, spread = limits
     angle_rows, E_hi, E_lo, T_per = rows if rows is not None else (None, E, E, T)
-    corners = _corners(T) if angle_rows is None else _corners(T)[angle_rows]
+    corners = angle_corners(T) if angle_rows is None else angle_corners(T)[angle_rows]
     s = 100.0 / lmax
     k = D.shape[2]
     extra = 1 + GIVES * give  # variables after the moves
@@ -249,7 +227,7 @@ def _program(points, T, E, D, limits, rows=None, give: bool = False):
     def fun(x):
         P = place(x)
         q = P[T]
-        A, _ = _angles_and_gradients(q)
+        A, _ = angles_and_gradients(q)
         if angle_rows is not None:
             A = A[angle_rows]
         L = lengths(P, E)
@@ -269,7 +247,7 @@ def _program(points, T, E, D, limits, rows=None, give: bool = False):
     def jac(x):
         P = place(x)
         q = P[T]
-        _, gA = _angles_and_gradients(q)
+        _, gA = angles_and_gradients(q)
         if angle_rows is not None:
             gA = gA[angle_rows]
         JA = np.concatenate([through(corners, gA), np.zeros((len(corners), extra - 1)),
@@ -469,7 +447,7 @@ def fit_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray,
 def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray, edges,
                        measured=None, allowed=None):
     """(points, triangles, rounds kept): a mesh whose worst angle is below
-    ``ANGLE_FINE`` and below its :func:`forced_angle` (at least
+    ``ANGLE_FINE`` and below its :func:`~uniform2d.optimize.angles.forced_angle` (at least
     ``ANGLE_POOR``) after up to ``LOOSE_ROUNDS`` loose rounds (module
     docstring), the worst angle first, until it reaches the smaller of
     ``ANGLE_GOOD`` and that forced angle;
@@ -497,38 +475,6 @@ def loosen_worst_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarr
 
     return _run(polygon, points, triangles, edges, measured, FIT_MAX, stop_at,
                 (LOOSE_ROUNDS, LOOSE_STEP, allowed))
-
-
-def forced_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray) -> float:
-    """The worst angle a mesh of the target size h is forced to at its worst
-    triangle, in degrees (infinite if none): where that triangle has a corner
-    at a vertex of P, the angle opposite the shortest piece of P's edges and
-    segments at that vertex, of length l, in the isosceles triangle whose
-    other sides grade from l to h in one row, (l + h) / 2.  Next to a piece
-    much shorter than h (a small hole) a mesh of that size, ours or a
-    frontal mesher's, must grade that fast; the loose rounds do not trade
-    edges for an angle beyond it.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from uniform2d import Polygon
-    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
-    >>> pts, tri = triangulate(sq, [(0.5, 0.5)])
-    >>> h = target_size(sq, 1)  # 0.84
-    >>> bool(np.isclose(forced_angle(sq, pts, tri), np.degrees(2 * np.arcsin(1 / (1 + h)))))
-    True
-    """
-    nV = len(polygon.vertices)
-    corners = triangles[int(np.argmin(min_angles(points, triangles)))]
-    pieces = polygon.constraint_edges
-    at = np.isin(pieces, corners[corners < nV]).any(axis=1)
-    if not at.any():
-        return float("inf")
-    _, _, L = polygon_edges(polygon, constraints=True)
-    piece = float(L[at].min())
-    h = target_size(polygon, len(points) - nV)
-    return float(np.degrees(libm.arcsin(np.array([piece / (piece + h)]))[0])) * 2.0
 
 
 def _run(polygon, points, triangles, edges, measured, most: int, stop_at, how):

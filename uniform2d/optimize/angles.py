@@ -25,9 +25,11 @@ from .. import libm
 from ..geometry import polygon_edges
 from ..polygon import Polygon
 from ..triangulation import triangulate
+from .boundary import target_size
 
 __all__ = ["ANGLES_MAX", "ANGLE_FINE", "ANGLE_POOR", "HELD", "RATE", "ROUNDS", "SLACK", "WORST",
-           "angle_attempt_wins", "min_angles", "raise_worst_angle", "worth_its_edges"]
+           "angle_attempt_wins", "angle_corners", "angles_and_gradients", "forced_angle", "min_angles",
+           "raise_worst_angle", "worth_its_edges"]
 
 #: Meshes of up to ANGLES_MAX points get the pass (each round triangulates the
 #: whole mesh again).
@@ -300,3 +302,58 @@ def _gains(ang0, ang) -> bool:
         return True
     top = w0 + WORST
     return np.maximum(top - ang, 0.0).sum() < np.maximum(top - ang0, 0.0).sum() - MIN_GAIN
+
+
+def angles_and_gradients(q):
+    """The three angles (degrees) of triangles ``q`` (m, 3, 2), shape (3m,), and
+    their gradients by the corners, (3m, 3, 2) with the corner order of
+    :func:`angle_corners`."""
+    vals, grads = [], []
+    for k in range(3):
+        u = q[:, (k + 1) % 3] - q[:, k]
+        w = q[:, (k + 2) % 3] - q[:, k]
+        vals.append(libm.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], (u * w).sum(axis=1)))
+        # the angle is arg(w) - arg(u); d arg(v) / dv = perp(v) / |v|^2
+        gw = np.stack([-w[:, 1], w[:, 0]], axis=1) / (w * w).sum(axis=1)[:, None]
+        gu = -np.stack([-u[:, 1], u[:, 0]], axis=1) / (u * u).sum(axis=1)[:, None]
+        grads.append(np.stack([-(gu + gw), gu, gw], axis=1))
+    return np.degrees(np.concatenate(vals)), np.degrees(np.concatenate(grads))
+
+
+def angle_corners(T):
+    """The points of each angle of :func:`angles_and_gradients`, (3m, 3)."""
+    return np.concatenate([T[:, [k, (k + 1) % 3, (k + 2) % 3]] for k in range(3)])
+
+
+def forced_angle(polygon: Polygon, points: np.ndarray, triangles: np.ndarray) -> float:
+    """The worst angle a mesh of the target size h is forced to at its worst
+    triangle, in degrees (infinite if none): where that triangle has a corner
+    at a vertex of P, the angle opposite the shortest piece of P's edges and
+    segments at that vertex, of length l, in the isosceles triangle whose
+    other sides grade from l to h in one row, (l + h) / 2.  Next to a piece
+    much shorter than h (a small hole) a mesh of that size, ours or a
+    frontal mesher's, must grade that fast; the loose rounds
+    (:func:`~uniform2d.optimize.anglefit.loosen_worst_angle`) do not trade
+    edges for an angle beyond it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from uniform2d import Polygon
+    >>> sq = Polygon([(0, 0), (1, 0), (1, 1), (0, 1)])
+    >>> from uniform2d.optimize.boundary import target_size
+    >>> pts, tri = triangulate(sq, [(0.5, 0.5)])
+    >>> h = target_size(sq, 1)  # 0.84
+    >>> bool(np.isclose(forced_angle(sq, pts, tri), np.degrees(2 * np.arcsin(1 / (1 + h)))))
+    True
+    """
+    nV = len(polygon.vertices)
+    corners = triangles[int(np.argmin(min_angles(points, triangles)))]
+    pieces = polygon.constraint_edges
+    at = np.isin(pieces, corners[corners < nV]).any(axis=1)
+    if not at.any():
+        return float("inf")
+    _, _, L = polygon_edges(polygon, constraints=True)
+    piece = float(L[at].min())
+    h = target_size(polygon, len(points) - nV)
+    return float(np.degrees(libm.arcsin(np.array([piece / (piece + h)]))[0])) * 2.0
