@@ -14,7 +14,9 @@ import shapely
 
 import uniform2d as u
 from uniform2d.optimize import optimize_mesh
-from uniform2d.ring_split import ANGLE_BELOW, SPLIT_LONG, better_angle, edges_for_angle
+from uniform2d.ring_split import (
+    ANGLE_BELOW, SPLIT_LONG, SPLIT_RATIO, better_angle, edges_for_angle,
+)
 from uniform2d.testing import check_mesh
 
 OUTLINES = Path(__file__).resolve().parents[1] / "data" / "outlines"
@@ -48,6 +50,9 @@ def _reference(polygon, P, T):
     a, b, c = T[worst].tolist()
     sides = {(min(x, y), max(x, y)) for x, y in ((a, b), (b, c), (c, a))}
     if angles[worst] >= ANGLE_BELOW or not sides & long:
+        return []
+    ratio = max(max(length.values()) / min(length.values()), SPLIT_RATIO)
+    if min(length[e] for e in long) / 2 * ratio < max(length[e] for e in edges - long):
         return []
     return sorted(long)
 
