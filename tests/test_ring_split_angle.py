@@ -15,7 +15,7 @@ import shapely
 import uniform2d as u
 from uniform2d.optimize import optimize_mesh
 from uniform2d.ring_split import (
-    ANGLE_BELOW, SPLIT_LONG, SPLIT_RATIO, better_angle, edges_for_angle,
+    ANGLE_BELOW, HALF_REACH, SPLIT_LONG, SPLIT_RATIO, better_angle, edges_for_angle,
 )
 from uniform2d.testing import check_mesh
 
@@ -52,7 +52,7 @@ def _reference(polygon, P, T):
     if angles[worst] >= ANGLE_BELOW or not sides & long:
         return []
     ratio = max(max(length.values()) / min(length.values()), SPLIT_RATIO)
-    if min(length[e] for e in long) / 2 * ratio < max(length[e] for e in edges - long):
+    if min(length[e] for e in long) / 2 * ratio < HALF_REACH * max(length[e] for e in edges - long):
         return []
     return sorted(long)
 
