@@ -51,6 +51,9 @@ def _reference(polygon, P, T):
     sides = {(min(x, y), max(x, y)) for x, y in ((a, b), (b, c), (c, a))}
     if angles[worst] >= ANGLE_BELOW or not sides & long:
         return []
+    short = min(sides, key=length.__getitem__)       # opposite the smallest angle
+    if sides - {short} <= ring:                       # the outline's own corner
+        return []
     ratio = max(max(length.values()) / min(length.values()), SPLIT_RATIO)
     if min(length[e] for e in long) / 2 * ratio < HALF_REACH * max(length[e] for e in edges - long):
         return []
@@ -73,6 +76,24 @@ def test_edges_named_as_the_reference_names_them(square_hole):
     m = optimize_mesh(circle, 300)   # edges of 0.16, the mesh's about 0.11: none that long
     assert edges_for_angle(circle, m.points, m.triangles).tolist() \
         == [list(e) for e in _reference(circle, m.points, m.triangles)]
+
+
+def test_a_corner_of_the_outline_is_not_halved_for():
+    """A spike of 19 degrees between ring edges of 3.04 (mean edge about 1.2): its
+    tip's triangle is the worst, its two long sides whole ring edges, but the angle
+    is the outline's own; the same polygon with the tip's triangle split is halved."""
+    from uniform2d.triangulation import triangulate
+    ring = ([(x, 0) for x in range(6)] + [(6, y) for y in range(5)]
+            + [(5, 4), (4, 4), (3.5, 4), (3, 7), (2.5, 4), (2, 4), (1, 4)]
+            + [(0, y) for y in range(4, 0, -1)])
+    spike = u.Polygon(ring)
+    inside = [(x, y) for x in range(1, 6) for y in range(1, 4)]
+    P, T = triangulate(spike, inside)
+    assert min(_angles(P, T)) < 20
+    assert edges_for_angle(spike, P, T).tolist() == _reference(spike, P, T) == []
+    P, T = triangulate(spike, [*inside, (3, 4.6)])      # a point inside the spike
+    named = edges_for_angle(spike, P, T).tolist()
+    assert named == [list(e) for e in _reference(spike, P, T)] and len(named) > 0
 
 
 def test_square_with_a_hole_gains_its_worst_angle(square_hole):

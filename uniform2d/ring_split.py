@@ -96,8 +96,9 @@ def better_angle(q_new, q_old, cv_slack: float = CV_SLACK) -> bool:
 def edges_for_angle(polygon: Polygon, points, triangles) -> np.ndarray:
     """(q, 2) int64: the ring edges of ``polygon`` (vertex pairs, smaller first)
     that are whole mesh edges at least :data:`SPLIT_LONG` mean edges long, if
-    the mesh's worst angle is below :data:`ANGLE_BELOW`, one of them is a
-    side of its worst triangle and their shortest half times the mesh's edge
+    the mesh's worst angle is below :data:`ANGLE_BELOW`, not a corner of the
+    polygon (between two ring edges), one of them is a side of its worst
+    triangle and their shortest half times the mesh's edge
     ratio (or :data:`SPLIT_RATIO` if that is higher) is at least
     :data:`HALF_REACH` of the longest other edge (else none).
 
@@ -128,7 +129,14 @@ def edges_for_angle(polygon: Polygon, points, triangles) -> np.ndarray:
     pick = whole & (L >= SPLIT_LONG * L.mean())
     t = T[worst]
     sides = np.sort(np.array([[t[1], t[2]], [t[2], t[0]], [t[0], t[1]]], dtype=np.int64), axis=1)
-    if not np.isin(sides[:, 0] * n + sides[:, 1], E[pick, 0] * n + E[pick, 1]).any():
+    keys = sides[:, 0] * n + sides[:, 1]
+    if not np.isin(keys, E[pick, 0] * n + E[pick, 1]).any():
+        return none
+    # the smallest angle is opposite the shortest side; between two ring edges
+    # it is the outline's own corner, which no point placement widens (the NYC
+    # shorelines' tips, Australia's 31-degree corner: tried for nothing)
+    opposite = int(np.argmin(np.hypot(*(P[sides[:, 1]] - P[sides[:, 0]]).T)))
+    if np.isin(np.delete(keys, opposite), ring[:, 0] * n + ring[:, 1]).all():
         return none
     # halves that short would likely set an edge ratio above the mesh's (or 2),
     # which better_angle does not keep: not meshed (India at n = 2000, 0.87 of
