@@ -96,9 +96,9 @@ def better_angle(q_new, q_old, cv_slack: float = CV_SLACK) -> bool:
 def edges_for_angle(polygon: Polygon, points, triangles) -> np.ndarray:
     """(q, 2) int64: the ring edges of ``polygon`` (vertex pairs, smaller first)
     that are whole mesh edges at least :data:`SPLIT_LONG` mean edges long, if
-    the mesh's worst angle is below :data:`ANGLE_BELOW`, not a corner of the
-    polygon (between two ring edges), one of them is a side of its worst
-    triangle and their shortest half times the mesh's edge
+    the mesh's worst angle is below :data:`ANGLE_BELOW`, its worst triangle
+    has one of them as a side and no other ring edge (a corner's one triangle
+    is left), and their shortest half times the mesh's edge
     ratio (or :data:`SPLIT_RATIO` if that is higher) is at least
     :data:`HALF_REACH` of the longest other edge (else none).
 
@@ -132,11 +132,10 @@ def edges_for_angle(polygon: Polygon, points, triangles) -> np.ndarray:
     keys = sides[:, 0] * n + sides[:, 1]
     if not np.isin(keys, E[pick, 0] * n + E[pick, 1]).any():
         return none
-    # the smallest angle is opposite the shortest side; between two ring edges
-    # it is the outline's own corner, which no point placement widens (the NYC
-    # shorelines' tips, Australia's 31-degree corner: tried for nothing)
-    opposite = int(np.argmin(np.hypot(*(P[sides[:, 1]] - P[sides[:, 0]]).T)))
-    if np.isin(np.delete(keys, opposite), ring[:, 0] * n + ring[:, 1]).all():
+    # two ring edges: a corner's one triangle, its points all on the ring; its
+    # smallest angle the outline's own or across a chord of the corner (the NYC
+    # shorelines' tips, Australia's chord at 31 degrees: second meshes worse)
+    if np.isin(keys, ring[:, 0] * n + ring[:, 1]).sum() >= 2:
         return none
     # halves that short would likely set an edge ratio above the mesh's (or 2),
     # which better_angle does not keep: not meshed (India at n = 2000, 0.87 of
