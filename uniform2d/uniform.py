@@ -125,7 +125,10 @@ def uniform_mesh(
     its too-short edges moved off them within the tolerance, the mesh relaxed
     there (:mod:`uniform2d.ring_nudge`), then those at the ends of its too-long
     edges moved towards them (:mod:`uniform2d.ring_shorten`), each kept only if
-    the ratio drops.
+    the ratio drops. Where the worst angle is below 35 degrees on a whole ring
+    edge of 1.25 mean edges or more (also on a polygon meshed as given), the
+    long whole ring edges are halved and the mesh kept if its worst angle is
+    larger (:func:`uniform2d.ring_split.edges_for_angle`).
     ``resample_corners="merge"`` lets a corner with a ring point less than 0.6
     spacings away merge with it into one point on the outline between them where
     the tolerance still holds (:mod:`uniform2d.corner_merge`: that corner is then
