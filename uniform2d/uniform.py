@@ -30,7 +30,9 @@ from .resources import check_point_count
 from .ring_nudge import nudged
 from .ring_relocate import relocated
 from .ring_shorten import shortened
-from .ring_split import SPLIT_RATIO, better_mesh, edges_to_halve, halve_edges
+from .ring_split import (
+    SPLIT_RATIO, better_angle, better_mesh, edges_for_angle, edges_to_halve, halve_edges,
+)
 from .short_edges import resampled_warning
 
 __all__ = ["uniform_mesh", "steiner_count_for_size", "resampled_outline"]
@@ -123,7 +125,10 @@ def uniform_mesh(
     its too-short edges moved off them within the tolerance, the mesh relaxed
     there (:mod:`uniform2d.ring_nudge`), then those at the ends of its too-long
     edges moved towards them (:mod:`uniform2d.ring_shorten`), each kept only if
-    the ratio drops.
+    the ratio drops. Where the worst angle is below 35 degrees on a whole ring
+    edge of 1.25 mean edges or more (also on a polygon meshed as given), the
+    long whole ring edges are halved and the mesh kept if its worst angle is
+    larger (:func:`uniform2d.ring_split.edges_for_angle`).
     ``resample_corners="merge"`` lets a corner with a ring point less than 0.6
     spacings away merge with it into one point on the outline between them where
     the tolerance still holds (:mod:`uniform2d.corner_merge`: that corner is then
@@ -210,6 +215,8 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
     split = moves = nudge = short = 0
     if res.resampled:
         res, left, mesh, split = _halved(res, left, mesh, objective)
+    res, left, mesh, for_angle = _halved_for_angle(res, left, mesh, objective)
+    if res.resampled:
         mesh, moves = relocated(mesh, objective)
         res, mesh, nudge = nudged(polygon, res, mesh, objective)
         if nudge:  # the moved rings may leave chords relocation can break now
@@ -221,6 +228,7 @@ def _resampled_mesh(polygon, n, size, tol, corner_angle, objective, progress,
             moves += more
     out = Mesh(mesh.points, mesh.triangles, mesh.polygon, mesh.n_steiner,
                {**mesh.info, "resample": {**res.info(), "n": n_total, "halved_edges": split,
+                                          "halved_for_angle": for_angle,
                                           "relocated": moves, "nudged": nudge,
                                           "shortened": short}})
     warning = resampled_warning(out, res.kept)
@@ -251,6 +259,26 @@ def _halved(res, left, mesh, objective):
     if better_mesh(q2, q):
         log.info("resampled outline: %d ring edges halved, edge ratio %.4g (%.4g with them whole)",
                  len(pairs), q2.edge_ratio, q.edge_ratio)
+        return res2, left2, mesh2, len(pairs)
+    return res, left, mesh, 0
+
+
+def _halved_for_angle(res, left, mesh, objective):
+    """(res, left, mesh, edges halved): the mesh again with the whole ring edges
+    :func:`uniform2d.ring_split.edges_for_angle` names halved (a worst angle
+    below 35 degrees on a long ring edge), if it is the better one
+    (:func:`uniform2d.ring_split.better_angle`).  Also for an outline meshed
+    as given: its own long edges are as much a thin triangle's long side."""
+    pairs = edges_for_angle(res.polygon, mesh.points, mesh.triangles)
+    if not len(pairs) or len(pairs) >= left:
+        return res, left, mesh, 0
+    res2 = halve_edges(res, pairs)
+    left2 = left - len(pairs)
+    mesh2 = optimize_mesh(res2.polygon, left2, objective=objective, near_tie=NEAR_TIE)
+    q, q2 = mesh.quality(), mesh2.quality()
+    if better_angle(q2, q):
+        log.info("outline: %d long ring edges halved, worst angle %.3g (%.3g with them whole)",
+                 len(pairs), q2.min_angle, q.min_angle)
         return res2, left2, mesh2, len(pairs)
     return res, left, mesh, 0
 
