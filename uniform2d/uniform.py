@@ -250,17 +250,7 @@ def _halved(res, left, mesh, objective):
     if q.edge_ratio <= SPLIT_RATIO or q.mean_edge > SPLIT_RATIO * ring_edge:
         return res, left, mesh, 0
     pairs = edges_to_halve(res.polygon, mesh.points, mesh.triangles)
-    if not len(pairs) or len(pairs) >= left:
-        return res, left, mesh, 0
-    res2 = halve_edges(res, pairs)
-    left2 = left - len(pairs)
-    mesh2 = optimize_mesh(res2.polygon, left2, objective=objective, near_tie=NEAR_TIE)
-    q2 = mesh2.quality()
-    if better_mesh(q2, q):
-        log.info("resampled outline: %d ring edges halved, edge ratio %.4g (%.4g with them whole)",
-                 len(pairs), q2.edge_ratio, q.edge_ratio)
-        return res2, left2, mesh2, len(pairs)
-    return res, left, mesh, 0
+    return _with_halves(res, left, mesh, q, pairs, objective, better_mesh, "edge_ratio")
 
 
 def _halved_for_angle(res, left, mesh, objective):
@@ -270,15 +260,24 @@ def _halved_for_angle(res, left, mesh, objective):
     (:func:`uniform2d.ring_split.better_angle`).  Also for an outline meshed
     as given: its own long edges are as much a thin triangle's long side."""
     pairs = edges_for_angle(res.polygon, mesh.points, mesh.triangles)
+    return _with_halves(res, left, mesh, None, pairs, objective, better_angle, "min_angle")
+
+
+def _with_halves(res, left, mesh, q, pairs, objective, better, measure: str):
+    """(res, left, mesh, edges halved): the mesh made again with the ring edges
+    ``pairs`` halved if ``better(its quality, q)`` (``q``: ``mesh``'s quality,
+    measured here if None), else the inputs and 0; ``measure``: the quality
+    field the log names."""
     if not len(pairs) or len(pairs) >= left:
         return res, left, mesh, 0
     res2 = halve_edges(res, pairs)
     left2 = left - len(pairs)
     mesh2 = optimize_mesh(res2.polygon, left2, objective=objective, near_tie=NEAR_TIE)
-    q, q2 = mesh.quality(), mesh2.quality()
-    if better_angle(q2, q):
-        log.info("outline: %d long ring edges halved, worst angle %.3g (%.3g with them whole)",
-                 len(pairs), q2.min_angle, q.min_angle)
+    q = mesh.quality() if q is None else q
+    q2 = mesh2.quality()
+    if better(q2, q):
+        log.info("outline: %d ring edges halved, %s %.4g (%.4g with them whole)", len(pairs),
+                 measure, getattr(q2, measure), getattr(q, measure))
         return res2, left2, mesh2, len(pairs)
     return res, left, mesh, 0
 
