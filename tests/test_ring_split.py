@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import shapely
+from support.halved_rings import plain_edges
 
 import uniform2d as u
 import uniform2d.ring_nudge as ring_nudge
@@ -26,12 +27,7 @@ OUTLINES = Path(__file__).resolve().parents[1] / "data" / "outlines"
 
 def _reference(polygon, P, T):
     """edges_to_halve by plain Python sets and loops."""
-    edges = set()
-    for a, b, c in T.tolist():
-        for x, y in ((a, b), (b, c), (c, a)):
-            edges.add((min(x, y), max(x, y)))
-    length = {e: float(np.hypot(*(P[e[1]] - P[e[0]]))) for e in edges}
-    ring = {(min(a, b), max(a, b)) for a, b in polygon.edges.tolist()}
+    edges, length, ring = plain_edges(polygon, P, T)
     whole = edges & ring
     others = [length[e] for e in edges - whole]
     shortest = min(length.values())

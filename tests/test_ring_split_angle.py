@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from support.halved_rings import plain_edges
 
 import uniform2d as u
 from uniform2d.optimize import optimize_mesh
@@ -37,13 +38,8 @@ def _angles(P, T):
 
 def _reference(polygon, P, T):
     """edges_for_angle by plain Python sets and loops."""
-    edges = set()
-    for a, b, c in T.tolist():
-        for x, y in ((a, b), (b, c), (c, a)):
-            edges.add((min(x, y), max(x, y)))
-    length = {e: float(np.hypot(*(P[e[1]] - P[e[0]]))) for e in edges}
+    edges, length, ring = plain_edges(polygon, P, T)
     mean = sum(length.values()) / len(length)
-    ring = {(min(a, b), max(a, b)) for a, b in polygon.edges.tolist()}
     long = {e for e in edges & ring if length[e] >= SPLIT_LONG * mean}
     angles = _angles(P, T)
     worst = min(range(len(T)), key=angles.__getitem__)

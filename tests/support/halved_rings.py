@@ -58,3 +58,17 @@ def resampled_and_meshed(polygon, n: int, tol: float):
             for a, b in zip(polygon.rings, r.polygon.rings))
     assert d <= r.deviation * (1 + 1e-9) <= tol * r.spacing * (1 + 1e-9)
     return r, m
+
+
+def plain_edges(polygon, P, T) -> tuple:
+    """(edges, lengths, ring): a mesh's edges as a set of (smaller, larger)
+    vertex pairs, their lengths by pair, and the polygon's ring edges as such
+    pairs, by plain Python sets and loops (the tests' reference for
+    uniform2d.ring_split's array code)."""
+    edges = set()
+    for a, b, c in T.tolist():
+        for x, y in ((a, b), (b, c), (c, a)):
+            edges.add((min(x, y), max(x, y)))
+    length = {e: float(np.hypot(*(P[e[1]] - P[e[0]]))) for e in edges}
+    ring = {(min(a, b), max(a, b)) for a, b in polygon.edges.tolist()}
+    return edges, length, ring
