@@ -17,8 +17,8 @@ from support.boundary_edges import edges_of
 import uniform2d
 from uniform2d.geometry import polygon_edges
 from uniform2d.optimize import anglefit
-from uniform2d.optimize.boundary import target_size
 from uniform2d.optimize.angles import MIN_GAIN, angles_and_gradients, forced_angle
+from uniform2d.optimize.boundary import target_size
 from uniform2d.peers import base as peers
 from uniform2d.quality import quality
 from uniform2d.testing import check_mesh
