@@ -121,11 +121,8 @@ def edges_for_angle(polygon: Polygon, points, triangles) -> np.ndarray:
     worst = int(np.argmin(angles))
     if not angles[worst] < ANGLE_BELOW:
         return none
-    E = unique_edges(T, len(P))
-    L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
-    ring = np.sort(polygon.edges, axis=1)
+    E, L, whole, ring_keys = _mesh_edges(polygon, P, T)
     n = len(P)
-    whole = np.isin(E[:, 0] * n + E[:, 1], ring[:, 0] * n + ring[:, 1])
     pick = whole & (L >= SPLIT_LONG * L.mean())
     t = T[worst]
     sides = np.sort(np.array([[t[1], t[2]], [t[2], t[0]], [t[0], t[1]]], dtype=np.int64), axis=1)
@@ -135,7 +132,7 @@ def edges_for_angle(polygon: Polygon, points, triangles) -> np.ndarray:
     # two ring edges: a corner's one triangle, its points all on the ring; its
     # smallest angle the outline's own or across a chord of the corner (the NYC
     # shorelines' tips, Australia's chord at 31 degrees: second meshes worse)
-    if np.isin(keys, ring[:, 0] * n + ring[:, 1]).sum() >= 2:
+    if np.isin(keys, ring_keys).sum() >= 2:
         return none
     # halves that short would likely set an edge ratio above the mesh's (or 2),
     # which better_angle does not keep: not meshed (India at n = 2000, 0.87 of
@@ -161,16 +158,22 @@ def edges_to_halve(polygon: Polygon, points, triangles) -> np.ndarray:
     >>> edges_to_halve(sq, P, T).tolist()     # the three sides left whole
     [[0, 3], [1, 2], [2, 3]]
     """
-    P = np.asarray(points, dtype=np.float64)
-    E = unique_edges(triangles, len(P))
-    L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
-    ring = np.sort(polygon.edges, axis=1)
-    n = len(P)
-    whole = np.isin(E[:, 0] * n + E[:, 1], ring[:, 0] * n + ring[:, 1])
+    E, L, whole, _ = _mesh_edges(polygon, np.asarray(points, dtype=np.float64), triangles)
     if not whole.any() or whole.all():
         return np.empty((0, 2), dtype=np.int64)
     pick = whole & (L > L[~whole].max()) & (0.5 * L >= L.min())
     return E[pick]
+
+
+def _mesh_edges(polygon: Polygon, P, T) -> tuple:
+    """(E, L, whole, ring keys): the mesh's edges (smaller vertex first), their
+    lengths, which of them are whole ring edges of ``polygon``, and the ring
+    edges as keys ``a * len(P) + b`` (a < b)."""
+    E = unique_edges(T, len(P))
+    L = np.hypot(*(P[E[:, 1]] - P[E[:, 0]]).T)
+    ring = np.sort(polygon.edges, axis=1)
+    ring_keys = ring[:, 0] * len(P) + ring[:, 1]
+    return E, L, np.isin(E[:, 0] * len(P) + E[:, 1], ring_keys), ring_keys
 
 
 def halve_edges(res, pairs):
